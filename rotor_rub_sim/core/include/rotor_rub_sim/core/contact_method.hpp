@@ -1,0 +1,46 @@
+// The interface of a contact method: it owns its integrator and internal
+// state, advances one accepted step at a time, and answers the physical state
+// anywhere inside its last step (dense output), so output sampling never
+// shortens a step.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "rotor_rub_sim/core/run_types.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+
+namespace rotor_rub::core {
+
+class ContactMethod {
+ public:
+  virtual ~ContactMethod() = default;
+
+  // Starts integration at t_s from a physical state under a drive segment.
+  virtual void start(double t_s, const Kinematics& k, const SpeedSegment& segment) = 0;
+
+  // Restarts integration at t_s in [step_begin(), step_end()] from the
+  // method's own state there, under a new drive segment (a drive
+  // discontinuity). The contact regime carries over.
+  virtual void change_segment(double t_s, const SpeedSegment& segment) = 0;
+
+  // One accepted step, valid on [step_begin(), step_end()]. An event ends a
+  // step early; so does t_limit_s (the next drive discontinuity or the end
+  // time), where the caller must call change_segment() or stop. Events found
+  // are appended (at times <= step_end()). Throws MethodFailure.
+  virtual void step(double t_limit_s, std::vector<ContactEvent>& events) = 0;
+
+  virtual double step_begin() const = 0;
+  virtual double step_end() const = 0;
+
+  // The physical state at t_s in [step_begin(), step_end()].
+  virtual Sample sample(double t_s) const = 0;
+
+  virtual const RunStats& stats() const = 0;
+  virtual RunStats& mutable_stats() = 0;
+};
+
+struct Scene;
+std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene);
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,100 @@
+// Dormand-Prince 5(4) with step-size control and its free 4th-order dense
+// output, on Boost.Odeint's controlled stepper, with the cost counted: the
+// odeint dense-output driver hides rejected steps, this one reports them and
+// lets a method reject a step for its own reasons (the iteration method does,
+// on penetration).
+#pragma once
+
+#include <boost/numeric/odeint.hpp>
+#include <boost/numeric/odeint/external/eigen/eigen.hpp>
+#include <cmath>
+
+#include "rotor_rub_sim/core/run_types.hpp"
+
+namespace rotor_rub::core {
+
+template <class State>
+class DenseDopri5 {
+ public:
+  using Stepper = boost::numeric::odeint::runge_kutta_dopri5<State, double, State, double,
+                                                              boost::numeric::odeint::vector_space_algebra>;
+  using ErrorChecker = boost::numeric::odeint::default_error_checker<double, boost::numeric::odeint::vector_space_algebra,
+                                                                     boost::numeric::odeint::default_operations>;
+  using Controlled = boost::numeric::odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
+
+  // The error is measured as atol + rtol |x| per component (a_dxdt = 0, as in
+  // MATLAB's ode45), so tolerances mean what the paper's mean.
+  DenseDopri5(double atol, double rtol, double min_step_s, long max_steps)
+      : controlled_(ErrorChecker(atol, rtol, 1.0, 0.0)), min_step_s_(min_step_s), max_steps_(max_steps) {}
+
+  template <class System>
+  void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
+    x_new_ = x;
+    t_new_ = t_old_ = t_s;
+    x_old_ = x;
+    sys(x_new_, dxdt_new_, t_new_);
+    ++stats.rhs_evals;
+    dt_ = dt_s;
+  }
+
+  // One accepted step from the current end. Throws MethodFailure (stalled)
+  // when the step size falls below the minimum or the step budget is spent.
+  template <class System>
+  void do_step(System& sys, RunStats& stats) {
+    x_old_ = x_new_;
+    dxdt_old_ = dxdt_new_;
+    t_old_ = t_new_;
+    double t = t_new_;
+    for (;;) {
+      if (stats.steps + stats.rejected_steps >= max_steps_) {
+        throw MethodFailure(FailureClass::kStalled, t, "step budget of " + std::to_string(max_steps_) + " steps spent");
+      }
+      if (!(std::abs(dt_) >= min_step_s_)) {
+        throw MethodFailure(FailureClass::kStalled, t, "step size " + std::to_string(dt_) + " s fell below min_step_s");
+      }
+      const auto result = controlled_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dxdt_new_, dt_);
+      stats.rhs_evals += 6;  // dopri5's FSAL: six new stages per attempt
+      if (result == boost::numeric::odeint::success) break;
+      ++stats.rejected_steps;
+    }
+    t_new_ = t;
+    ++stats.steps;
+    if (!x_new_.allFinite()) {
+      throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
+    }
+  }
+
+  // Undo the last accepted step and retry it with dt_s (a method's own rejection).
+  void retreat(double dt_s, RunStats& stats) {
+    x_new_ = x_old_;
+    dxdt_new_ = dxdt_old_;
+    t_new_ = t_old_;
+    dt_ = dt_s;
+    --stats.steps;
+    ++stats.rejected_steps;
+  }
+
+  void state_at(double t_s, State& x) const {
+    if (t_new_ == t_old_) {  // no step yet: the initial state
+      x = x_new_;
+      return;
+    }
+    controlled_.stepper().calc_state(t_s, x, x_old_, dxdt_old_, t_old_, x_new_, dxdt_new_, t_new_);
+  }
+
+  double t_old() const { return t_old_; }
+  double t_new() const { return t_new_; }
+  double dt() const { return dt_; }
+  void set_dt(double dt_s) { dt_ = dt_s; }
+  const State& x_old() const { return x_old_; }
+  const State& x_new() const { return x_new_; }
+
+ private:
+  mutable Controlled controlled_;
+  double min_step_s_;
+  long max_steps_;
+  State x_old_, x_new_, dxdt_old_, dxdt_new_;
+  double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
+};
+
+}  // namespace rotor_rub::core

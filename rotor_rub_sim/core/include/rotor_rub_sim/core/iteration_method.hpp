@@ -1,0 +1,38 @@
+// Method III: one set of equations (the free state); the normal force is found
+// by a bracketing root finder (TOMS 748) wherever the rotor is held at the
+// bore, so that it stays within the stator.
+//
+// Design (why not the paper's literal scheme): a force held constant over a
+// step and iterated until the gap closes at the step's end turns the closing
+// normal velocity v into -v at every step (the position condition fixes
+// v h + a h^2 / 2 = 0), so the force alternates in sign from step to step,
+// and its error is tied to the step size rather than to the tolerance.
+// Instead:
+// * While engaged, every right-hand-side evaluation finds the F_n >= 0 that
+//   makes the distance's acceleration delta'' vanish, by TOMS 748 on the
+//   model's own accelerations (the model is a black box to the root finder,
+//   as a large FE model would be). The force is then consistent with the
+//   constraint at every stage, smooth within a step, and the integrator's
+//   error control covers it. If F_n = 0 already gives delta'' <= 0 the force
+//   is released (0).
+// * After every engaged step the drift of delta from C and of delta' from 0
+//   (of the order of the local error) is projected out, mass-weighted.
+// * Touchdown without event location: a free step that ends more than
+//   atol beyond the clearance is rejected and retried with half the step,
+//   until it ends within [-atol, atol] of the bore; there the impact law
+//   applies and the contact engages if F_n > 0. The rotor thus stays within
+//   the stator to atol, and the touchdown time is resolved to about
+//   atol / v_closing.
+// * Lift-off is decided at step ends, when F_n = 0 already separates.
+#pragma once
+
+#include <memory>
+
+#include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::core {
+
+std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene);
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,196 @@
+// The Jeffcott rotor with an elastically supported stator (Hynek 2002, eq. 2.1),
+// shared by all three contact methods. A method decides only the contact's
+// normal force; everything else is here.
+//
+// Modelling choices (SI units throughout):
+// * Coordinates: inertial x, y; the rotor's geometric centre r_r = (x_r, y_r)
+//   and the stator's centre r_s = (x_s, y_s). Spin is counter-clockwise
+//   positive.
+// * Unbalance: the mass centre sits at r_r + e (cos phi, sin phi), phi the spin
+//   angle. Newton's law for the mass centre, with the shaft's spring and damper
+//   acting at the geometric centre, gives
+//     m_r r_r'' + b_r r_r' + k_r r_r = m_r e w^2 (cos phi, sin phi)
+//                                    + m_r e A (sin phi, -cos phi) + F_contact,
+//   i.e. the tangential term LAGS the unbalance by 90 deg under acceleration
+//   A > 0. The paper's eq. (2.2) writes +m_r e A on its rotating axis y_3; we
+//   follow the kinematics. The term is small (m e A = 0.012 N against
+//   m e w^2 = 1.7 N at 100 rad/s in the paper scene).
+// * Drive: the speed is prescribed (speed_profile.hpp); no torsional DOF.
+// * Gravity: none unless the scene sets gravity_m_per_s2 (acts along -y on
+//   rotor and stator).
+// * Stator: mass m_s on springs k_s and dampers b_s (elastic), or immovable
+//   (rigid, then the state holds the rotor's 2 DOF only).
+// * Contact geometry: delta = |r_r - r_s|, outward normal n = (r_r - r_s)/delta,
+//   tangent t = n rotated +90 deg. Penetration is delta - C.
+// * Normal force F_n >= 0 pushes the rotor by -F_n n and the stator by +F_n n.
+// * Friction: Coulomb, f F_n, opposing the sliding velocity of the rotor's
+//   surface over the stator's at the contact point,
+//     v_slide = (r_r' - r_s') . t + w R_r,
+//   so the force on the rotor is -f F_n sgn(v_slide) t and on the stator the
+//   opposite (Newton's third law). The stator does not spin. sgn is
+//   regularised linearly in |v_slide| < friction_regularisation_m_per_s (a
+//   band, not stick-slip): outside the band the law is exact Coulomb. In the
+//   paper scene |v_slide| stays near w (R_r + C) > 0.5 m/s while in contact
+//   (forward whirl), far outside the 1e-4 m/s band: the band only matters for
+//   backward rolling (dry whip), where v_slide -> 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+
+namespace rotor_rub::core {
+
+using Vec2 = Eigen::Vector2d;
+
+// Layout of the free (unconstrained) state vector. kStatorDof is 2 for an
+// elastic stator and 0 for a rigid one.
+template <int kStatorDof>
+struct FreeLayout {
+  static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
+  static constexpr int kDof = 2 + kStatorDof;
+  static constexpr int kSize = 2 * kDof;
+  static constexpr int kRotorPos = 0;           // x_r, y_r [m]
+  static constexpr int kStatorPos = 2;          // x_s, y_s [m] (elastic only)
+  static constexpr int kRotorVel = kDof;        // x_r', y_r' [m/s]
+  static constexpr int kStatorVel = kDof + 2;   // x_s', y_s' [m/s] (elastic only)
+  using State = Eigen::Matrix<double, kSize, 1>;
+};
+
+// Positions and velocities of both bodies as plain 2-vectors (a rigid stator
+// is at rest at the origin).
+struct Kinematics {
+  Vec2 rotor_pos = Vec2::Zero();
+  Vec2 rotor_vel = Vec2::Zero();
+  Vec2 stator_pos = Vec2::Zero();
+  Vec2 stator_vel = Vec2::Zero();
+};
+
+template <int kStatorDof>
+Kinematics kinematics_of(const typename FreeLayout<kStatorDof>::State& x) {
+  using L = FreeLayout<kStatorDof>;
+  Kinematics k;
+  k.rotor_pos = x.template segment<2>(L::kRotorPos);
+  k.rotor_vel = x.template segment<2>(L::kRotorVel);
+  if constexpr (kStatorDof == 2) {
+    k.stator_pos = x.template segment<2>(L::kStatorPos);
+    k.stator_vel = x.template segment<2>(L::kStatorVel);
+  }
+  return k;
+}
+
+template <int kStatorDof>
+void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof>::State& x) {
+  using L = FreeLayout<kStatorDof>;
+  x.template segment<2>(L::kRotorPos) = k.rotor_pos;
+  x.template segment<2>(L::kRotorVel) = k.rotor_vel;
+  if constexpr (kStatorDof == 2) {
+    x.template segment<2>(L::kStatorPos) = k.stator_pos;
+    x.template segment<2>(L::kStatorVel) = k.stator_vel;
+  }
+}
+
+struct ContactGeometry {
+  double distance_m = 0.0;            // delta = |r_r - r_s|
+  double penetration_m = 0.0;         // delta - C (> 0: rotor beyond the clearance)
+  double normal_velocity_m_per_s = 0.0;  // delta' (> 0: closing into the stator)
+  double sliding_velocity_m_per_s = 0.0; // v_slide (see the header comment)
+  Vec2 normal = Vec2::UnitX();        // n, outward from the stator's centre
+  Vec2 tangent = Vec2::UnitY();       // t = n rotated +90 deg
+};
+
+class JeffcottModel {
+ public:
+  explicit JeffcottModel(const ModelParameters& p)
+      : p_(p),
+        inv_rotor_mass_(1.0 / p.rotor_mass_kg),
+        inv_stator_mass_(p.stator_model == StatorModel::kRigid ? 0.0 : 1.0 / p.stator_mass_kg),
+        effective_mass_kg_(1.0 / (inv_rotor_mass_ + inv_stator_mass_)),
+        has_friction_(p.friction_coefficient > 0.0) {}
+
+  const ModelParameters& parameters() const { return p_; }
+  double inv_rotor_mass() const { return inv_rotor_mass_; }
+  double inv_stator_mass() const { return inv_stator_mass_; }
+  // m_r m_s / (m_r + m_s): the mass the contact sees (m_r for a rigid stator).
+  double effective_mass_kg() const { return effective_mass_kg_; }
+  bool has_friction() const { return has_friction_; }
+
+  // All forces on the rotor except contact: shaft spring and damper,
+  // unbalance, gravity [N].
+  Vec2 rotor_free_force(const Kinematics& k, const DriveState& d) const {
+    const double me = p_.rotor_mass_kg * p_.eccentricity_m;
+    const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
+    const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
+    Vec2 f = -p_.rotor_stiffness_N_per_m * k.rotor_pos - p_.rotor_damping_N_s_per_m * k.rotor_vel;
+    f.x() += me * (w2 * c + d.accel_rad_per_s2 * s);
+    f.y() += me * (w2 * s - d.accel_rad_per_s2 * c) - p_.rotor_mass_kg * p_.gravity_m_per_s2;
+    return f;
+  }
+
+  // All forces on the stator except contact [N] (zero for a rigid stator,
+  // whose acceleration is zero anyway).
+  Vec2 stator_free_force(const Kinematics& k) const {
+    if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
+    Vec2 f = -p_.stator_stiffness_N_per_m * k.stator_pos - p_.stator_damping_N_s_per_m * k.stator_vel;
+    f.y() -= p_.stator_mass_kg * p_.gravity_m_per_s2;
+    return f;
+  }
+
+  ContactGeometry contact_geometry(const Kinematics& k, const DriveState& d) const {
+    ContactGeometry g;
+    const Vec2 rel = k.rotor_pos - k.stator_pos;
+    g.distance_m = rel.norm();
+    // The normal is undefined only with the rotor exactly centred, far from
+    // any contact; any unit vector then does.
+    if (g.distance_m > 0.0) g.normal = rel / g.distance_m;
+    g.tangent = Vec2(-g.normal.y(), g.normal.x());
+    g.penetration_m = g.distance_m - p_.clearance_m;
+    const Vec2 rel_vel = k.rotor_vel - k.stator_vel;
+    g.normal_velocity_m_per_s = rel_vel.dot(g.normal);
+    g.sliding_velocity_m_per_s = rel_vel.dot(g.tangent) + d.speed_rad_per_s * p_.rotor_radius_m;
+    return g;
+  }
+
+  // Regularised sgn(v_slide) in [-1, 1].
+  double friction_sign(double sliding_velocity_m_per_s) const {
+    const double band = p_.friction_regularisation_m_per_s;
+    if (band <= 0.0) return sliding_velocity_m_per_s > 0.0 ? 1.0 : (sliding_velocity_m_per_s < 0.0 ? -1.0 : 0.0);
+    return std::clamp(sliding_velocity_m_per_s / band, -1.0, 1.0);
+  }
+
+  // Unit contact force direction on the rotor per unit normal force:
+  // force_on_rotor = F_n * contact_direction (stator gets the opposite).
+  Vec2 contact_direction(const ContactGeometry& g) const {
+    Vec2 dir = -g.normal;
+    if (has_friction_) dir -= p_.friction_coefficient * friction_sign(g.sliding_velocity_m_per_s) * g.tangent;
+    return dir;
+  }
+
+  // Accelerations of rotor and stator under a given normal force [m/s^2].
+  void accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
+                     Vec2& rotor_acc, Vec2& stator_acc) const {
+    const Vec2 on_rotor = normal_force_N * contact_direction(g);
+    rotor_acc = (rotor_free_force(k, d) + on_rotor) * inv_rotor_mass_;
+    stator_acc = (stator_free_force(k) - on_rotor) * inv_stator_mass_;
+  }
+
+  // Second time derivative of delta for given accelerations:
+  // delta'' = n . (a_r - a_s) + |v_rel . t|^2 / delta.
+  static double distance_acceleration(const Kinematics& k, const ContactGeometry& g, const Vec2& rotor_acc,
+                                      const Vec2& stator_acc) {
+    const double vt = (k.rotor_vel - k.stator_vel).dot(g.tangent);
+    return g.normal.dot(rotor_acc - stator_acc) + vt * vt / g.distance_m;
+  }
+
+ private:
+  ModelParameters p_;
+  double inv_rotor_mass_;
+  double inv_stator_mass_;
+  double effective_mass_kg_;
+  bool has_friction_;
+};
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,105 @@
+// Plain configuration structs of the simulation core (no ROS, no YAML here).
+// Units are SI and stated in the member names. Defaults are the paper's Table 1
+// (Hynek 2002) where the paper gives a value.
+#pragma once
+
+#include <array>
+#include <limits>
+#include <optional>
+#include <string>
+
+namespace rotor_rub::core {
+
+// ---- Enum-like choices, each with an exhaustive name table -----------------
+
+enum class Method { kPenalty, kSwitching, kIteration };
+enum class Integrator { kDopri5, kRosenbrock4 };
+enum class StatorModel { kElastic, kRigid };
+
+struct MethodName { Method value; const char* name; };
+inline constexpr std::array<MethodName, 3> kMethodNames{{
+    {Method::kPenalty, "penalty"},      // paper method I
+    {Method::kSwitching, "switching"},  // paper method II
+    {Method::kIteration, "iteration"},  // paper method III
+}};
+struct IntegratorName { Integrator value; const char* name; };
+inline constexpr std::array<IntegratorName, 2> kIntegratorNames{{
+    {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
+    {Integrator::kRosenbrock4, "rosenbrock4"},  // linearly implicit, stiff (penalty only)
+}};
+struct StatorModelName { StatorModel value; const char* name; };
+inline constexpr std::array<StatorModelName, 2> kStatorModelNames{{
+    {StatorModel::kElastic, "elastic"},  // stator on springs: 4 DOF in all
+    {StatorModel::kRigid, "rigid"},      // immovable stator: rotor's 2 DOF only
+}};
+
+const char* to_string(Method m);
+const char* to_string(Integrator i);
+const char* to_string(StatorModel s);
+// Throw std::invalid_argument naming the accepted names.
+Method method_from_string(const std::string& s);
+Integrator integrator_from_string(const std::string& s);
+StatorModel stator_model_from_string(const std::string& s);
+
+// ---- Physical model ---------------------------------------------------------
+
+struct ModelParameters {
+  double rotor_mass_kg = 0.418;
+  double rotor_stiffness_N_per_m = 2493.0;
+  double rotor_damping_N_s_per_m = 1.3;
+  double rotor_radius_m = 0.010;      // R_r: contact point radius (sliding velocity)
+  double eccentricity_m = 0.4e-3;     // e: mass centre to geometric centre
+  StatorModel stator_model = StatorModel::kElastic;
+  double stator_mass_kg = 0.86;
+  double stator_stiffness_N_per_m = 38166.0;
+  double stator_damping_N_s_per_m = 3.61;
+  double clearance_m = 2.0e-3;        // C: radial clearance
+  double friction_coefficient = 0.1;  // f: Coulomb
+  // Half-width of the band of sliding velocity in which the friction sign is
+  // linearly regularised (see contact_law.hpp). 0 = exact sign.
+  double friction_regularisation_m_per_s = 1.0e-4;
+  double restitution = 0.0;           // normal coefficient of restitution, 0 = plastic
+  // Impacts whose rebound velocity falls below this settle into sustained
+  // contact (ends a Zeno sequence of ever smaller bounces).
+  double impact_settle_velocity_m_per_s = 1.0e-6;
+  double contact_stiffness_N_per_m = 1.0e9;  // k_c, penalty method only
+  double gravity_m_per_s2 = 0.0;      // along -y; 0: vertical machine, as in the paper
+};
+
+// ---- Drive: piecewise constant angular acceleration ------------------------
+
+struct SpeedProfileParameters {
+  double initial_angle_rad = 0.0;
+  double initial_speed_rad_per_s = 0.0;
+  double acceleration_rad_per_s2 = 70.0;  // magnitude used toward the target
+  double target_speed_rad_per_s = 280.0;  // 70 rad/s^2 for 4 s, as in the paper
+  double max_speed_rad_per_s = 2000.0;    // limit for speed commands
+};
+
+// ---- Numerical settings ----------------------------------------------------
+
+struct SolverSettings {
+  Method method = Method::kSwitching;
+  Integrator integrator = Integrator::kDopri5;
+  double rtol = 1.0e-6;
+  double atol = 1.0e-9;  // applies to every state component (m and m/s)
+  double initial_step_s = 1.0e-5;
+  double min_step_s = 1.0e-14;        // below it a run is declared stalled
+  long max_steps = 20'000'000;         // accepted + rejected step budget
+  // Method III: relative tolerance on the normal force root.
+  double iteration_force_rtol = 1.0e-12;
+  int iteration_max_iterations = 100;
+  // Switching/iteration: more contact events than this per simulated
+  // millisecond is chattering, reported as stalled.
+  double max_events_per_ms = 200.0;
+};
+
+struct Scene {
+  ModelParameters model;
+  SpeedProfileParameters speed;
+  SolverSettings solver;
+  double end_time_s = 4.0;
+  double output_rate_hz = 1000.0;
+};
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,80 @@
+// What a run reports: samples, contact events, cost, failures.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "rotor_rub_sim/core/model.hpp"
+
+namespace rotor_rub::core {
+
+// The physical state at one instant, whatever the method's internal state.
+struct Sample {
+  double t_s = 0.0;
+  Kinematics kin;
+  DriveState drive;
+  double normal_force_N = 0.0;
+  double friction_force_N = 0.0;      // signed along the tangent t, on the rotor
+  Vec2 contact_force_on_rotor_N = Vec2::Zero();
+  double penetration_m = 0.0;         // delta - C: < 0 is the gap
+  double sliding_velocity_m_per_s = 0.0;
+  bool in_contact = false;
+};
+
+enum class EventKind { kTouchdown, kLiftoff, kGraze };
+struct EventKindName { EventKind value; const char* name; };
+inline constexpr EventKindName kEventKindNames[] = {
+    {EventKind::kTouchdown, "touchdown"},  // sustained contact begins
+    {EventKind::kLiftoff, "liftoff"},      // sustained contact ends
+    {EventKind::kGraze, "graze"},          // a touch or bounce with no sustained contact
+};
+inline const char* to_string(EventKind k) {
+  for (const auto& row : kEventKindNames) {
+    if (row.value == k) return row.name;
+  }
+  return "?";
+}
+
+struct ContactEvent {
+  double t_s = 0.0;
+  EventKind kind = EventKind::kTouchdown;
+  double normal_velocity_m_per_s = 0.0;  // closing speed at touchdown/graze
+  double impulse_N_s = 0.0;              // impact impulse (rigid methods)
+};
+
+// The cost of a run. wall_time_s is the integration's own time.
+struct RunStats {
+  long steps = 0;            // accepted steps
+  long rejected_steps = 0;   // rejected by error control or by a method rule
+  long rhs_evals = 0;        // right-hand-side (derivative) evaluations
+  long jacobian_evals = 0;   // stiff integrator only
+  long root_iterations = 0;  // root-finder function evaluations (events, forces)
+  long touchdowns = 0, liftoffs = 0, grazes = 0;
+  long restarts = 0;         // integrator restarts (events, profile breaks, projections)
+  double wall_time_s = 0.0;
+  double rhs_time_s = 0.0;        // only measured when profiling is on
+  double iteration_time_s = 0.0;  // only measured when profiling is on
+  double max_constraint_violation_m = 0.0;  // rigid methods: max |delta - C| in contact at step ends
+  double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
+};
+
+enum class FailureClass { kStalled, kDiverged, kNotConverged };
+inline const char* to_string(FailureClass c) {
+  switch (c) {
+    case FailureClass::kStalled: return "stalled";
+    case FailureClass::kDiverged: return "diverged";
+    case FailureClass::kNotConverged: return "not_converged";
+  }
+  return "?";
+}
+
+// A failed run: thrown by the methods, caught by the simulation loop.
+class MethodFailure : public std::runtime_error {
+ public:
+  MethodFailure(FailureClass c, double t_s, const std::string& what)
+      : std::runtime_error(what), failure_class(c), time_s(t_s) {}
+  FailureClass failure_class;
+  double time_s;
+};
+
+}  // namespace rotor_rub::core

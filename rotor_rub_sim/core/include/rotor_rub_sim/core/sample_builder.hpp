@@ -1,0 +1,25 @@
+// Builds the method-independent Sample from a method's kinematics and force.
+#pragma once
+
+#include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/run_types.hpp"
+
+namespace rotor_rub::core {
+
+inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
+                          double normal_force_N, bool in_contact) {
+  Sample s;
+  s.t_s = t_s;
+  s.kin = k;
+  s.drive = d;
+  const ContactGeometry g = m.contact_geometry(k, d);
+  s.penetration_m = g.penetration_m;
+  s.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;
+  s.in_contact = in_contact;
+  s.normal_force_N = normal_force_N;
+  s.contact_force_on_rotor_N = normal_force_N * m.contact_direction(g);
+  s.friction_force_N = s.contact_force_on_rotor_N.dot(g.tangent);
+  return s;
+}
+
+}  // namespace rotor_rub::core

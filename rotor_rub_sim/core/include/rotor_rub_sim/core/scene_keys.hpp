@@ -1,0 +1,45 @@
+// The scene's parameter table: every key a scene file, `--set key=value` or a
+// rosparam may set, with its accepted range. One table, used by the YAML
+// loader, the runner and the node, so every entry point validates alike.
+#pragma once
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::core {
+
+// A bad scene value: the message names the key, the value and the range.
+class SceneError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct SceneKeyInfo {
+  std::string key;
+  std::string accepted;     // human-readable accepted range or names
+  std::string description;  // one line, with the unit
+  std::string default_value;
+};
+
+// All keys, in documentation order.
+const std::vector<SceneKeyInfo>& scene_keys();
+
+// Sets one key from its text form. Throws SceneError on an unknown key (with
+// the nearest known key as a suggestion), an unparsable or non-finite number,
+// or a value outside the accepted range.
+void set_scene_value(Scene& scene, const std::string& key, const std::string& value);
+
+// Checks that hold between keys (e.g. rosenbrock4 is for the penalty method).
+void validate_scene(const Scene& scene);
+
+// Applies a flat key->value map onto the defaults and validates the result.
+Scene scene_from_values(const std::map<std::string, std::string>& values);
+
+// The nearest key by edit distance ("" when nothing is close).
+std::string nearest_scene_key(const std::string& key);
+
+}  // namespace rotor_rub::core

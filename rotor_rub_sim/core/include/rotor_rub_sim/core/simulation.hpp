@@ -1,0 +1,76 @@
+// The simulation loop: drives a contact method through time, restarts it at
+// every drive discontinuity, and delivers samples on the output grid
+// (t_k = k / output_rate_hz exactly, from dense output) and contact events, in
+// time order, to an observer. Time is an argument, never read from a clock
+// (the wall clock only measures cost).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/parameters.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+
+namespace rotor_rub::core {
+
+class SimulationObserver {
+ public:
+  virtual ~SimulationObserver() = default;
+  virtual void on_sample(const Sample& /*s*/) {}
+  virtual void on_event(const ContactEvent& /*e*/) {}
+};
+
+struct RunFailure {
+  FailureClass failure_class;
+  double time_s;
+  std::string message;
+};
+
+class Simulation {
+ public:
+  // The scene must be valid (validate_scene). Starts at rest at t = 0.
+  explicit Simulation(const Scene& scene);
+
+  // Advances to min(t_s, end_time_s), delivering samples with t <= t_s.
+  // Returns false once the method has failed (see failure()); samples and
+  // events before the failure have been delivered.
+  bool advance_to(double t_s, SimulationObserver& observer);
+
+  // A speed command taking effect at the current time(): a ramp at
+  // accel_magnitude to target_rad_per_s, then held. Throws
+  // std::invalid_argument (naming the value and range) when out of range.
+  void command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2);
+
+  double time() const { return time_s_; }  // simulated time delivered so far
+  const Scene& scene() const { return scene_; }
+  const SpeedProfile& profile() const { return profile_; }
+  const RunStats& stats() const { return method_->stats(); }
+  const std::optional<RunFailure>& failure() const { return failure_; }
+
+ private:
+  void deliver_until(double t_s, SimulationObserver& observer);
+  void count_and_deliver(const ContactEvent& e, SimulationObserver& observer);
+
+  Scene scene_;
+  SpeedProfile profile_;
+  std::unique_ptr<ContactMethod> method_;
+  double time_s_ = 0.0;
+  long next_sample_ = 0;
+  double t_limit_s_ = 0.0;  // the drive discontinuity the last step was bounded by
+  bool break_due_ = false;  // the last step ended on it
+  std::vector<ContactEvent> step_events_;  // found, not yet delivered
+  std::optional<RunFailure> failure_;
+};
+
+// Runs the whole scene from 0 to end_time_s.
+struct RunResult {
+  RunStats stats;
+  std::vector<ContactEvent> events;
+  std::optional<RunFailure> failure;
+};
+RunResult run_scene(const Scene& scene, SimulationObserver& observer);
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,55 @@
+// The drive: spin angle, speed and angular acceleration against time, as
+// segments of constant angular acceleration. The speed is prescribed
+// (kinematic drive): friction torque does not slow the rotor; a speed command
+// appends a segment. Segment boundaries are discontinuities of the unbalance
+// force's tangential term, so integration restarts at each of them.
+#pragma once
+
+#include <vector>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::core {
+
+struct DriveState {
+  double angle_rad = 0.0;           // phi: spin angle of the mass-centre offset
+  double speed_rad_per_s = 0.0;     // omega = dphi/dt (counter-clockwise positive)
+  double accel_rad_per_s2 = 0.0;    // alpha = domega/dt
+};
+
+// One segment: constant acceleration from start_time_s. Evaluated without
+// clamping so that an integrator step may probe slightly past its end.
+struct SpeedSegment {
+  double start_time_s = 0.0;
+  double start_angle_rad = 0.0;
+  double start_speed_rad_per_s = 0.0;
+  double accel_rad_per_s2 = 0.0;
+
+  DriveState at(double t_s) const {
+    const double tau = t_s - start_time_s;
+    return {start_angle_rad + start_speed_rad_per_s * tau + 0.5 * accel_rad_per_s2 * tau * tau,
+            start_speed_rad_per_s + accel_rad_per_s2 * tau, accel_rad_per_s2};
+  }
+};
+
+class SpeedProfile {
+ public:
+  explicit SpeedProfile(const SpeedProfileParameters& p);
+
+  // Ramps from the speed at t_s to target at |accel| (the sign follows the
+  // direction of the change) and then holds it. Drops segments after t_s.
+  // Throws std::invalid_argument when t_s is before the current segment start.
+  void command(double t_s, double target_rad_per_s, double accel_magnitude_rad_per_s2);
+
+  DriveState at(double t_s) const { return segment_at(t_s).at(t_s); }
+  const SpeedSegment& segment_at(double t_s) const;
+  // The first segment start strictly after t_s (infinity if none).
+  double next_break_after(double t_s) const;
+  const std::vector<SpeedSegment>& segments() const { return segments_; }
+
+ private:
+  void append_ramp(double t_s, const DriveState& from, double target, double accel_magnitude);
+  std::vector<SpeedSegment> segments_;
+};
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,149 @@
+#include "rotor_rub_sim/core/penalty_method.hpp"
+
+#include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/dense_dopri5.hpp"
+#include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/dense_rosenbrock4.hpp"
+#include "rotor_rub_sim/core/sample_builder.hpp"
+
+namespace rotor_rub::core {
+namespace {
+
+// The penalty normal force [N]: spring plus damper while penetrating, never
+// pulling (clamped at 0).
+struct PenaltyLaw {
+  double stiffness_N_per_m;
+  double damping_N_s_per_m;
+  double operator()(const ContactGeometry& g) const {
+    if (g.penetration_m <= 0.0) return 0.0;
+    return std::max(0.0, stiffness_N_per_m * g.penetration_m + damping_N_s_per_m * g.normal_velocity_m_per_s);
+  }
+};
+
+template <int kStatorDof>
+struct PenaltySystem {
+  using L = FreeLayout<kStatorDof>;
+  using State = typename L::State;
+  const JeffcottModel* model;
+  PenaltyLaw law;
+  SpeedSegment segment;
+
+  void operator()(const State& x, State& dxdt, double t) const {
+    const Kinematics k = kinematics_of<kStatorDof>(x);
+    const DriveState d = segment.at(t);
+    const ContactGeometry g = model->contact_geometry(k, d);
+    Vec2 ar, as;
+    model->accelerations(k, d, g, law(g), ar, as);
+    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
+    dxdt.template segment<2>(L::kRotorVel) = ar;
+    if constexpr (kStatorDof == 2) {
+      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
+      dxdt.template segment<2>(L::kStatorVel) = as;
+    }
+  }
+};
+
+template <int kStatorDof, class Integrator>
+class PenaltyMethod final : public ContactMethod {
+ public:
+  using L = FreeLayout<kStatorDof>;
+  using State = typename L::State;
+
+  explicit PenaltyMethod(const Scene& scene)
+      : model_(scene.model),
+        integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
+        initial_step_s_(scene.solver.initial_step_s) {
+    system_.model = &model_;
+    system_.law = {scene.model.contact_stiffness_N_per_m, contact_damping_N_s_per_m(model_)};
+  }
+
+  void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
+    State x;
+    store_kinematics<kStatorDof>(k, x);
+    system_.segment = segment;
+    integrator_.initialize(system_, x, t_s, initial_step_s_, stats_);
+    valid_end_ = t_s;
+    penetration_end_ = model_.contact_geometry(k, segment.at(t_s)).penetration_m;
+  }
+
+  void change_segment(double t_s, const SpeedSegment& segment) override {
+    State x;
+    integrator_.state_at(t_s, x);
+    const double dt = integrator_.dt();
+    start(t_s, kinematics_of<kStatorDof>(x), segment);
+    integrator_.set_dt(dt);
+    ++stats_.restarts;
+  }
+
+  void step(double t_limit_s, std::vector<ContactEvent>& events) override {
+    integrator_.do_step(system_, stats_);
+    valid_end_ = std::min(integrator_.t_new(), t_limit_s);
+    const double p0 = penetration_end_;
+    const double p1 = penetration_at(valid_end_);
+    penetration_end_ = p1;
+    // Report the crossings of delta = C (the kink of the force law).
+    if ((p0 <= 0.0) != (p1 <= 0.0)) {
+      auto f = [this](double t) { return penetration_at(t); };
+      const double te = locate_event(f, integrator_.t_old(), p0, valid_end_, p1, stats_);
+      ContactEvent e;
+      e.t_s = te;
+      e.kind = p1 > 0.0 ? EventKind::kTouchdown : EventKind::kLiftoff;
+      if (e.kind == EventKind::kTouchdown) e.normal_velocity_m_per_s = geometry_at(te).normal_velocity_m_per_s;
+      events.push_back(e);
+    }
+    if (p1 > 0.0) {
+      const ContactGeometry g = geometry_at(valid_end_);
+      stats_.min_abs_sliding_velocity_m_per_s =
+          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(g.sliding_velocity_m_per_s));
+    }
+  }
+
+  double step_begin() const override { return integrator_.t_old(); }
+  double step_end() const override { return valid_end_; }
+
+  Sample sample(double t_s) const override {
+    State x;
+    integrator_.state_at(t_s, x);
+    const Kinematics k = kinematics_of<kStatorDof>(x);
+    const DriveState d = system_.segment.at(t_s);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    return make_sample(model_, t_s, k, d, system_.law(g), g.penetration_m > 0.0);
+  }
+
+  const RunStats& stats() const override { return stats_; }
+  RunStats& mutable_stats() override { return stats_; }
+
+ private:
+  ContactGeometry geometry_at(double t_s) const {
+    State x;
+    integrator_.state_at(t_s, x);
+    return model_.contact_geometry(kinematics_of<kStatorDof>(x), system_.segment.at(t_s));
+  }
+  double penetration_at(double t_s) const { return geometry_at(t_s).penetration_m; }
+
+  JeffcottModel model_;
+  PenaltySystem<kStatorDof> system_;
+  Integrator integrator_;
+  double initial_step_s_;
+  double penetration_end_ = -1.0;  // at valid_end_
+  double valid_end_ = 0.0;
+  RunStats stats_;
+};
+
+template <int kStatorDof>
+std::unique_ptr<ContactMethod> make_for_dof(const Scene& scene) {
+  using State = typename FreeLayout<kStatorDof>::State;
+  if (scene.solver.integrator == Integrator::kRosenbrock4) {
+    return std::make_unique<PenaltyMethod<kStatorDof, DenseRosenbrock4<State>>>(scene);
+  }
+  return std::make_unique<PenaltyMethod<kStatorDof, DenseDopri5<State>>>(scene);
+}
+
+}  // namespace
+
+std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
+  if (scene.model.stator_model == StatorModel::kRigid) return make_for_dof<0>(scene);
+  return make_for_dof<2>(scene);
+}
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,128 @@
+#include "rotor_rub_sim/core/simulation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "rotor_rub_sim/core/iteration_method.hpp"
+#include "rotor_rub_sim/core/penalty_method.hpp"
+#include "rotor_rub_sim/core/switching_method.hpp"
+
+namespace rotor_rub::core {
+
+std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
+  switch (scene.solver.method) {
+    case Method::kPenalty: return make_penalty_method(scene);
+    case Method::kSwitching: return make_switching_method(scene);
+    case Method::kIteration: return make_iteration_method(scene);
+  }
+  throw std::logic_error("unknown method");
+}
+
+Simulation::Simulation(const Scene& scene)
+    : scene_(scene), profile_(scene.speed), method_(make_contact_method(scene)) {
+  // Start at rest, centred: the run-up's initial condition.
+  method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
+}
+
+void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2) {
+  const double vmax = scene_.speed.max_speed_rad_per_s;
+  if (!std::isfinite(target_rad_per_s) || target_rad_per_s < 0.0 || target_rad_per_s > vmax) {
+    std::ostringstream os;
+    os << "speed command target " << target_rad_per_s << " rad/s is out of range; accepted: [0, " << vmax << "]";
+    throw std::invalid_argument(os.str());
+  }
+  if (!std::isfinite(accel_magnitude_rad_per_s2) || accel_magnitude_rad_per_s2 <= 0.0) {
+    std::ostringstream os;
+    os << "speed command acceleration " << accel_magnitude_rad_per_s2 << " rad/s^2 is out of range; accepted: (0, inf)";
+    throw std::invalid_argument(os.str());
+  }
+  // The method's current step may extend past time_s_: restart it there.
+  profile_.command(time_s_, target_rad_per_s, accel_magnitude_rad_per_s2);
+  method_->change_segment(time_s_, profile_.segment_at(time_s_));
+  break_due_ = false;
+  // Events found beyond time_s_ belonged to the old profile.
+  std::vector<ContactEvent> kept;
+  for (const auto& e : step_events_) {
+    if (e.t_s <= time_s_) kept.push_back(e);
+  }
+  step_events_.swap(kept);
+}
+
+void Simulation::count_and_deliver(const ContactEvent& e, SimulationObserver& observer) {
+  RunStats& st = method_->mutable_stats();
+  ++(e.kind == EventKind::kTouchdown ? st.touchdowns : e.kind == EventKind::kLiftoff ? st.liftoffs : st.grazes);
+  observer.on_event(e);
+}
+
+void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
+  const double rate = scene_.output_rate_hz;
+  for (;;) {
+    const double tk = static_cast<double>(next_sample_) / rate;
+    if (tk > t_s) break;
+    for (auto it = step_events_.begin(); it != step_events_.end();) {
+      if (it->t_s < tk) {
+        count_and_deliver(*it, observer);
+        it = step_events_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    observer.on_sample(method_->sample(tk));
+    ++next_sample_;
+  }
+  for (auto it = step_events_.begin(); it != step_events_.end();) {
+    if (it->t_s <= t_s) {
+      count_and_deliver(*it, observer);
+      it = step_events_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  time_s_ = t_s;
+}
+
+bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
+  if (failure_) return false;
+  const double target = std::min(t_s, scene_.end_time_s);
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    while (time_s_ < target) {
+      if (method_->step_end() > time_s_) {  // serve the rest of the last step
+        deliver_until(std::min(method_->step_end(), target), observer);
+        continue;
+      }
+      if (break_due_) {  // the last step ended on a drive discontinuity
+        method_->change_segment(t_limit_s_, profile_.segment_at(t_limit_s_));
+        break_due_ = false;
+      }
+      t_limit_s_ = profile_.next_break_after(time_s_);
+      method_->step(t_limit_s_, step_events_);
+      break_due_ = method_->step_end() >= t_limit_s_;
+    }
+  } catch (const MethodFailure& f) {
+    failure_ = RunFailure{f.failure_class, f.time_s, f.what()};
+  }
+  method_->mutable_stats().wall_time_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return !failure_;
+}
+
+RunResult run_scene(const Scene& scene, SimulationObserver& observer) {
+  struct Recorder : SimulationObserver {
+    SimulationObserver* inner;
+    std::vector<ContactEvent> events;
+    void on_sample(const Sample& s) override { inner->on_sample(s); }
+    void on_event(const ContactEvent& e) override {
+      events.push_back(e);
+      inner->on_event(e);
+    }
+  } recorder;
+  recorder.inner = &observer;
+  Simulation sim(scene);
+  sim.advance_to(scene.end_time_s, recorder);
+  return {sim.stats(), std::move(recorder.events), sim.failure()};
+}
+
+}  // namespace rotor_rub::core

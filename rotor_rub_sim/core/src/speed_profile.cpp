@@ -1,0 +1,51 @@
+#include "rotor_rub_sim/core/speed_profile.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace rotor_rub::core {
+
+SpeedProfile::SpeedProfile(const SpeedProfileParameters& p) {
+  const DriveState start{p.initial_angle_rad, p.initial_speed_rad_per_s, 0.0};
+  append_ramp(0.0, start, p.target_speed_rad_per_s, p.acceleration_rad_per_s2);
+}
+
+void SpeedProfile::append_ramp(double t_s, const DriveState& from, double target, double accel_magnitude) {
+  const double delta = target - from.speed_rad_per_s;
+  if (delta != 0.0 && accel_magnitude > 0.0) {
+    const double accel = std::copysign(accel_magnitude, delta);
+    segments_.push_back({t_s, from.angle_rad, from.speed_rad_per_s, accel});
+    const double t_reach = t_s + delta / accel;
+    const DriveState reached = segments_.back().at(t_reach);
+    segments_.push_back({t_reach, reached.angle_rad, target, 0.0});
+  } else {
+    segments_.push_back({t_s, from.angle_rad, from.speed_rad_per_s, 0.0});
+  }
+}
+
+void SpeedProfile::command(double t_s, double target_rad_per_s, double accel_magnitude_rad_per_s2) {
+  if (!segments_.empty() && t_s < segments_.front().start_time_s) {
+    throw std::invalid_argument("speed command time precedes the profile start");
+  }
+  const DriveState now = at(t_s);
+  while (!segments_.empty() && segments_.back().start_time_s >= t_s) segments_.pop_back();
+  append_ramp(t_s, now, target_rad_per_s, accel_magnitude_rad_per_s2);
+}
+
+const SpeedSegment& SpeedProfile::segment_at(double t_s) const {
+  // Few segments: a linear scan from the back is the fastest and simplest.
+  for (auto it = segments_.rbegin(); it != segments_.rend(); ++it) {
+    if (it->start_time_s <= t_s) return *it;
+  }
+  return segments_.front();
+}
+
+double SpeedProfile::next_break_after(double t_s) const {
+  for (const auto& s : segments_) {
+    if (s.start_time_s > t_s) return s.start_time_s;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace rotor_rub::core
