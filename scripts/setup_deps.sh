@@ -9,6 +9,7 @@ PACKAGES=(
   rosbash python3-roslaunch python3-rostest python3-rosbag python3-rostopic
   python3-rosmsg python3-rosnode python3-rosparam python3-rosservice
   ros-std-msgs ros-geometry-msgs ros-visualization-msgs ros-diagnostic-msgs
+  python3-rospy python3-std-msgs python3-geometry-msgs
   libdiagnostic-updater-dev librosbag-dev librostest-dev
   # numerical core
   build-essential cmake libeigen3-dev libboost-dev libboost-program-options-dev

@@ -14,6 +14,7 @@
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
+#include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "run_output.hpp"
 
 namespace {
@@ -113,11 +114,13 @@ int main(int argc, char** argv) {
     }
   }
   if (!quiet) {
-    std::printf("%-9s rtol %-7.0e touchdown %9.6f s  liftoff %9.6f s  max orbit %.6e m  max F_n %9.4f N  "
-                "steps %7ld (+%ld rejected)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
-                core::to_string(scene.solver.method), scene.solver.rtol, tools::first_touchdown_s(recorder.events),
-                tools::last_liftoff_s(recorder.events), recorder.max_orbit_m, recorder.max_normal_force_N, st.steps,
-                st.rejected_steps, st.rhs_evals, st.root_iterations, st.wall_time_s * 1e3);
+    const auto sustained = core::longest_contact(recorder.events);
+    std::printf("%-9s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
+                "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
+                core::to_string(scene.solver.method), scene.solver.rtol, core::first_contact_s(recorder.events),
+                sustained.first, sustained.second, core::last_contact_end_s(recorder.events), recorder.max_orbit_m,
+                recorder.max_normal_force_N, st.steps, st.rejected_steps, st.rhs_evals, st.root_iterations,
+                st.wall_time_s * 1e3);
   }
   if (const auto& f = sim.failure()) {
     const core::Sample last = recorder.samples.empty() ? core::Sample{} : recorder.samples.back();

@@ -1,5 +1,7 @@
 #include "run_output.hpp"
 
+#include "rotor_rub_sim/core/trajectory_compare.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,6 +14,15 @@ std::string num(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
+}
+
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += (c == '\n') ? ' ' : c;
+  }
+  return out;
 }
 
 }  // namespace
@@ -62,13 +73,17 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   os << "  \"rtol\": " << num(sc.solver.rtol) << ",\n  \"atol\": " << num(sc.solver.atol) << ",\n";
   if (*in.failure) {
     os << "  \"status\": \"" << core::to_string((*in.failure)->failure_class) << "\",\n";
-    os << "  \"failure\": {\"t\": " << num((*in.failure)->time_s) << ", \"message\": \"" << (*in.failure)->message
+    os << "  \"failure\": {\"t\": " << num((*in.failure)->time_s) << ", \"message\": \"" << json_escape((*in.failure)->message)
        << "\"},\n";
   } else {
     os << "  \"status\": \"ok\",\n";
   }
+  const auto sustained = core::longest_contact(in.recorder->events);
+  os << "  \"first_contact_s\": " << num(core::first_contact_s(in.recorder->events)) << ",\n";
   os << "  \"first_touchdown_s\": " << num(first_touchdown_s(in.recorder->events)) << ",\n";
+  os << "  \"sustained_contact_s\": [" << num(sustained.first) << ", " << num(sustained.second) << "],\n";
   os << "  \"last_liftoff_s\": " << num(last_liftoff_s(in.recorder->events)) << ",\n";
+  os << "  \"last_contact_end_s\": " << num(core::last_contact_end_s(in.recorder->events)) << ",\n";
   os << "  \"max_orbit_m\": " << num(in.recorder->max_orbit_m) << ",\n";
   os << "  \"max_normal_force_N\": " << num(in.recorder->max_normal_force_N) << ",\n";
   os << "  \"max_penetration_m\": " << num(in.recorder->max_penetration_m) << ",\n";

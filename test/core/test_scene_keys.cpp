@@ -1,1 +1,101 @@
 #include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+using core::SceneError;
+
+namespace {
+
+std::string error_of(const std::map<std::string, std::string>& values) {
+  try {
+    core::scene_from_values(values);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(SceneKeys, PaperSceneLoadsWithTable1Values) {
+  const core::Scene s = test::paper_scene();
+  EXPECT_EQ(s.model.rotor_mass_kg, 0.418);
+  EXPECT_EQ(s.model.stator_stiffness_N_per_m, 38166.0);
+  EXPECT_EQ(s.model.clearance_m, 2.0e-3);
+  EXPECT_EQ(s.model.contact_stiffness_N_per_m, 1.0e9);
+  EXPECT_EQ(s.speed.acceleration_rad_per_s2, 70.0);
+  EXPECT_EQ(s.end_time_s, 4.0);
+}
+
+// Every key, given a value of the wrong kind, is named in the error with the
+// value and its accepted range.
+TEST(SceneKeys, EveryKeyRejectsABadValueByName) {
+  for (const auto& k : core::scene_keys()) {
+    for (const std::string bad : {"nan", "banana", "-1e308", "1e308x"}) {
+      const std::string msg = error_of({{k.key, bad}});
+      if (msg.empty()) {
+        // Some keys accept a negative huge number (initial_angle_rad); all
+        // must reject the other three.
+        EXPECT_EQ(bad, "-1e308") << k.key;
+        continue;
+      }
+      EXPECT_NE(msg.find("'" + k.key + "'"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(bad), std::string::npos) << msg;
+      EXPECT_NE(msg.find("accepted"), std::string::npos) << msg;
+    }
+  }
+}
+
+TEST(SceneKeys, OutOfRangeNamesTheRange) {
+  const std::string msg = error_of({{"clearance_m", "-0.002"}});
+  EXPECT_NE(msg.find("clearance_m"), std::string::npos);
+  EXPECT_NE(msg.find("(0, inf)"), std::string::npos) << msg;
+  EXPECT_NE(error_of({{"restitution", "1.5"}}).find("[0, 1]"), std::string::npos);
+  EXPECT_NE(error_of({{"method", "euler"}}).find("penalty switching iteration"), std::string::npos);
+  EXPECT_NE(error_of({{"max_steps", "2.5"}}).find("integer"), std::string::npos);
+}
+
+TEST(SceneKeys, UnknownKeySuggestsTheNearest) {
+  const std::string msg = error_of({{"clearence_m", "0.002"}});
+  EXPECT_NE(msg.find("unknown scene key 'clearence_m'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("did you mean 'clearance_m'"), std::string::npos) << msg;
+}
+
+TEST(SceneKeys, CrossKeyRules) {
+  EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "switching"}}).find("with method 'penalty' only"),
+            std::string::npos);
+  EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "penalty"}}), "");
+  EXPECT_NE(error_of({{"target_speed_rad_per_s", "3000"}}).find("max_speed_rad_per_s"), std::string::npos);
+}
+
+TEST(SceneFile, RejectsNestedYamlAndDuplicates) {
+  const std::string path = "/tmp/rotor_rub_test_nested.yaml";
+  {
+    std::ofstream f(path);
+    f << "rotor:\n  mass_kg: 1.0\n";
+  }
+  EXPECT_THROW(core::load_scene(path), SceneError);
+  {
+    std::ofstream f(path);
+    f << "clearance_m: 1e-3\nclearance_m: 2e-3\n";
+  }
+  EXPECT_THROW(core::load_scene(path), SceneError);
+  EXPECT_THROW(core::load_scene("/nonexistent/scene.yaml"), SceneError);
+}
+
+TEST(SceneFile, OverridesApplyAfterTheFile) {
+  const core::Scene s = core::load_scene(test::source_path("config/paper_runup.yaml"), {{"method", "penalty"}});
+  EXPECT_EQ(s.solver.method, core::Method::kPenalty);
+}
+
+// config/scene_template.yaml documents every key and loads as a scene.
+TEST(SceneFile, TemplateDocumentsEveryKey) {
+  const auto values = core::read_scene_values(test::source_path("config/scene_template.yaml"));
+  for (const auto& k : core::scene_keys()) EXPECT_EQ(values.count(k.key), 1u) << k.key << " missing from the template";
+  EXPECT_EQ(values.size(), core::scene_keys().size());
+  EXPECT_NO_THROW(core::scene_from_values(values));
+}

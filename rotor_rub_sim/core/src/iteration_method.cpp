@@ -5,6 +5,7 @@
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
@@ -66,12 +67,17 @@ struct IterationSystem {
   SpeedSegment segment;
   bool engaged = false;
   long* iterations = nullptr;
+  double* rhs_time_s = nullptr;        // profiling only
+  double* iteration_time_s = nullptr;  // profiling only
 
   double normal_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double t) const {
-    return engaged ? solver->solve(k, d, g, t, *iterations) : 0.0;
+    if (!engaged) return 0.0;
+    ProfileScope scope(iteration_time_s);
+    return solver->solve(k, d, g, t, *iterations);
   }
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
+    ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
@@ -102,6 +108,10 @@ class IterationMethod final : public ContactMethod {
     system_.model = &model_;
     system_.solver = &solver_;
     system_.iterations = &stats_.root_iterations;
+    if (scene.solver.profile_cost) {
+      system_.rhs_time_s = &stats_.rhs_time_s;
+      system_.iteration_time_s = &stats_.iteration_time_s;
+    }
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
@@ -153,18 +163,22 @@ class IterationMethod final : public ContactMethod {
     const DriveState d = system_.segment.at(valid_end_);
     ContactGeometry g = model_.contact_geometry(k, d);
     if (system_.engaged) {
-      project_to_bore(k, g);
-      g = model_.contact_geometry(k, d);
-      bool engaged_next = true;
-      if (solver_.distance_acceleration(k, d, g, 0.0) <= 0.0) {
-        engaged_next = false;  // lift-off: F_n = 0 already separates
+      Kinematics held = k;
+      project_to_bore(held, g);
+      const ContactGeometry gh = model_.contact_geometry(held, d);
+      if (solver_.distance_acceleration(held, d, gh, 0.0) <= 0.0) {
+        // Lift-off: F_n = 0 already separates. The step's end is kept as
+        // integrated (the rotor may have begun to leave within the step).
         guard_.record(valid_end_);
         events.push_back({valid_end_, EventKind::kLiftoff, 0.0, 0.0});
-      } else {
-        stats_.min_abs_sliding_velocity_m_per_s =
-            std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(g.sliding_velocity_m_per_s));
+        defer_restart(valid_end_, k, false);
+        return;
       }
-      defer_restart(valid_end_, k, engaged_next);
+      // Still held: the drift of this step is projected out.
+      stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(g.penetration_m));
+      stats_.min_abs_sliding_velocity_m_per_s =
+          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(gh.sliding_velocity_m_per_s));
+      defer_restart(valid_end_, held, true);
       return;
     }
     if (g.penetration_m < -gap_tolerance_m_) return;  // free flight goes on
@@ -215,9 +229,8 @@ class IterationMethod final : public ContactMethod {
 
   // Moves both bodies along n so that delta = C, and removes the normal
   // relative velocity, each in inverse proportion to its mass (momentum is
-  // kept). Records the drift it removed.
-  void project_to_bore(Kinematics& k, const ContactGeometry& g) {
-    stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(g.penetration_m));
+  // kept).
+  void project_to_bore(Kinematics& k, const ContactGeometry& g) const {
     const double imr = model_.inv_rotor_mass(), ims = model_.inv_stator_mass(), im = imr + ims;
     k.rotor_pos -= g.penetration_m * (imr / im) * g.normal;
     k.stator_pos += g.penetration_m * (ims / im) * g.normal;

@@ -1,6 +1,7 @@
 #include "rotor_rub_sim/core/penalty_method.hpp"
 
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/dense_rosenbrock4.hpp"
@@ -27,8 +28,10 @@ struct PenaltySystem {
   const JeffcottModel* model;
   PenaltyLaw law;
   SpeedSegment segment;
+  double* rhs_time_s = nullptr;  // profiling only
 
   void operator()(const State& x, State& dxdt, double t) const {
+    ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
@@ -55,6 +58,7 @@ class PenaltyMethod final : public ContactMethod {
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
     system_.law = {scene.model.contact_stiffness_N_per_m, contact_damping_N_s_per_m(model_)};
+    if (scene.solver.profile_cost) system_.rhs_time_s = &stats_.rhs_time_s;
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {

@@ -13,7 +13,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string format_double(double v) {
   std::ostringstream os;
-  os.precision(17);
+  os.precision(15);
   os << v;
   return os.str();
 }

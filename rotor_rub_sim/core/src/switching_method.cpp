@@ -5,6 +5,7 @@
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -17,7 +18,9 @@ struct FreeFlightSystem {
   using L = FreeLayout<kStatorDof>;
   const JeffcottModel* model;
   SpeedSegment segment;
+  double* rhs_time_s = nullptr;  // profiling only
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
+    ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = segment.at(t);
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
@@ -34,7 +37,9 @@ struct ContactSystem {
   using L = ContactLayout<kStatorDof>;
   ConstrainedDynamics<kStatorDof> dynamics;
   SpeedSegment segment;
+  double* rhs_time_s = nullptr;  // profiling only
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
+    ProfileScope scope(rhs_time_s);
     dynamics.derivative(x, segment.at(t), dxdt);
   }
 };
@@ -56,6 +61,7 @@ class SwitchingMethod final : public ContactMethod {
         guard_(scene.solver.max_events_per_ms) {
     free_sys_.model = &model_;
     contact_sys_.dynamics.model = &model_;
+    if (scene.solver.profile_cost) free_sys_.rhs_time_s = contact_sys_.rhs_time_s = &stats_.rhs_time_s;
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {

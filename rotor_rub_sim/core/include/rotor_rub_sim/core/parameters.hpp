@@ -92,6 +92,9 @@ struct SolverSettings {
   // Switching/iteration: more contact events than this per simulated
   // millisecond is chattering, reported as stalled.
   double max_events_per_ms = 200.0;
+  // Benchmark only (not a scene key): measure the time spent in derivative
+  // evaluation and force iteration (RunStats::rhs_time_s, iteration_time_s).
+  bool profile_cost = false;
 };
 
 struct Scene {

@@ -52,8 +52,8 @@ struct RunStats {
   long touchdowns = 0, liftoffs = 0, grazes = 0;
   long restarts = 0;         // integrator restarts (events, profile breaks, projections)
   double wall_time_s = 0.0;
-  double rhs_time_s = 0.0;        // only measured when profiling is on
-  double iteration_time_s = 0.0;  // only measured when profiling is on
+  double rhs_time_s = 0.0;        // profile_cost only: in derivative evaluation, iteration included
+  double iteration_time_s = 0.0;  // profile_cost only: in the normal force iteration
   double max_constraint_violation_m = 0.0;  // rigid methods: max |delta - C| in contact at step ends
   double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
 };

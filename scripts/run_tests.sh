@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Installs, builds and runs every test: the core's gtests, the runner's CLI
+# tests, and checks that every ROS tool sees both packages. Ends with the line
+# "N passed, N failed" counted from the test results; exits non-zero on any
+# failure (catkin_make run_tests alone exits 0 even then).
+set -uo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+"$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
+WS="$ROOT/.ws"
+export PATH="/usr/bin:$PATH"
+cd "$WS"
+rm -rf build/test_results
+catkin_make run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
+grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
+catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
+results_rc=$?
+
+# ROS tools see both packages (needs the workspace environment, no master).
+# shellcheck disable=SC1091
+set +u; source "$WS/devel/setup.bash"; set -u
+tool_pass=0; tool_fail=0
+check() {
+  local name="$1"; shift
+  if "$@" > /dev/null 2>&1; then tool_pass=$((tool_pass + 1)); echo "[  OK  ] ros tool: $name"
+  else tool_fail=$((tool_fail + 1)); echo "[FAILED] ros tool: $name"; fi
+}
+BAG="$WS/tool_check.bag"
+check "rospack find rotor_rub_sim" rospack find rotor_rub_sim
+check "rospack find rotor_rub_msgs" rospack find rotor_rub_msgs
+check "rosmsg show rotor_rub_msgs/RotorState" rosmsg show rotor_rub_msgs/RotorState
+check "rosrun finds rotor_rub_run" rosrun rotor_rub_sim rotor_rub_run --help
+check "write a bag of RotorState" /usr/bin/python3 -c "
+import rosbag, rospy
+from rotor_rub_msgs.msg import RotorState
+with rosbag.Bag('$BAG', 'w') as b:
+    m = RotorState(); m.header.stamp = rospy.Time(1, 0); m.normal_force = 1.5
+    b.write('/rotor_rub_sim/state', m, m.header.stamp)"
+check "rosbag info" rosbag info "$BAG"
+check "rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
+
+read -r passed failed < <(/usr/bin/python3 - "$WS/build/test_results" <<'PY'
+import glob, sys, xml.etree.ElementTree as ET
+p = f = 0
+for path in glob.glob(sys.argv[1] + "/**/*.xml", recursive=True):
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError:
+        f += 1
+        continue
+    for case in root.iter("testcase"):
+        if case.find("failure") is not None or case.find("error") is not None:
+            f += 1
+        elif case.find("skipped") is None:
+            p += 1
+print(p, f)
+PY
+)
+passed=$((passed + tool_pass)); failed=$((failed + tool_fail))
+if [ "$results_rc" -ne 0 ] && [ "$failed" -eq 0 ]; then failed=1; cat "$WS/test_results.txt"; fi
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
