@@ -52,10 +52,14 @@ int main(int argc, char** argv) {
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--scene" && i + 1 < argc) scene_path = argv[++i];
-    else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--error-rate" && i + 1 < argc) error_rate_hz = std::atof(argv[++i]);
-    else if (a == "--quick") quick = true;
+    if (a == "--scene" && i + 1 < argc)
+      scene_path = argv[++i];
+    else if (a == "--repeats" && i + 1 < argc)
+      repeats = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--error-rate" && i + 1 < argc)
+      error_rate_hz = std::atof(argv[++i]);
+    else if (a == "--quick")
+      quick = true;
     else {
       std::cerr << "usage: rotor_rub_bench [--scene FILE] [--repeats N] [--error-rate HZ] [--quick]\n";
       return 2;
@@ -86,8 +90,8 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   const std::vector<std::pair<double, double>> tolerances =
       quick ? std::vector<std::pair<double, double>>{{1e-3, 1e-6}, {1e-6, 1e-9}}
-            : std::vector<std::pair<double, double>>{{1e-3, 1e-6}, {1e-5, 1e-8}, {1e-6, 1e-9}, {1e-7, 1e-10},
-                                                     {1e-8, 1e-11}, {1e-9, 1e-12}};
+            : std::vector<std::pair<double, double>>{{1e-3, 1e-6},  {1e-5, 1e-8},  {1e-6, 1e-9},
+                                                     {1e-7, 1e-10}, {1e-8, 1e-11}, {1e-9, 1e-12}};
   for (Method m : {Method::kSwitching, Method::kIteration, Method::kPenalty}) {
     for (const auto& [r, a] : tolerances) cases.push_back({m, r, a});
   }
@@ -132,7 +136,8 @@ int main(int argc, char** argv) {
                 std::abs(first_contact_s(run.events) - first_contact_s(ref.events)), status);
     (void)er;
   }
-  std::printf("\npaper (MATLAB ode45, rtol 1e-3, atol 1e-6): penalty 1123 s, 90459 steps, rhs 62%%, iter 0%%; "
-              "switching 45 s, 1857 steps, 64%%, 1%%; iteration 1050 s, 8040 steps, 19%%, 65%%\n");
+  std::printf(
+      "\npaper (MATLAB ode45, rtol 1e-3, atol 1e-6): penalty 1123 s, 90459 steps, rhs 62%%, iter 0%%; "
+      "switching 45 s, 1857 steps, 64%%, 1%%; iteration 1050 s, 8040 steps, 19%%, 65%%\n");
   return 0;
 }

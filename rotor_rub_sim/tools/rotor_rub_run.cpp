@@ -26,9 +26,12 @@ constexpr int kExitOutput = 6;
 
 int exit_code(core::FailureClass c) {
   switch (c) {
-    case core::FailureClass::kStalled: return 3;
-    case core::FailureClass::kDiverged: return 4;
-    case core::FailureClass::kNotConverged: return 5;
+    case core::FailureClass::kStalled:
+      return 3;
+    case core::FailureClass::kDiverged:
+      return 4;
+    case core::FailureClass::kNotConverged:
+      return 5;
   }
   return 1;
 }
@@ -55,14 +58,22 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) bad_input(std::string(flag) + " needs a value\n" + kUsage);
       return argv[++i];
     };
-    if (a == "--scene") scene_path = value("--scene");
-    else if (a == "--method") overrides["method"] = value("--method");
-    else if (a == "--rtol") overrides["rtol"] = value("--rtol");
-    else if (a == "--atol") overrides["atol"] = value("--atol");
-    else if (a == "--rate") overrides["output_rate_hz"] = value("--rate");
-    else if (a == "--csv") csv_path = value("--csv");
-    else if (a == "--summary") summary_path = value("--summary");
-    else if (a == "--quiet") quiet = true;
+    if (a == "--scene")
+      scene_path = value("--scene");
+    else if (a == "--method")
+      overrides["method"] = value("--method");
+    else if (a == "--rtol")
+      overrides["rtol"] = value("--rtol");
+    else if (a == "--atol")
+      overrides["atol"] = value("--atol");
+    else if (a == "--rate")
+      overrides["output_rate_hz"] = value("--rate");
+    else if (a == "--csv")
+      csv_path = value("--csv");
+    else if (a == "--summary")
+      summary_path = value("--summary");
+    else if (a == "--quiet")
+      quiet = true;
     else if (a == "--set") {
       const std::string kv = value("--set");
       const auto eq = kv.find('=');
@@ -115,12 +126,13 @@ int main(int argc, char** argv) {
   }
   if (!quiet) {
     const auto sustained = core::longest_contact(recorder.events);
-    std::printf("%-9s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
-                "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
-                core::to_string(scene.solver.method), scene.solver.rtol, core::first_contact_s(recorder.events),
-                sustained.first, sustained.second, core::last_contact_end_s(recorder.events), recorder.max_orbit_m,
-                recorder.max_normal_force_N, st.steps, st.rejected_steps, st.rhs_evals, st.root_iterations,
-                st.wall_time_s * 1e3);
+    std::printf(
+        "%-9s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
+        "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
+        core::to_string(scene.solver.method), scene.solver.rtol, core::first_contact_s(recorder.events),
+        sustained.first, sustained.second, core::last_contact_end_s(recorder.events), recorder.max_orbit_m,
+        recorder.max_normal_force_N, st.steps, st.rejected_steps, st.rhs_evals, st.root_iterations,
+        st.wall_time_s * 1e3);
   }
   if (const auto& f = sim.failure()) {
     const core::Sample last = recorder.samples.empty() ? core::Sample{} : recorder.samples.back();

@@ -1,10 +1,10 @@
 #include "run_output.hpp"
 
-#include "rotor_rub_sim/core/trajectory_compare.hpp"
-
 #include <cmath>
 #include <cstdio>
 #include <limits>
+
+#include "rotor_rub_sim/core/trajectory_compare.hpp"
 
 namespace rotor_rub::tools {
 namespace {
@@ -39,13 +39,13 @@ void write_csv(std::ostream& os, const std::vector<core::Sample>& samples) {
         "penetration,sliding_velocity,in_contact,spin_angle,speed\n";
   char buf[1024];
   for (const auto& s : samples) {
-    std::snprintf(buf, sizeof buf,
-                  "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g\n",
-                  s.t_s, s.kin.rotor_pos.x(), s.kin.rotor_pos.y(), s.kin.stator_pos.x(), s.kin.stator_pos.y(),
-                  s.kin.rotor_vel.x(), s.kin.rotor_vel.y(), s.kin.stator_vel.x(), s.kin.stator_vel.y(),
-                  s.normal_force_N, s.friction_force_N, s.contact_force_on_rotor_N.x(),
-                  s.contact_force_on_rotor_N.y(), s.penetration_m, s.sliding_velocity_m_per_s, s.in_contact ? 1 : 0,
-                  s.drive.angle_rad, s.drive.speed_rad_per_s);
+    std::snprintf(
+        buf, sizeof buf,
+        "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g\n",
+        s.t_s, s.kin.rotor_pos.x(), s.kin.rotor_pos.y(), s.kin.stator_pos.x(), s.kin.stator_pos.y(),
+        s.kin.rotor_vel.x(), s.kin.rotor_vel.y(), s.kin.stator_vel.x(), s.kin.stator_vel.y(), s.normal_force_N,
+        s.friction_force_N, s.contact_force_on_rotor_N.x(), s.contact_force_on_rotor_N.y(), s.penetration_m,
+        s.sliding_velocity_m_per_s, s.in_contact ? 1 : 0, s.drive.angle_rad, s.drive.speed_rad_per_s);
     os << buf;
   }
 }
@@ -73,8 +73,8 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   os << "  \"rtol\": " << num(sc.solver.rtol) << ",\n  \"atol\": " << num(sc.solver.atol) << ",\n";
   if (*in.failure) {
     os << "  \"status\": \"" << core::to_string((*in.failure)->failure_class) << "\",\n";
-    os << "  \"failure\": {\"t\": " << num((*in.failure)->time_s) << ", \"message\": \"" << json_escape((*in.failure)->message)
-       << "\"},\n";
+    os << "  \"failure\": {\"t\": " << num((*in.failure)->time_s) << ", \"message\": \""
+       << json_escape((*in.failure)->message) << "\"},\n";
   } else {
     os << "  \"status\": \"ok\",\n";
   }
@@ -91,8 +91,8 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   for (std::size_t i = 0; i < in.recorder->events.size(); ++i) {
     const auto& e = in.recorder->events[i];
     os << (i ? ",\n    " : "\n    ") << "{\"t\": " << num(e.t_s) << ", \"kind\": \"" << core::to_string(e.kind)
-       << "\", \"normal_velocity_m_per_s\": " << num(e.normal_velocity_m_per_s) << ", \"impulse_N_s\": "
-       << num(e.impulse_N_s) << "}";
+       << "\", \"normal_velocity_m_per_s\": " << num(e.normal_velocity_m_per_s)
+       << ", \"impulse_N_s\": " << num(e.impulse_N_s) << "}";
   }
   os << (in.recorder->events.empty() ? "],\n" : "\n  ],\n");
   os << "  \"stats\": {\"steps\": " << st.steps << ", \"rejected_steps\": " << st.rejected_steps

@@ -19,9 +19,9 @@ class RunRecorder : public core::SimulationObserver {
 
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
-  double max_orbit_m = 0.0;          // max |r_r| over the samples
-  double max_normal_force_N = 0.0;   // max F_n over the samples
-  double max_penetration_m = -1e300; // max delta - C over the samples
+  double max_orbit_m = 0.0;           // max |r_r| over the samples
+  double max_normal_force_N = 0.0;    // max F_n over the samples
+  double max_penetration_m = -1e300;  // max delta - C over the samples
 
  private:
   bool keep_samples_;

@@ -46,8 +46,8 @@ TEST_P(FreeResponse, MatchesClosedFormAmplitudeAndPhase) {
   EXPECT_EQ(r.result.stats.touchdowns + r.result.stats.grazes, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllMethods, FreeResponse,
-    testing::Combine(testing::Values(core::Method::kPenalty, core::Method::kSwitching, core::Method::kIteration),
-                     testing::Values(core::StatorModel::kElastic, core::StatorModel::kRigid),
-                     testing::Values(40.0, 77.2, 150.0)));
+INSTANTIATE_TEST_SUITE_P(AllMethods, FreeResponse,
+                         testing::Combine(testing::Values(core::Method::kPenalty, core::Method::kSwitching,
+                                                          core::Method::kIteration),
+                                          testing::Values(core::StatorModel::kElastic, core::StatorModel::kRigid),
+                                          testing::Values(40.0, 77.2, 150.0)));

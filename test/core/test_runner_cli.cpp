@@ -1,10 +1,10 @@
 // The headless runner's contract: flags, CSV grid and columns, JSON summary,
 // exit status.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <sys/wait.h>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>

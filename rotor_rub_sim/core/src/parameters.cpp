@@ -30,8 +30,6 @@ const char* to_string(Integrator i) { return name_of(kIntegratorNames, i); }
 const char* to_string(StatorModel s) { return name_of(kStatorModelNames, s); }
 Method method_from_string(const std::string& s) { return value_of(kMethodNames, s, "method"); }
 Integrator integrator_from_string(const std::string& s) { return value_of(kIntegratorNames, s, "integrator"); }
-StatorModel stator_model_from_string(const std::string& s) {
-  return value_of(kStatorModelNames, s, "stator_model");
-}
+StatorModel stator_model_from_string(const std::string& s) { return value_of(kStatorModelNames, s, "stator_model"); }
 
 }  // namespace rotor_rub::core

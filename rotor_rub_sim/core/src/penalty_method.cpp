@@ -3,8 +3,8 @@
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/dense_rosenbrock4.hpp"
+#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {

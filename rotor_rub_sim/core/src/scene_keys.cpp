@@ -29,8 +29,7 @@ double parse_number(const std::string& key, const std::string& text, const std::
   }
   while (used < text.size() && std::isspace(static_cast<unsigned char>(text[used]))) ++used;
   if (used != text.size() || !std::isfinite(v)) {
-    throw SceneError("scene key '" + key + "': value '" + text + "' is not a finite number; accepted: " +
-                     accepted);
+    throw SceneError("scene key '" + key + "': value '" + text + "' is not a finite number; accepted: " + accepted);
   }
   return v;
 }
@@ -95,40 +94,79 @@ const std::vector<KeyEntry>& entries() {
   static const std::vector<KeyEntry> table = [] {
     std::vector<KeyEntry> t;
     // Model (paper Table 1 defaults).
-    t.push_back(real("rotor_mass_kg", 0, true, kInf, "rotor mass m_r [kg]", [](Scene& s) -> double& { return s.model.rotor_mass_kg; }));
-    t.push_back(real("rotor_stiffness_N_per_m", 0, true, kInf, "rotor shaft stiffness k_r [N/m]", [](Scene& s) -> double& { return s.model.rotor_stiffness_N_per_m; }));
-    t.push_back(real("rotor_damping_N_s_per_m", 0, false, kInf, "rotor damping b_r [N s/m]", [](Scene& s) -> double& { return s.model.rotor_damping_N_s_per_m; }));
-    t.push_back(real("rotor_radius_m", 0, false, kInf, "rotor radius at the contact R_r [m]", [](Scene& s) -> double& { return s.model.rotor_radius_m; }));
-    t.push_back(real("eccentricity_m", 0, false, kInf, "mass-centre eccentricity e [m]", [](Scene& s) -> double& { return s.model.eccentricity_m; }));
-    t.push_back(choice<StatorModel, 2>("stator_model", kStatorModelNames, "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only", [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
-    t.push_back(real("stator_mass_kg", 0, true, kInf, "stator mass m_s [kg] (elastic stator)", [](Scene& s) -> double& { return s.model.stator_mass_kg; }));
-    t.push_back(real("stator_stiffness_N_per_m", 0, false, kInf, "stator support stiffness k_s [N/m]", [](Scene& s) -> double& { return s.model.stator_stiffness_N_per_m; }));
-    t.push_back(real("stator_damping_N_s_per_m", 0, false, kInf, "stator support damping b_s [N s/m]", [](Scene& s) -> double& { return s.model.stator_damping_N_s_per_m; }));
-    t.push_back(real("clearance_m", 0, true, kInf, "radial clearance C [m]", [](Scene& s) -> double& { return s.model.clearance_m; }));
-    t.push_back(real("friction_coefficient", 0, false, 2.0, "Coulomb friction coefficient f [-]; 0 skips friction", [](Scene& s) -> double& { return s.model.friction_coefficient; }));
-    t.push_back(real("friction_regularisation_m_per_s", 0, false, 1.0, "half-width of the linear friction-sign band [m/s]; 0 = exact sign", [](Scene& s) -> double& { return s.model.friction_regularisation_m_per_s; }));
-    t.push_back(real("restitution", 0, false, 1.0, "normal coefficient of restitution [-]; 0 plastic, 1 elastic", [](Scene& s) -> double& { return s.model.restitution; }));
-    t.push_back(real("impact_settle_velocity_m_per_s", 0, false, kInf, "rebound speed below which an impact settles into contact [m/s]", [](Scene& s) -> double& { return s.model.impact_settle_velocity_m_per_s; }));
-    t.push_back(real("contact_stiffness_N_per_m", 0, true, kInf, "penalty contact stiffness k_c [N/m] (method I)", [](Scene& s) -> double& { return s.model.contact_stiffness_N_per_m; }));
-    t.push_back(real("gravity_m_per_s2", 0, false, 100.0, "gravity along -y [m/s^2]; 0 for a vertical machine", [](Scene& s) -> double& { return s.model.gravity_m_per_s2; }));
+    t.push_back(real("rotor_mass_kg", 0, true, kInf, "rotor mass m_r [kg]",
+                     [](Scene& s) -> double& { return s.model.rotor_mass_kg; }));
+    t.push_back(real("rotor_stiffness_N_per_m", 0, true, kInf, "rotor shaft stiffness k_r [N/m]",
+                     [](Scene& s) -> double& { return s.model.rotor_stiffness_N_per_m; }));
+    t.push_back(real("rotor_damping_N_s_per_m", 0, false, kInf, "rotor damping b_r [N s/m]",
+                     [](Scene& s) -> double& { return s.model.rotor_damping_N_s_per_m; }));
+    t.push_back(real("rotor_radius_m", 0, false, kInf, "rotor radius at the contact R_r [m]",
+                     [](Scene& s) -> double& { return s.model.rotor_radius_m; }));
+    t.push_back(real("eccentricity_m", 0, false, kInf, "mass-centre eccentricity e [m]",
+                     [](Scene& s) -> double& { return s.model.eccentricity_m; }));
+    t.push_back(choice<StatorModel, 2>("stator_model", kStatorModelNames,
+                                       "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only",
+                                       [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
+    t.push_back(real("stator_mass_kg", 0, true, kInf, "stator mass m_s [kg] (elastic stator)",
+                     [](Scene& s) -> double& { return s.model.stator_mass_kg; }));
+    t.push_back(real("stator_stiffness_N_per_m", 0, false, kInf, "stator support stiffness k_s [N/m]",
+                     [](Scene& s) -> double& { return s.model.stator_stiffness_N_per_m; }));
+    t.push_back(real("stator_damping_N_s_per_m", 0, false, kInf, "stator support damping b_s [N s/m]",
+                     [](Scene& s) -> double& { return s.model.stator_damping_N_s_per_m; }));
+    t.push_back(real("clearance_m", 0, true, kInf, "radial clearance C [m]",
+                     [](Scene& s) -> double& { return s.model.clearance_m; }));
+    t.push_back(real("friction_coefficient", 0, false, 2.0, "Coulomb friction coefficient f [-]; 0 skips friction",
+                     [](Scene& s) -> double& { return s.model.friction_coefficient; }));
+    t.push_back(real("friction_regularisation_m_per_s", 0, false, 1.0,
+                     "half-width of the linear friction-sign band [m/s]; 0 = exact sign",
+                     [](Scene& s) -> double& { return s.model.friction_regularisation_m_per_s; }));
+    t.push_back(real("restitution", 0, false, 1.0, "normal coefficient of restitution [-]; 0 plastic, 1 elastic",
+                     [](Scene& s) -> double& { return s.model.restitution; }));
+    t.push_back(real("impact_settle_velocity_m_per_s", 0, false, kInf,
+                     "rebound speed below which an impact settles into contact [m/s]",
+                     [](Scene& s) -> double& { return s.model.impact_settle_velocity_m_per_s; }));
+    t.push_back(real("contact_stiffness_N_per_m", 0, true, kInf, "penalty contact stiffness k_c [N/m] (method I)",
+                     [](Scene& s) -> double& { return s.model.contact_stiffness_N_per_m; }));
+    t.push_back(real("gravity_m_per_s2", 0, false, 100.0, "gravity along -y [m/s^2]; 0 for a vertical machine",
+                     [](Scene& s) -> double& { return s.model.gravity_m_per_s2; }));
     // Drive.
-    t.push_back(real("initial_angle_rad", -kInf, false, kInf, "spin angle at t = 0 [rad]", [](Scene& s) -> double& { return s.speed.initial_angle_rad; }));
-    t.push_back(real("initial_speed_rad_per_s", 0, false, kInf, "spin speed at t = 0 [rad/s]", [](Scene& s) -> double& { return s.speed.initial_speed_rad_per_s; }));
-    t.push_back(real("acceleration_rad_per_s2", 0, true, kInf, "angular acceleration toward the target [rad/s^2]", [](Scene& s) -> double& { return s.speed.acceleration_rad_per_s2; }));
-    t.push_back(real("target_speed_rad_per_s", 0, false, kInf, "target spin speed [rad/s]; held once reached", [](Scene& s) -> double& { return s.speed.target_speed_rad_per_s; }));
-    t.push_back(real("max_speed_rad_per_s", 0, true, kInf, "largest speed a scene or command may ask [rad/s]", [](Scene& s) -> double& { return s.speed.max_speed_rad_per_s; }));
+    t.push_back(real("initial_angle_rad", -kInf, false, kInf, "spin angle at t = 0 [rad]",
+                     [](Scene& s) -> double& { return s.speed.initial_angle_rad; }));
+    t.push_back(real("initial_speed_rad_per_s", 0, false, kInf, "spin speed at t = 0 [rad/s]",
+                     [](Scene& s) -> double& { return s.speed.initial_speed_rad_per_s; }));
+    t.push_back(real("acceleration_rad_per_s2", 0, true, kInf, "angular acceleration toward the target [rad/s^2]",
+                     [](Scene& s) -> double& { return s.speed.acceleration_rad_per_s2; }));
+    t.push_back(real("target_speed_rad_per_s", 0, false, kInf, "target spin speed [rad/s]; held once reached",
+                     [](Scene& s) -> double& { return s.speed.target_speed_rad_per_s; }));
+    t.push_back(real("max_speed_rad_per_s", 0, true, kInf, "largest speed a scene or command may ask [rad/s]",
+                     [](Scene& s) -> double& { return s.speed.max_speed_rad_per_s; }));
     // Numerics.
-    t.push_back(choice<Method, 3>("method", kMethodNames, "contact method: penalty (I), switching (II), iteration (III)", [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(choice<Integrator, 2>("integrator", kIntegratorNames, "time integrator; rosenbrock4 (stiff) for penalty only", [](Scene& s) -> Integrator& { return s.solver.integrator; }));
-    t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]", [](Scene& s) -> double& { return s.solver.rtol; }));
-    t.push_back(real("atol", 1e-16, false, 1.0, "absolute error tolerance per step [m, m/s]", [](Scene& s) -> double& { return s.solver.atol; }));
-    t.push_back(real("initial_step_s", 0, true, 1.0, "first trial step [s]", [](Scene& s) -> double& { return s.solver.initial_step_s; }));
-    t.push_back(real("min_step_s", 0, true, 1.0, "smallest step before a run is declared stalled [s]", [](Scene& s) -> double& { return s.solver.min_step_s; }));
-    t.push_back(integer("max_steps", 1, 2'000'000'000L, "budget of accepted plus rejected steps", [](Scene& s) -> long& { return s.solver.max_steps; }));
-    t.push_back(real("iteration_force_rtol", 1e-15, false, 1e-2, "method III: relative tolerance on the normal force root [-]", [](Scene& s) -> double& { return s.solver.iteration_force_rtol; }));
-    t.push_back(real("max_events_per_ms", 0, true, kInf, "contact events per simulated ms above which a run is chattering [1/ms]", [](Scene& s) -> double& { return s.solver.max_events_per_ms; }));
-    t.push_back(real("end_time_s", 0, true, 1e6, "simulated end time [s]", [](Scene& s) -> double& { return s.end_time_s; }));
-    t.push_back(real("output_rate_hz", 0, true, 1e7, "sample rate of the output in simulated time [Hz]", [](Scene& s) -> double& { return s.output_rate_hz; }));
+    t.push_back(choice<Method, 3>("method", kMethodNames,
+                                  "contact method: penalty (I), switching (II), iteration (III)",
+                                  [](Scene& s) -> Method& { return s.solver.method; }));
+    t.push_back(choice<Integrator, 2>("integrator", kIntegratorNames,
+                                      "time integrator; rosenbrock4 (stiff) for penalty only",
+                                      [](Scene& s) -> Integrator& { return s.solver.integrator; }));
+    t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
+                     [](Scene& s) -> double& { return s.solver.rtol; }));
+    t.push_back(real("atol", 1e-16, false, 1.0, "absolute error tolerance per step [m, m/s]",
+                     [](Scene& s) -> double& { return s.solver.atol; }));
+    t.push_back(real("initial_step_s", 0, true, 1.0, "first trial step [s]",
+                     [](Scene& s) -> double& { return s.solver.initial_step_s; }));
+    t.push_back(real("min_step_s", 0, true, 1.0, "smallest step before a run is declared stalled [s]",
+                     [](Scene& s) -> double& { return s.solver.min_step_s; }));
+    t.push_back(integer("max_steps", 1, 2'000'000'000L, "budget of accepted plus rejected steps",
+                        [](Scene& s) -> long& { return s.solver.max_steps; }));
+    t.push_back(real("iteration_force_rtol", 1e-15, false, 1e-2,
+                     "method III: relative tolerance on the normal force root [-]",
+                     [](Scene& s) -> double& { return s.solver.iteration_force_rtol; }));
+    t.push_back(real("max_events_per_ms", 0, true, kInf,
+                     "contact events per simulated ms above which a run is chattering [1/ms]",
+                     [](Scene& s) -> double& { return s.solver.max_events_per_ms; }));
+    t.push_back(
+        real("end_time_s", 0, true, 1e6, "simulated end time [s]", [](Scene& s) -> double& { return s.end_time_s; }));
+    t.push_back(real("output_rate_hz", 0, true, 1e7, "sample rate of the output in simulated time [Hz]",
+                     [](Scene& s) -> double& { return s.output_rate_hz; }));
     return t;
   }();
   return table;
@@ -185,20 +223,25 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
 
 void validate_scene(const Scene& s) {
   if (s.solver.integrator == Integrator::kRosenbrock4 && s.solver.method != Method::kPenalty) {
-    throw SceneError("scene key 'integrator': value 'rosenbrock4' is accepted with method 'penalty' only; accepted "
-                     "for method '" + std::string(to_string(s.solver.method)) + "': dopri5");
+    throw SceneError(
+        "scene key 'integrator': value 'rosenbrock4' is accepted with method 'penalty' only; accepted "
+        "for method '" +
+        std::string(to_string(s.solver.method)) + "': dopri5");
   }
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
-    throw SceneError("scene key 'initial_speed_rad_per_s': value " + format_double(s.speed.initial_speed_rad_per_s) +
-                     " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
+    throw SceneError(
+        "scene key 'initial_speed_rad_per_s': value " + format_double(s.speed.initial_speed_rad_per_s) +
+        " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
   }
   if (s.speed.target_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
-    throw SceneError("scene key 'target_speed_rad_per_s': value " + format_double(s.speed.target_speed_rad_per_s) +
-                     " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
+    throw SceneError(
+        "scene key 'target_speed_rad_per_s': value " + format_double(s.speed.target_speed_rad_per_s) +
+        " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
   }
   if (s.solver.min_step_s >= s.solver.initial_step_s) {
     throw SceneError("scene key 'min_step_s': value " + format_double(s.solver.min_step_s) +
-                     " is out of range; accepted: (0, initial_step_s = " + format_double(s.solver.initial_step_s) + ")");
+                     " is out of range; accepted: (0, initial_step_s = " + format_double(s.solver.initial_step_s) +
+                     ")");
   }
 }
 

@@ -13,15 +13,17 @@ namespace rotor_rub::core {
 
 std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
   switch (scene.solver.method) {
-    case Method::kPenalty: return make_penalty_method(scene);
-    case Method::kSwitching: return make_switching_method(scene);
-    case Method::kIteration: return make_iteration_method(scene);
+    case Method::kPenalty:
+      return make_penalty_method(scene);
+    case Method::kSwitching:
+      return make_switching_method(scene);
+    case Method::kIteration:
+      return make_iteration_method(scene);
   }
   throw std::logic_error("unknown method");
 }
 
-Simulation::Simulation(const Scene& scene)
-    : scene_(scene), profile_(scene.speed), method_(make_contact_method(scene)) {
+Simulation::Simulation(const Scene& scene) : scene_(scene), profile_(scene.speed), method_(make_contact_method(scene)) {
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
 }

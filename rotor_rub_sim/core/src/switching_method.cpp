@@ -196,7 +196,7 @@ class SwitchingMethod final : public ContactMethod {
           settles && contact_sys_.dynamics.evaluate(contact_sys_.dynamics.reduce(k), d).normal_force_N > 0.0;
       next_regime_ = sustained ? Regime::kContact : Regime::kFree;
       e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
-      }
+    }
     events.push_back(e);
     pending_t_ = te;
     pending_ = true;

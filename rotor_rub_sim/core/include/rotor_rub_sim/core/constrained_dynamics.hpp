@@ -21,9 +21,9 @@ template <int kStatorDof>
 struct ContactLayout {
   static constexpr int kDof = 1 + kStatorDof;
   static constexpr int kSize = 2 * kDof;
-  static constexpr int kStatorPos = 0;               // x_s, y_s [m] (elastic only)
-  static constexpr int kAngle = kStatorDof;          // psi [rad]
-  static constexpr int kStatorVel = kDof;            // x_s', y_s' [m/s] (elastic only)
+  static constexpr int kStatorPos = 0;                  // x_s, y_s [m] (elastic only)
+  static constexpr int kAngle = kStatorDof;             // psi [rad]
+  static constexpr int kStatorVel = kDof;               // x_s', y_s' [m/s] (elastic only)
   static constexpr int kAngleRate = kDof + kStatorDof;  // psi' [rad/s]
   using State = Eigen::Matrix<double, kSize, 1>;
 };
@@ -83,7 +83,8 @@ struct ConstrainedDynamics {
     const Vec2 fs = model->stator_free_force(r.kin);
     const Vec2 dir = model->contact_direction(g);
     r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) / im;
-    r.angle_acc_rad_per_s2 = (fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + r.normal_force_N * dir.dot(g.tangent) * im) / c;
+    r.angle_acc_rad_per_s2 =
+        (fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + r.normal_force_N * dir.dot(g.tangent) * im) / c;
     r.stator_acc = (fs - r.normal_force_N * dir) * ims;
     return r;
   }

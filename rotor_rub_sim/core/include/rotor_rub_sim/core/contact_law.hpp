@@ -40,7 +40,7 @@ inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
 struct ImpactResult {
   double normal_impulse_N_s = 0.0;
   double closing_velocity_m_per_s = 0.0;  // v_n before the impact
-  bool settles = false;                    // rebound below the settle speed
+  bool settles = false;                   // rebound below the settle speed
 };
 
 // Applies the impact law to k (velocities change, positions do not). Call

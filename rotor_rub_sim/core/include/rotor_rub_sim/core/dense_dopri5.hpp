@@ -17,9 +17,10 @@ template <class State>
 class DenseDopri5 {
  public:
   using Stepper = boost::numeric::odeint::runge_kutta_dopri5<State, double, State, double,
-                                                              boost::numeric::odeint::vector_space_algebra>;
-  using ErrorChecker = boost::numeric::odeint::default_error_checker<double, boost::numeric::odeint::vector_space_algebra,
-                                                                     boost::numeric::odeint::default_operations>;
+                                                             boost::numeric::odeint::vector_space_algebra>;
+  using ErrorChecker =
+      boost::numeric::odeint::default_error_checker<double, boost::numeric::odeint::vector_space_algebra,
+                                                    boost::numeric::odeint::default_operations>;
   using Controlled = boost::numeric::odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
 
   // The error is measured as atol + rtol |x| per component (a_dxdt = 0, as in
@@ -46,12 +47,7 @@ class DenseDopri5 {
     t_old_ = t_new_;
     double t = t_new_;
     for (;;) {
-      if (stats.steps + stats.rejected_steps >= max_steps_) {
-        throw MethodFailure(FailureClass::kStalled, t, "step budget of " + std::to_string(max_steps_) + " steps spent");
-      }
-      if (!(std::abs(dt_) >= min_step_s_)) {
-        throw MethodFailure(FailureClass::kStalled, t, "step size " + std::to_string(dt_) + " s fell below min_step_s");
-      }
+      check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
       const auto result = controlled_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dxdt_new_, dt_);
       stats.rhs_evals += 6;  // dopri5's FSAL: six new stages per attempt
       if (result == boost::numeric::odeint::success) break;

@@ -27,8 +27,13 @@ class DenseRosenbrock4 {
   using Controller = boost::numeric::odeint::rosenbrock4_controller<boost::numeric::odeint::rosenbrock4<double>>;
 
   DenseRosenbrock4(double atol, double rtol, double min_step_s, long max_steps)
-      : atol_(atol), rtol_(rtol), controller_(std::in_place, atol, rtol), min_step_s_(min_step_s), max_steps_(max_steps),
-        ux_old_(kSize), ux_new_(kSize) {}
+      : atol_(atol),
+        rtol_(rtol),
+        controller_(std::in_place, atol, rtol),
+        min_step_s_(min_step_s),
+        max_steps_(max_steps),
+        ux_old_(kSize),
+        ux_new_(kSize) {}
 
   template <class System>
   void initialize(System& /*sys*/, const State& x, double t_s, double dt_s, RunStats& /*stats*/) {
@@ -75,12 +80,7 @@ class DenseRosenbrock4 {
     };
     auto system = std::make_pair(rhs, jac);
     for (;;) {
-      if (stats.steps + stats.rejected_steps >= max_steps_) {
-        throw MethodFailure(FailureClass::kStalled, t, "step budget of " + std::to_string(max_steps_) + " steps spent");
-      }
-      if (!(std::abs(dt_) >= min_step_s_)) {
-        throw MethodFailure(FailureClass::kStalled, t, "step size " + std::to_string(dt_) + " s fell below min_step_s");
-      }
+      check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
       const auto result = controller_->try_step(system, ux_old_, t, ux_new_, dt_);
       if (result == boost::numeric::odeint::success) break;
       ++stats.rejected_steps;

@@ -53,10 +53,10 @@ struct FreeLayout {
   static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
   static constexpr int kDof = 2 + kStatorDof;
   static constexpr int kSize = 2 * kDof;
-  static constexpr int kRotorPos = 0;           // x_r, y_r [m]
-  static constexpr int kStatorPos = 2;          // x_s, y_s [m] (elastic only)
-  static constexpr int kRotorVel = kDof;        // x_r', y_r' [m/s]
-  static constexpr int kStatorVel = kDof + 2;   // x_s', y_s' [m/s] (elastic only)
+  static constexpr int kRotorPos = 0;          // x_r, y_r [m]
+  static constexpr int kStatorPos = 2;         // x_s, y_s [m] (elastic only)
+  static constexpr int kRotorVel = kDof;       // x_r', y_r' [m/s]
+  static constexpr int kStatorVel = kDof + 2;  // x_s', y_s' [m/s] (elastic only)
   using State = Eigen::Matrix<double, kSize, 1>;
 };
 
@@ -94,12 +94,12 @@ void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof>::Stat
 }
 
 struct ContactGeometry {
-  double distance_m = 0.0;            // delta = |r_r - r_s|
-  double penetration_m = 0.0;         // delta - C (> 0: rotor beyond the clearance)
-  double normal_velocity_m_per_s = 0.0;  // delta' (> 0: closing into the stator)
-  double sliding_velocity_m_per_s = 0.0; // v_slide (see the header comment)
-  Vec2 normal = Vec2::UnitX();        // n, outward from the stator's centre
-  Vec2 tangent = Vec2::UnitY();       // t = n rotated +90 deg
+  double distance_m = 0.0;                // delta = |r_r - r_s|
+  double penetration_m = 0.0;             // delta - C (> 0: rotor beyond the clearance)
+  double normal_velocity_m_per_s = 0.0;   // delta' (> 0: closing into the stator)
+  double sliding_velocity_m_per_s = 0.0;  // v_slide (see the header comment)
+  Vec2 normal = Vec2::UnitX();            // n, outward from the stator's centre
+  Vec2 tangent = Vec2::UnitY();           // t = n rotated +90 deg
 };
 
 class JeffcottModel {

@@ -16,18 +16,27 @@ enum class Method { kPenalty, kSwitching, kIteration };
 enum class Integrator { kDopri5, kRosenbrock4 };
 enum class StatorModel { kElastic, kRigid };
 
-struct MethodName { Method value; const char* name; };
+struct MethodName {
+  Method value;
+  const char* name;
+};
 inline constexpr std::array<MethodName, 3> kMethodNames{{
     {Method::kPenalty, "penalty"},      // paper method I
     {Method::kSwitching, "switching"},  // paper method II
     {Method::kIteration, "iteration"},  // paper method III
 }};
-struct IntegratorName { Integrator value; const char* name; };
+struct IntegratorName {
+  Integrator value;
+  const char* name;
+};
 inline constexpr std::array<IntegratorName, 2> kIntegratorNames{{
     {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
     {Integrator::kRosenbrock4, "rosenbrock4"},  // linearly implicit, stiff (penalty only)
 }};
-struct StatorModelName { StatorModel value; const char* name; };
+struct StatorModelName {
+  StatorModel value;
+  const char* name;
+};
 inline constexpr std::array<StatorModelName, 2> kStatorModelNames{{
     {StatorModel::kElastic, "elastic"},  // stator on springs: 4 DOF in all
     {StatorModel::kRigid, "rigid"},      // immovable stator: rotor's 2 DOF only
@@ -47,8 +56,8 @@ struct ModelParameters {
   double rotor_mass_kg = 0.418;
   double rotor_stiffness_N_per_m = 2493.0;
   double rotor_damping_N_s_per_m = 1.3;
-  double rotor_radius_m = 0.010;      // R_r: contact point radius (sliding velocity)
-  double eccentricity_m = 0.4e-3;     // e: mass centre to geometric centre
+  double rotor_radius_m = 0.010;   // R_r: contact point radius (sliding velocity)
+  double eccentricity_m = 0.4e-3;  // e: mass centre to geometric centre
   StatorModel stator_model = StatorModel::kElastic;
   double stator_mass_kg = 0.86;
   double stator_stiffness_N_per_m = 38166.0;
@@ -58,12 +67,12 @@ struct ModelParameters {
   // Half-width of the band of sliding velocity in which the friction sign is
   // linearly regularised (see contact_law.hpp). 0 = exact sign.
   double friction_regularisation_m_per_s = 1.0e-4;
-  double restitution = 0.0;           // normal coefficient of restitution, 0 = plastic
+  double restitution = 0.0;  // normal coefficient of restitution, 0 = plastic
   // Impacts whose rebound velocity falls below this settle into sustained
   // contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;
   double contact_stiffness_N_per_m = 1.0e9;  // k_c, penalty method only
-  double gravity_m_per_s2 = 0.0;      // along -y; 0: vertical machine, as in the paper
+  double gravity_m_per_s2 = 0.0;             // along -y; 0: vertical machine, as in the paper
 };
 
 // ---- Drive: piecewise constant angular acceleration ------------------------
@@ -84,8 +93,8 @@ struct SolverSettings {
   double rtol = 1.0e-6;
   double atol = 1.0e-9;  // applies to every state component (m and m/s)
   double initial_step_s = 1.0e-5;
-  double min_step_s = 1.0e-14;        // below it a run is declared stalled
-  long max_steps = 20'000'000;         // accepted + rejected step budget
+  double min_step_s = 1.0e-14;  // below it a run is declared stalled
+  long max_steps = 20'000'000;  // accepted + rejected step budget
   // Method III: relative tolerance on the normal force root.
   double iteration_force_rtol = 1.0e-12;
   int iteration_max_iterations = 100;

@@ -1,6 +1,7 @@
 // What a run reports: samples, contact events, cost, failures.
 #pragma once
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -14,15 +15,18 @@ struct Sample {
   Kinematics kin;
   DriveState drive;
   double normal_force_N = 0.0;
-  double friction_force_N = 0.0;      // signed along the tangent t, on the rotor
+  double friction_force_N = 0.0;  // signed along the tangent t, on the rotor
   Vec2 contact_force_on_rotor_N = Vec2::Zero();
-  double penetration_m = 0.0;         // delta - C: < 0 is the gap
+  double penetration_m = 0.0;  // delta - C: < 0 is the gap
   double sliding_velocity_m_per_s = 0.0;
   bool in_contact = false;
 };
 
 enum class EventKind { kTouchdown, kLiftoff, kGraze };
-struct EventKindName { EventKind value; const char* name; };
+struct EventKindName {
+  EventKind value;
+  const char* name;
+};
 inline constexpr EventKindName kEventKindNames[] = {
     {EventKind::kTouchdown, "touchdown"},  // sustained contact begins
     {EventKind::kLiftoff, "liftoff"},      // sustained contact ends
@@ -50,20 +54,23 @@ struct RunStats {
   long jacobian_evals = 0;   // stiff integrator only
   long root_iterations = 0;  // root-finder function evaluations (events, forces)
   long touchdowns = 0, liftoffs = 0, grazes = 0;
-  long restarts = 0;         // integrator restarts (events, profile breaks, projections)
+  long restarts = 0;  // integrator restarts (events, profile breaks, projections)
   double wall_time_s = 0.0;
-  double rhs_time_s = 0.0;        // profile_cost only: in derivative evaluation, iteration included
-  double iteration_time_s = 0.0;  // profile_cost only: in the normal force iteration
-  double max_constraint_violation_m = 0.0;  // rigid methods: max |delta - C| in contact at step ends
+  double rhs_time_s = 0.0;                          // profile_cost only: in derivative evaluation, iteration included
+  double iteration_time_s = 0.0;                    // profile_cost only: in the normal force iteration
+  double max_constraint_violation_m = 0.0;          // rigid methods: max |delta - C| in contact at step ends
   double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
 };
 
 enum class FailureClass { kStalled, kDiverged, kNotConverged };
 inline const char* to_string(FailureClass c) {
   switch (c) {
-    case FailureClass::kStalled: return "stalled";
-    case FailureClass::kDiverged: return "diverged";
-    case FailureClass::kNotConverged: return "not_converged";
+    case FailureClass::kStalled:
+      return "stalled";
+    case FailureClass::kDiverged:
+      return "diverged";
+    case FailureClass::kNotConverged:
+      return "not_converged";
   }
   return "?";
 }
@@ -76,5 +83,18 @@ class MethodFailure : public std::runtime_error {
   FailureClass failure_class;
   double time_s;
 };
+
+// Shared guard of the adaptive integrators: a run that spends its step
+// budget or whose step collapses is stalled, reported rather than hung.
+inline void check_step_budget(const RunStats& stats, long max_steps, double dt_s, double min_step_s, double t_s) {
+  if (stats.steps + stats.rejected_steps >= max_steps) {
+    throw MethodFailure(FailureClass::kStalled, t_s, "step budget of " + std::to_string(max_steps) + " steps spent");
+  }
+  if (!(std::abs(dt_s) >= min_step_s)) {
+    throw MethodFailure(
+        FailureClass::kStalled, t_s,
+        "step size " + std::to_string(dt_s) + " s fell below min_step_s = " + std::to_string(min_step_s));
+  }
+}
 
 }  // namespace rotor_rub::core

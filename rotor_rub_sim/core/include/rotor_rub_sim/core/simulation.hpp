@@ -59,8 +59,8 @@ class Simulation {
   std::unique_ptr<ContactMethod> method_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double t_limit_s_ = 0.0;  // the drive discontinuity the last step was bounded by
-  bool break_due_ = false;  // the last step ended on it
+  double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
+  bool break_due_ = false;                 // the last step ended on it
   std::vector<ContactEvent> step_events_;  // found, not yet delivered
   std::optional<RunFailure> failure_;
 };

@@ -12,9 +12,9 @@
 namespace rotor_rub::core {
 
 struct DriveState {
-  double angle_rad = 0.0;           // phi: spin angle of the mass-centre offset
-  double speed_rad_per_s = 0.0;     // omega = dphi/dt (counter-clockwise positive)
-  double accel_rad_per_s2 = 0.0;    // alpha = domega/dt
+  double angle_rad = 0.0;         // phi: spin angle of the mass-centre offset
+  double speed_rad_per_s = 0.0;   // omega = dphi/dt (counter-clockwise positive)
+  double accel_rad_per_s2 = 0.0;  // alpha = domega/dt
 };
 
 // One segment: constant acceleration from start_time_s. Evaluated without

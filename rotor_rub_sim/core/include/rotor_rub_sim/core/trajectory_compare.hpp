@@ -11,10 +11,10 @@
 namespace rotor_rub::core {
 
 struct TrajectoryError {
-  double max_rotor_x_m = 0.0;    // max |x_r - x_r,ref|
+  double max_rotor_x_m = 0.0;  // max |x_r - x_r,ref|
   double rms_rotor_x_m = 0.0;
-  double max_rotor_m = 0.0;      // max |r_r - r_r,ref|
-  double max_stator_m = 0.0;     // max |r_s - r_s,ref|
+  double max_rotor_m = 0.0;   // max |r_r - r_r,ref|
+  double max_stator_m = 0.0;  // max |r_s - r_s,ref|
   std::size_t samples = 0;
 };
 
