@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages (if missing), lays out the catkin workspace
-# in .ws/ (src links to the repo root and to rotor_rub_msgs/: catkin stops at
+# beside the checkout (scripts/workspace.sh; src links to the repo root and to rotor_rub_msgs/: catkin stops at
 # the first package.xml, so the nested package needs its own link) and builds
 # it in Release. Idempotent and quick when nothing changed.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/setup_deps.sh"
-WS="$ROOT/.ws"
+source "$ROOT/scripts/workspace.sh"
 mkdir -p "$WS/src"
 ln -sfn "$ROOT" "$WS/src/rotor_rub_sim"
 ln -sfn "$ROOT/rotor_rub_msgs" "$WS/src/rotor_rub_msgs"

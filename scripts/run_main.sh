@@ -6,7 +6,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh"
-RUN="$ROOT/.ws/devel/lib/rotor_rub_sim/rotor_rub_run"
+source "$ROOT/scripts/workspace.sh"
+RUN="$WS/devel/lib/rotor_rub_sim/rotor_rub_run"
 OUT="$ROOT/out"
 mkdir -p "$OUT"
 echo "paper run-up (config/paper_runup.yaml); paper: contact from ~1.14 s to ~2.6 s"

@@ -6,7 +6,7 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
-WS="$ROOT/.ws"
+source "$ROOT/scripts/workspace.sh"
 export PATH="/usr/bin:$PATH"
 cd "$WS"
 rm -rf build/test_results

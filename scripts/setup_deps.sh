@@ -8,7 +8,9 @@ PACKAGES=(
   ros-core-dev catkin python3-catkin-pkg python3-rospkg
   rosbash python3-roslaunch python3-rostest python3-rosbag python3-rostopic
   python3-rosmsg python3-rosnode python3-rosparam python3-rosservice
-  ros-std-msgs ros-geometry-msgs ros-visualization-msgs ros-diagnostic-msgs
+  ros-std-msgs ros-geometry-msgs ros-visualization-msgs ros-diagnostic-msgs ros-std-srvs ros-rosgraph-msgs
+  libstd-srvs-dev libros-rosgraph-msgs-dev python3-std-srvs python3-rosgraph-msgs
+  python3-visualization-msgs python3-diagnostic-msgs
   python3-rospy python3-std-msgs python3-geometry-msgs
   libdiagnostic-updater-dev librosbag-dev librostest-dev
   # numerical core

@@ -196,17 +196,23 @@ const std::vector<SceneKeyInfo>& scene_keys() {
   return infos;
 }
 
-std::string nearest_scene_key(const std::string& key) {
+std::string nearest_key(const std::string& key, const std::vector<std::string>& candidates) {
   std::string best;
   std::size_t best_d = std::numeric_limits<std::size_t>::max();
-  for (const auto& e : entries()) {
-    const std::size_t d = edit_distance(key, e.info.key);
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(key, c);
     if (d < best_d) {
       best_d = d;
-      best = e.info.key;
+      best = c;
     }
   }
   return best_d <= std::max<std::size_t>(3, key.size() / 3) ? best : std::string();
+}
+
+std::string nearest_scene_key(const std::string& key) {
+  std::vector<std::string> names;
+  for (const auto& e : entries()) names.push_back(e.info.key);
+  return nearest_key(key, names);
 }
 
 void set_scene_value(Scene& scene, const std::string& key, const std::string& value) {

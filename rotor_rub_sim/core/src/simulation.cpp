@@ -28,11 +28,12 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), profile_(scene.speed
   method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
 }
 
-void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2) {
-  const double vmax = scene_.speed.max_speed_rad_per_s;
+void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2) {
+  const double vmax = scene.speed.max_speed_rad_per_s;
   if (!std::isfinite(target_rad_per_s) || target_rad_per_s < 0.0 || target_rad_per_s > vmax) {
     std::ostringstream os;
-    os << "speed command target " << target_rad_per_s << " rad/s is out of range; accepted: [0, " << vmax << "]";
+    os << "speed command target " << target_rad_per_s << " rad/s is out of range; accepted: [0, " << vmax
+       << "] (max_speed_rad_per_s)";
     throw std::invalid_argument(os.str());
   }
   if (!std::isfinite(accel_magnitude_rad_per_s2) || accel_magnitude_rad_per_s2 <= 0.0) {
@@ -40,6 +41,10 @@ void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_r
     os << "speed command acceleration " << accel_magnitude_rad_per_s2 << " rad/s^2 is out of range; accepted: (0, inf)";
     throw std::invalid_argument(os.str());
   }
+}
+
+void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2) {
+  check_speed_command(scene_, target_rad_per_s, accel_magnitude_rad_per_s2);
   // The method's current step may extend past time_s_: restart it there.
   profile_.command(time_s_, target_rad_per_s, accel_magnitude_rad_per_s2);
   method_->change_segment(time_s_, profile_.segment_at(time_s_));
@@ -50,6 +55,14 @@ void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_r
     if (e.t_s <= time_s_) kept.push_back(e);
   }
   step_events_.swap(kept);
+}
+
+void Simulation::set_end_time(double t_s) {
+  if (!(t_s >= time_s_)) {
+    throw std::invalid_argument("end time " + std::to_string(t_s) + " s is before the simulated time " +
+                                std::to_string(time_s_) + " s");
+  }
+  scene_.end_time_s = t_s;
 }
 
 void Simulation::count_and_deliver(const ContactEvent& e, SimulationObserver& observer) {

@@ -41,5 +41,7 @@ Scene scene_from_values(const std::map<std::string, std::string>& values);
 
 // The nearest key by edit distance ("" when nothing is close).
 std::string nearest_scene_key(const std::string& key);
+// The same over any list of names (the node's own keys, say).
+std::string nearest_key(const std::string& key, const std::vector<std::string>& candidates);
 
 }  // namespace rotor_rub::core

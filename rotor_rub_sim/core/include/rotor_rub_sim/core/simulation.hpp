@@ -44,6 +44,10 @@ class Simulation {
   // std::invalid_argument (naming the value and range) when out of range.
   void command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2);
 
+  // Moves the end (e.g. to infinity, for a node that keeps running at the
+  // last speed after the scene's end_time_s). Must not be before time().
+  void set_end_time(double t_s);
+
   double time() const { return time_s_; }  // simulated time delivered so far
   const Scene& scene() const { return scene_; }
   const SpeedProfile& profile() const { return profile_; }
@@ -64,6 +68,11 @@ class Simulation {
   std::vector<ContactEvent> step_events_;  // found, not yet delivered
   std::optional<RunFailure> failure_;
 };
+
+// Throws std::invalid_argument (naming the value and the accepted range) when
+// a speed command is out of range for the scene: the check command_speed
+// makes, for callers that queue a command for later.
+void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2);
 
 // Runs the whole scene from 0 to end_time_s.
 struct RunResult {

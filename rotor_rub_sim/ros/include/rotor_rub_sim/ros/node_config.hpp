@@ -1,0 +1,73 @@
+// The node's own settings (pacing, publishing, end of run), apart from the
+// scene. A plain struct with a key table like the scene's, parsed from text so
+// that it is tested without a master; the rosparam loader only gathers text.
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::ros_node {
+
+// What the node does when the simulated time reaches the scene's end_time_s.
+enum class EndAction { kExit, kContinue, kPause };
+struct EndActionName {
+  EndAction value;
+  const char* name;
+};
+inline constexpr std::array<EndActionName, 3> kEndActionNames{{
+    {EndAction::kExit, "exit"},          // publish the final statistics, then shut down (exit status 0)
+    {EndAction::kContinue, "continue"},  // keep running at the last commanded speed
+    {EndAction::kPause, "pause"},        // stay up, paused, for reset or inspection
+}};
+const char* to_string(EndAction a);
+
+struct NodeConfig {
+  // 1 = wall-clock pace, 2 = twice as fast, 0 = as fast as possible.
+  double real_time_factor = 1.0;
+  EndAction end_action = EndAction::kExit;
+  bool start_paused = false;  // wait for ~resume or ~step before simulating
+  double stats_rate_hz = 10.0;         // SolverStats, in simulated time
+  double diagnostics_rate_hz = 2.0;    // /diagnostics, in simulated time
+  double clock_rate_hz = 1000.0;       // /clock, in simulated time (capped by the state rate)
+  bool publish_clock = true;           // one node per ROS graph should publish /clock
+  double marker_rate_hz = 30.0;        // RViz markers, in simulated time; 0 = none
+  double marker_scale = 1000.0;        // drawn length per model length (1000: 1 mm shows as 1 m)
+  double marker_force_scale_m_per_N = 0.01;  // force arrow length in RViz per newton (not scaled)
+  int orbit_trail_samples = 500;       // state samples kept in the orbit trail marker
+  std::string frame_id = "world";      // frame of every header (the stator's rest frame)
+  // Before simulating, wait until every data topic has at least this many
+  // subscribers (a recorder, say), so that nothing is published unheard.
+  int wait_for_subscribers = 0;
+  double wait_timeout_s = 30.0;  // wall time; the node exits with an error when it runs out
+  // Outgoing queue per subscriber for state, events, stats, feedback. 0 =
+  // unbounded: the node never drops a message; a slow subscriber costs memory.
+  int publish_queue_size = 0;
+  double exit_linger_s = 1.0;  // wall time to let subscribers drain before exiting
+};
+
+struct NodeKeyInfo {
+  std::string key;
+  std::string accepted;
+  std::string description;
+  std::string default_value;
+};
+const std::vector<NodeKeyInfo>& node_keys();
+
+// Sets one node key from text; throws core::SceneError naming the key, the
+// value and the accepted range (unknown keys: nearest known key suggested).
+void set_node_value(NodeConfig& config, const std::string& key, const std::string& value);
+bool is_node_key(const std::string& key);
+
+// Splits flat private parameters into scene and node settings, validates
+// both, and throws core::SceneError for any bad or unknown key.
+struct NodeSetup {
+  core::Scene scene;
+  NodeConfig config;
+};
+NodeSetup node_setup_from_values(const std::map<std::string, std::string>& values);
+
+}  // namespace rotor_rub::ros_node

@@ -1,0 +1,112 @@
+#include "rotor_rub_sim/ros/conversions.hpp"
+
+#include <cstdio>
+
+#include <ros/param.h>
+
+#include "rotor_rub_sim/core/scene_keys.hpp"
+
+namespace rotor_rub::ros_node {
+
+void to_msg(const core::Sample& s, uint32_t sample_index, const std::string& frame_id,
+            rotor_rub_msgs::RotorState& msg) {
+  msg.header.seq = sample_index;
+  msg.header.stamp.fromSec(s.t_s);
+  msg.header.frame_id = frame_id;
+  msg.rotor_position.x = s.kin.rotor_pos.x();
+  msg.rotor_position.y = s.kin.rotor_pos.y();
+  msg.rotor_position.z = 0.0;
+  msg.rotor_velocity.x = s.kin.rotor_vel.x();
+  msg.rotor_velocity.y = s.kin.rotor_vel.y();
+  msg.rotor_velocity.z = 0.0;
+  msg.stator_position.x = s.kin.stator_pos.x();
+  msg.stator_position.y = s.kin.stator_pos.y();
+  msg.stator_position.z = 0.0;
+  msg.stator_velocity.x = s.kin.stator_vel.x();
+  msg.stator_velocity.y = s.kin.stator_vel.y();
+  msg.stator_velocity.z = 0.0;
+  msg.normal_force = s.normal_force_N;
+  msg.friction_force = s.friction_force_N;
+  msg.contact_force.x = s.contact_force_on_rotor_N.x();
+  msg.contact_force.y = s.contact_force_on_rotor_N.y();
+  msg.contact_force.z = 0.0;
+  msg.in_contact = s.in_contact;
+  msg.penetration = s.penetration_m;
+  msg.sliding_velocity = s.sliding_velocity_m_per_s;
+  msg.spin_angle = s.drive.angle_rad;
+  msg.speed = s.drive.speed_rad_per_s;
+  msg.angular_acceleration = s.drive.accel_rad_per_s2;
+}
+
+void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_msgs::ContactEvent& msg) {
+  msg.header.stamp.fromSec(e.t_s);
+  msg.header.frame_id = frame_id;
+  switch (e.kind) {
+    case core::EventKind::kTouchdown:
+      msg.kind = rotor_rub_msgs::ContactEvent::TOUCHDOWN;
+      break;
+    case core::EventKind::kLiftoff:
+      msg.kind = rotor_rub_msgs::ContactEvent::LIFTOFF;
+      break;
+    case core::EventKind::kGraze:
+      msg.kind = rotor_rub_msgs::ContactEvent::GRAZE;
+      break;
+  }
+  msg.kind_name = core::to_string(e.kind);
+  msg.normal_velocity = e.normal_velocity_m_per_s;
+  msg.impulse = e.impulse_N_s;
+}
+
+void to_msg(const core::RunStats& st, const core::Scene& scene, rotor_rub_msgs::SolverStats& msg) {
+  msg.method = core::to_string(scene.solver.method);
+  msg.integrator = core::to_string(scene.solver.integrator);
+  msg.steps = st.steps;
+  msg.rejected_steps = st.rejected_steps;
+  msg.rhs_evaluations = st.rhs_evals;
+  msg.jacobian_evaluations = st.jacobian_evals;
+  msg.root_iterations = st.root_iterations;
+  msg.touchdowns = st.touchdowns;
+  msg.liftoffs = st.liftoffs;
+  msg.grazes = st.grazes;
+  msg.restarts = st.restarts;
+  msg.integration_wall_time = st.wall_time_s;
+}
+
+std::map<std::string, std::string> private_params_as_text(const ros::NodeHandle& private_nh) {
+  std::vector<std::string> names;
+  ros::param::getParamNames(names);
+  const std::string prefix = private_nh.getNamespace() + "/";
+  std::map<std::string, std::string> values;
+  for (const auto& name : names) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string key = name.substr(prefix.size());
+    // diagnostic_updater reads its own ~diagnostic_period.
+    if (key == "diagnostic_period") continue;
+    XmlRpc::XmlRpcValue v;
+    if (!private_nh.getParam(key, v)) continue;
+    switch (v.getType()) {
+      case XmlRpc::XmlRpcValue::TypeDouble: {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(v));
+        values[key] = buf;
+        break;
+      }
+      case XmlRpc::XmlRpcValue::TypeInt:
+        values[key] = std::to_string(static_cast<int>(v));
+        break;
+      case XmlRpc::XmlRpcValue::TypeBoolean:
+        values[key] = static_cast<bool>(v) ? "true" : "false";
+        break;
+      case XmlRpc::XmlRpcValue::TypeString:
+        values[key] = static_cast<std::string>(v);
+        break;
+      default:
+        throw core::SceneError("parameter '" + key +
+                               "' has a type no key accepts (a list, a dictionary or binary); accepted: a number, "
+                               "a boolean or a name, as config/scene_template.yaml lists");
+    }
+  }
+  return values;
+}
+
+}  // namespace rotor_rub::ros_node

@@ -1,0 +1,411 @@
+#include "rotor_rub_sim/ros/sim_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include "rotor_rub_msgs/SpeedCommandFeedback.h"
+#include "rotor_rub_sim/ros/conversions.hpp"
+
+namespace rotor_rub::ros_node {
+namespace {
+
+// The first tick of a rate_hz grid strictly after t_s (a schedule in
+// simulated time; the small margin absorbs k / rate rounding).
+double next_tick(double t_s, double rate_hz) { return (std::floor(t_s * rate_hz + 1e-9) + 1.0) / rate_hz; }
+
+int failure_exit_status(core::FailureClass c) {
+  switch (c) {
+    case core::FailureClass::kStalled:
+      return 3;
+    case core::FailureClass::kDiverged:
+      return 4;
+    case core::FailureClass::kNotConverged:
+      return 5;
+  }
+  return 1;
+}
+
+}  // namespace
+
+SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup)
+    : scene_(setup.scene), config_(setup.config), diagnostics_(nh, private_nh) {
+  // Data topics are private (~state, ...) so that several simulators live in
+  // one graph by node name or namespace; /clock is global by definition.
+  const uint32_t q = static_cast<uint32_t>(config_.publish_queue_size);
+  state_pub_ = private_nh.advertise<rotor_rub_msgs::RotorState>("state", q);
+  event_pub_ = private_nh.advertise<rotor_rub_msgs::ContactEvent>("contact_events", q);
+  stats_pub_ = private_nh.advertise<rotor_rub_msgs::SolverStats>("solver_stats", q, /*latch=*/true);
+  feedback_pub_ = private_nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
+  if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", q);
+  if (config_.marker_rate_hz > 0.0) {
+    marker_pub_ = private_nh.advertise<visualization_msgs::MarkerArray>("markers", 10);
+    markers_.emplace(scene_.model, config_);
+  }
+  // Commands are served in arrival order; a deep queue so a burst is judged
+  // command by command rather than dropped unseen.
+  command_sub_ = private_nh.subscribe("speed_command", 10000, &SimNode::on_speed_command, this);
+  reset_srv_ = private_nh.advertiseService("reset", &SimNode::on_reset, this);
+  pause_srv_ = private_nh.advertiseService("pause", &SimNode::on_pause, this);
+  resume_srv_ = private_nh.advertiseService("resume", &SimNode::on_resume, this);
+  step_srv_ = private_nh.advertiseService("step", &SimNode::on_step, this);
+
+  diagnostics_.setHardwareID(std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method));
+  diagnostics_.add("solver", this, &SimNode::diagnose_solver);
+  diagnostics_.add("real-time factor", this, &SimNode::diagnose_pace);
+  diagnostics_.add("contact", this, &SimNode::diagnose_contact);
+  restart_simulation();
+}
+
+void SimNode::restart_simulation() {
+  sim_ = std::make_unique<core::Simulation>(scene_);
+  if (config_.end_action == EndAction::kContinue) sim_->set_end_time(std::numeric_limits<double>::infinity());
+  pending_.clear();
+  states_published_ = events_published_ = 0;
+  next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = 0.0;
+  last_sample_ = core::Sample{};
+  run_wall_accum_s_ = run_sim_accum_s_ = 0.0;
+  anchor_pacing();
+  if (markers_) markers_->clear();
+}
+
+bool SimNode::wait_for_subscribers() {
+  if (config_.wait_for_subscribers == 0) return true;
+  std::vector<const ros::Publisher*> pubs = {&state_pub_, &event_pub_, &stats_pub_, &feedback_pub_};
+  if (config_.publish_clock) pubs.push_back(&clock_pub_);
+  if (markers_) pubs.push_back(&marker_pub_);
+  const auto needed = static_cast<uint32_t>(config_.wait_for_subscribers);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(config_.wait_timeout_s);
+  ROS_INFO("waiting for %u subscriber(s) on every data topic (wait_for_subscribers)", needed);
+  while (ros::ok()) {
+    std::string missing;
+    for (const auto* p : pubs) {
+      if (p->getNumSubscribers() < needed) missing += " " + p->getTopic();
+    }
+    if (missing.empty()) return true;
+    if (ros::WallTime::now() > deadline) {
+      ROS_FATAL("wait_for_subscribers = %u: after wait_timeout_s = %g s these topics still lack subscribers:%s",
+                needed, config_.wait_timeout_s, missing.c_str());
+      return false;
+    }
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
+  }
+  return false;
+}
+
+int SimNode::run() {
+  if (!wait_for_subscribers()) return 1;
+  ROS_INFO("simulating the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
+           "real_time_factor %g, end_action %s",
+           core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
+           scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
+           to_string(config_.end_action));
+  set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
+  // Chunks of at least one output period and at most 1 ms of simulated time:
+  // callbacks are served between chunks, and pacing sleeps per chunk.
+  const double chunk_s = std::max(1.0 / scene_.output_rate_hz, 1e-3);
+  ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
+  while (ros::ok()) {
+    if (status_ != Status::kRunning) {
+      const bool over = status_ == Status::kFinished || status_ == Status::kFailed;
+      if (over && config_.end_action == EndAction::kExit) break;
+      queue.callAvailable(ros::WallDuration(0.05));
+      continue;
+    }
+    queue.callAvailable();
+    if (status_ != Status::kRunning) continue;
+    const double k = std::floor(sim_->time() / chunk_s);
+    double t_next = (k + 1.0) * chunk_s;
+    if (t_next <= sim_->time()) t_next = (k + 2.0) * chunk_s;
+    if (config_.real_time_factor > 0.0) {
+      const ros::WallTime due =
+          pace_wall_anchor_ + ros::WallDuration((t_next - pace_sim_anchor_s_) / config_.real_time_factor);
+      const ros::WallTime now = ros::WallTime::now();
+      if (due > now) (due - now).sleep();
+    }
+    advance_to(t_next);
+  }
+  int exit_status = 0;
+  if (sim_->failure()) exit_status = failure_exit_status(sim_->failure()->failure_class);
+  if (ros::ok()) {
+    // Let subscribers (a recorder) drain their queues before the
+    // connections close: roscpp offers no delivery acknowledgement.
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(config_.exit_linger_s);
+    while (ros::ok() && ros::WallTime::now() < until) queue.callAvailable(ros::WallDuration(0.02));
+  }
+  return exit_status;
+}
+
+void SimNode::advance_to(double t_s) {
+  apply_due_commands();
+  while (!sim_->failure() && sim_->time() < t_s) {
+    const double before = sim_->time();
+    const double stop = pending_.empty() ? t_s : std::min(t_s, pending_.front().time_s);
+    if (!sim_->advance_to(stop, *this)) break;
+    apply_due_commands();
+    if (sim_->time() <= before) break;  // the scene's end
+  }
+  check_end_or_failure();
+}
+
+void SimNode::apply_due_commands() {
+  while (!pending_.empty() && pending_.front().time_s <= sim_->time()) {
+    const PendingCommand c = pending_.front();
+    pending_.erase(pending_.begin());
+    sim_->command_speed(c.target_rad_per_s, c.accel_rad_per_s2);  // checked on receipt
+  }
+}
+
+void SimNode::check_end_or_failure() {
+  if (status_ == Status::kFailed || status_ == Status::kFinished) return;
+  if (const auto& f = sim_->failure()) {
+    ROS_ERROR("method %s failed (%s) at t = %.9g s: %s", core::to_string(scene_.solver.method),
+              core::to_string(f->failure_class), f->time_s, f->message.c_str());
+    set_status(Status::kFailed);
+  } else if (config_.end_action != EndAction::kContinue && sim_->time() >= scene_.end_time_s) {
+    set_status(Status::kFinished);
+    ROS_INFO("reached end_time_s = %g s: %lu states, %lu events published; achieved real-time factor %.1f",
+             scene_.end_time_s, static_cast<unsigned long>(states_published_),
+             static_cast<unsigned long>(events_published_), achieved_real_time_factor());
+  }
+}
+
+void SimNode::set_status(Status s) {
+  const bool was_running = status_ == Status::kRunning;
+  if (was_running && s != Status::kRunning) {
+    run_wall_accum_s_ += (ros::WallTime::now() - pace_wall_anchor_).toSec();
+    run_sim_accum_s_ += sim_->time() - pace_sim_anchor_s_;
+  }
+  status_ = s;
+  if (s == Status::kRunning) anchor_pacing();
+  publish_stats();
+  diagnostics_.force_update();
+}
+
+void SimNode::anchor_pacing() {
+  pace_wall_anchor_ = ros::WallTime::now();
+  pace_sim_anchor_s_ = sim_->time();
+}
+
+double SimNode::running_wall_time_s() const {
+  double w = run_wall_accum_s_;
+  if (status_ == Status::kRunning) w += (ros::WallTime::now() - pace_wall_anchor_).toSec();
+  return w;
+}
+
+double SimNode::achieved_real_time_factor() const {
+  double sim = run_sim_accum_s_;
+  if (status_ == Status::kRunning) sim += sim_->time() - pace_sim_anchor_s_;
+  const double wall = running_wall_time_s();
+  return wall > 0.0 ? sim / wall : 0.0;
+}
+
+// ---- Observer: samples and events become messages --------------------------
+
+void SimNode::on_sample(const core::Sample& s) {
+  last_sample_ = s;
+  const auto index = static_cast<uint32_t>(std::llround(s.t_s * scene_.output_rate_hz));
+  to_msg(s, index, config_.frame_id, state_msg_);
+  state_pub_.publish(state_msg_);
+  ++states_published_;
+  if (config_.publish_clock && s.t_s >= next_clock_s_) {
+    publish_clock(s.t_s);
+    next_clock_s_ = next_tick(s.t_s, config_.clock_rate_hz);
+  }
+  if (markers_) {
+    markers_->add(s);
+    if (s.t_s >= next_marker_s_) {
+      marker_pub_.publish(markers_->build(state_msg_.header.stamp));
+      next_marker_s_ = next_tick(s.t_s, config_.marker_rate_hz);
+    }
+  }
+  if (s.t_s >= next_stats_s_) {
+    publish_stats();
+    next_stats_s_ = next_tick(s.t_s, config_.stats_rate_hz);
+  }
+  if (s.t_s >= next_diag_s_) {
+    diagnostics_.force_update();
+    next_diag_s_ = next_tick(s.t_s, config_.diagnostics_rate_hz);
+  }
+}
+
+void SimNode::on_event(const core::ContactEvent& e) {
+  to_msg(e, config_.frame_id, event_msg_);
+  event_msg_.header.seq = static_cast<uint32_t>(events_published_);
+  event_pub_.publish(event_msg_);
+  ++events_published_;
+}
+
+void SimNode::publish_clock(double t_s) {
+  // Time zero means "no time yet" to a node on simulated time: skip it.
+  if (!(t_s > 0.0)) return;
+  rosgraph_msgs::Clock c;
+  c.clock.fromSec(t_s);
+  clock_pub_.publish(c);
+}
+
+void SimNode::publish_stats() {
+  rotor_rub_msgs::SolverStats msg;
+  to_msg(sim_->stats(), scene_, msg);
+  msg.header.stamp.fromSec(sim_->time());
+  msg.header.frame_id = config_.frame_id;
+  msg.sim_time = sim_->time();
+  msg.wall_time = running_wall_time_s();
+  msg.real_time_factor = achieved_real_time_factor();
+  msg.states_published = states_published_;
+  msg.events_published = events_published_;
+  switch (status_) {
+    case Status::kRunning:
+      msg.status = rotor_rub_msgs::SolverStats::RUNNING;
+      break;
+    case Status::kPaused:
+      msg.status = rotor_rub_msgs::SolverStats::PAUSED;
+      break;
+    case Status::kFinished:
+      msg.status = rotor_rub_msgs::SolverStats::FINISHED;
+      break;
+    case Status::kFailed:
+      msg.status = rotor_rub_msgs::SolverStats::FAILED;
+      break;
+  }
+  if (const auto& f = sim_->failure()) {
+    msg.failure_class = core::to_string(f->failure_class);
+    msg.failure_message = f->message;
+  }
+  stats_pub_.publish(msg);
+}
+
+// ---- Callbacks: messages and services become core calls --------------------
+
+void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg) {
+  rotor_rub_msgs::SpeedCommandFeedback fb;
+  fb.header.stamp.fromSec(sim_->time());
+  fb.header.frame_id = config_.frame_id;
+  fb.command_seq = msg->header.seq;
+  fb.target_speed = msg->target_speed;
+  // acceleration_limit 0 means the scene's acceleration.
+  const double accel = msg->acceleration_limit == 0.0 ? scene_.speed.acceleration_rad_per_s2 : msg->acceleration_limit;
+  fb.acceleration_limit = accel;
+  try {
+    if (status_ == Status::kFailed) throw std::invalid_argument("the simulation has failed; call ~reset first");
+    core::check_speed_command(scene_, msg->target_speed, accel);
+    const double t_cmd = msg->header.stamp.toSec();
+    if (t_cmd > sim_->time()) {
+      const auto at = std::upper_bound(pending_.begin(), pending_.end(), t_cmd,
+                                       [](double t, const PendingCommand& c) { return t < c.time_s; });
+      pending_.insert(at, PendingCommand{t_cmd, msg->target_speed, accel});
+      fb.effective_time = t_cmd;
+    } else {
+      sim_->command_speed(msg->target_speed, accel);
+      fb.effective_time = sim_->time();
+    }
+    fb.accepted = true;
+  } catch (const std::invalid_argument& e) {
+    fb.accepted = false;
+    fb.reason = e.what();
+    ROS_WARN("speed command rejected, simulation unchanged: %s", e.what());
+  }
+  feedback_pub_.publish(fb);
+}
+
+bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  const bool keep_running = status_ == Status::kRunning;
+  restart_simulation();
+  status_ = Status::kPaused;  // counters were restarted: no running time to close
+  set_status(keep_running ? Status::kRunning : Status::kPaused);
+  res.success = true;
+  res.message = keep_running ? "reset to t = 0 s, running" : "reset to t = 0 s, paused (call ~resume or ~step)";
+  return true;
+}
+
+bool SimNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  if (status_ == Status::kRunning) set_status(Status::kPaused);
+  res.success = status_ == Status::kPaused;
+  res.message = res.success ? "paused at t = " + std::to_string(sim_->time()) + " s"
+                            : "not running (finished or failed); call ~reset";
+  return true;
+}
+
+bool SimNode::on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  if (status_ == Status::kPaused) set_status(Status::kRunning);
+  res.success = status_ == Status::kRunning;
+  res.message = res.success ? "running from t = " + std::to_string(sim_->time()) + " s"
+                            : "the run has finished or failed at t = " + std::to_string(sim_->time()) +
+                                  " s; call ~reset";
+  return true;
+}
+
+bool SimNode::on_step(rotor_rub_msgs::StepSimulation::Request& req, rotor_rub_msgs::StepSimulation::Response& res) {
+  if (!std::isfinite(req.duration) || req.duration <= 0.0) {
+    res.success = false;
+    res.message = "duration " + std::to_string(req.duration) + " s is out of range; accepted: (0, inf)";
+  } else if (status_ != Status::kPaused) {
+    res.success = false;
+    res.message = status_ == Status::kRunning ? "step needs a paused simulation; call ~pause first"
+                                              : "the run has finished or failed; call ~reset";
+  } else {
+    advance_to(sim_->time() + req.duration);
+    res.success = !sim_->failure();
+    res.message = res.success ? "stepped" : "the method failed: " + sim_->failure()->message;
+    publish_stats();
+  }
+  res.sim_time = sim_->time();
+  return true;
+}
+
+// ---- Diagnostics -------------------------------------------------------------
+
+void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  if (const auto& f = sim_->failure()) {
+    stat.summaryf(DiagnosticStatus::ERROR, "method failed (%s) at t = %.9g s: %s", core::to_string(f->failure_class),
+                  f->time_s, f->message.c_str());
+  } else {
+    const char* state = status_ == Status::kRunning  ? "running"
+                        : status_ == Status::kPaused ? "paused"
+                                                     : "finished";
+    stat.summaryf(DiagnosticStatus::OK, "%s at t = %.6f s", state, sim_->time());
+  }
+  const auto& st = sim_->stats();
+  stat.add("method", core::to_string(scene_.solver.method));
+  stat.add("integrator", core::to_string(scene_.solver.integrator));
+  stat.add("simulated time [s]", sim_->time());
+  stat.add("steps", st.steps);
+  stat.add("rejected steps", st.rejected_steps);
+  stat.add("rhs evaluations", st.rhs_evals);
+  stat.add("root iterations", st.root_iterations);
+  stat.add("restarts", st.restarts);
+}
+
+void SimNode::diagnose_pace(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  const double achieved = achieved_real_time_factor();
+  const double wanted = config_.real_time_factor;
+  // Below 90 % of a requested pace the node lags the wall clock.
+  if (status_ == Status::kRunning && wanted > 0.0 && running_wall_time_s() > 1.0 && achieved < 0.9 * wanted) {
+    stat.summaryf(DiagnosticStatus::WARN, "lagging: real-time factor %.2f of %.2f requested", achieved, wanted);
+  } else {
+    stat.summaryf(DiagnosticStatus::OK, "real-time factor %.2f (requested %s)", achieved,
+                  wanted > 0.0 ? std::to_string(wanted).c_str() : "as fast as possible");
+  }
+  stat.add("achieved real-time factor", achieved);
+  stat.add("requested real-time factor", wanted);
+  stat.add("states published", states_published_);
+}
+
+void SimNode::diagnose_contact(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  stat.summary(DiagnosticStatus::OK, last_sample_.in_contact ? "in contact (rub)" : "free flight");
+  stat.add("in contact", last_sample_.in_contact);
+  stat.add("normal force [N]", last_sample_.normal_force_N);
+  stat.add("gap [m]", -last_sample_.penetration_m);
+  const auto& st = sim_->stats();
+  stat.add("touchdowns", st.touchdowns);
+  stat.add("liftoffs", st.liftoffs);
+  stat.add("grazes", st.grazes);
+}
+
+}  // namespace rotor_rub::ros_node

@@ -1,0 +1,25 @@
+// rotor_rub_sim_node: the simulator as a ROS node. Every private parameter is
+// a scene key (config/scene_template.yaml) or a node key (NodeConfig); they
+// are validated once here, and a bad one ends the node with exit status 2.
+#include <cstdio>
+
+#include <ros/ros.h>
+
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/ros/conversions.hpp"
+#include "rotor_rub_sim/ros/sim_node.hpp"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "rotor_rub_sim");
+  ros::NodeHandle nh;
+  ros::NodeHandle private_nh("~");
+  rotor_rub::ros_node::NodeSetup setup;
+  try {
+    setup = rotor_rub::ros_node::node_setup_from_values(rotor_rub::ros_node::private_params_as_text(private_nh));
+  } catch (const rotor_rub::core::SceneError& e) {
+    ROS_FATAL("bad parameter, not started: %s", e.what());
+    return 2;
+  }
+  rotor_rub::ros_node::SimNode node(nh, private_nh, setup);
+  return node.run();
+}
