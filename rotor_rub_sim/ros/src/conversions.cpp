@@ -1,8 +1,8 @@
 #include "rotor_rub_sim/ros/conversions.hpp"
 
-#include <cstdio>
-
 #include <ros/param.h>
+
+#include <cstdio>
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
@@ -41,6 +41,7 @@ void to_msg(const core::Sample& s, uint32_t sample_index, const std::string& fra
 void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_msgs::ContactEvent& msg) {
   msg.header.stamp.fromSec(e.t_s);
   msg.header.frame_id = frame_id;
+  msg.time = e.t_s;
   switch (e.kind) {
     case core::EventKind::kTouchdown:
       msg.kind = rotor_rub_msgs::ContactEvent::TOUCHDOWN;
@@ -70,6 +71,36 @@ void to_msg(const core::RunStats& st, const core::Scene& scene, rotor_rub_msgs::
   msg.grazes = st.grazes;
   msg.restarts = st.restarts;
   msg.integration_wall_time = st.wall_time_s;
+}
+
+core::Sample from_msg(const rotor_rub_msgs::RotorState& msg) {
+  core::Sample s;
+  s.t_s = msg.header.stamp.toSec();
+  s.kin.rotor_pos = core::Vec2(msg.rotor_position.x, msg.rotor_position.y);
+  s.kin.rotor_vel = core::Vec2(msg.rotor_velocity.x, msg.rotor_velocity.y);
+  s.kin.stator_pos = core::Vec2(msg.stator_position.x, msg.stator_position.y);
+  s.kin.stator_vel = core::Vec2(msg.stator_velocity.x, msg.stator_velocity.y);
+  s.normal_force_N = msg.normal_force;
+  s.friction_force_N = msg.friction_force;
+  s.contact_force_on_rotor_N = core::Vec2(msg.contact_force.x, msg.contact_force.y);
+  s.in_contact = msg.in_contact;
+  s.penetration_m = msg.penetration;
+  s.sliding_velocity_m_per_s = msg.sliding_velocity;
+  s.drive.angle_rad = msg.spin_angle;
+  s.drive.speed_rad_per_s = msg.speed;
+  s.drive.accel_rad_per_s2 = msg.angular_acceleration;
+  return s;
+}
+
+core::ContactEvent from_msg(const rotor_rub_msgs::ContactEvent& msg) {
+  core::ContactEvent e;
+  e.t_s = msg.time;
+  e.kind = msg.kind == rotor_rub_msgs::ContactEvent::TOUCHDOWN ? core::EventKind::kTouchdown
+           : msg.kind == rotor_rub_msgs::ContactEvent::LIFTOFF ? core::EventKind::kLiftoff
+                                                               : core::EventKind::kGraze;
+  e.normal_velocity_m_per_s = msg.normal_velocity;
+  e.impulse_N_s = msg.impulse;
+  return e;
 }
 
 std::map<std::string, std::string> private_params_as_text(const ros::NodeHandle& private_nh) {

@@ -41,7 +41,8 @@ MarkerBuilder::MarkerBuilder(const core::ModelParameters& model, const NodeConfi
   using visualization_msgs::Marker;
   const double c = model_.clearance_m * scale_;
   array_.markers.resize(kMarkerCount);
-  array_.markers[kClearanceCircle] = make_marker(kClearanceCircle, Marker::LINE_STRIP, config.frame_id, 0.6f, 0.6f, 0.6f);
+  array_.markers[kClearanceCircle] =
+      make_marker(kClearanceCircle, Marker::LINE_STRIP, config.frame_id, 0.6f, 0.6f, 0.6f);
   array_.markers[kClearanceCircle].scale.x = 0.01 * c;
   array_.markers[kClearanceCircle].points.resize(kCircleSegments + 1);
   array_.markers[kRotor] = make_marker(kRotor, Marker::SPHERE, config.frame_id, 0.1f, 0.4f, 1.0f);
@@ -82,7 +83,8 @@ const visualization_msgs::MarkerArray& MarkerBuilder::build(const ros::Time& sta
   auto& trail = array_.markers[kOrbitTrail];
   trail.points.clear();
   const std::size_t start = (trail_next_ + trail_.size() - trail_size_) % trail_.size();
-  for (std::size_t i = 0; i < trail_size_; ++i) trail.points.push_back(point(trail_[(start + i) % trail_.size()], scale_));
+  for (std::size_t i = 0; i < trail_size_; ++i)
+    trail.points.push_back(point(trail_[(start + i) % trail_.size()], scale_));
   // RViz rejects a line strip with fewer than two points.
   if (trail.points.size() < 2) trail.points.assign(2, point(latest_.kin.rotor_pos, scale_));
   // The force arrow: from the contact point on the clearance circle, along

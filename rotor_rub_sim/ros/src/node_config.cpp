@@ -27,8 +27,8 @@ double parse_real(const std::string& key, const std::string& text, const std::st
     used = 0;
   }
   if (used == 0 || used != text.size() || !std::isfinite(v)) {
-    throw SceneError("node parameter '" + key + "': value '" + text + "' is not a finite number; accepted: " +
-                     accepted);
+    throw SceneError("node parameter '" + key + "': value '" + text +
+                     "' is not a finite number; accepted: " + accepted);
   }
   return v;
 }
@@ -131,6 +131,13 @@ const std::vector<Entry>& entries() {
         }
         c.frame_id = text;
       };
+      t.push_back(e);
+    }
+    {
+      Entry e{{"record_bag", "a writable file path, or empty for none",
+               "record every topic of the node into this bag, in-process (lossless at any pace)", ""},
+              nullptr};
+      e.set = [](NodeConfig& c, const std::string& text) { c.record_bag = text; };
       t.push_back(e);
     }
     t.push_back(integer("wait_for_subscribers", 0, 1000,

@@ -1,11 +1,11 @@
 #include "rotor_rub_sim/ros/sim_node.hpp"
 
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <ros/callback_queue.h>
-#include <rosgraph_msgs/Clock.h>
 
 #include "rotor_rub_msgs/SpeedCommandFeedback.h"
 #include "rotor_rub_sim/ros/conversions.hpp"
@@ -57,7 +57,34 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   diagnostics_.add("solver", this, &SimNode::diagnose_solver);
   diagnostics_.add("real-time factor", this, &SimNode::diagnose_pace);
   diagnostics_.add("contact", this, &SimNode::diagnose_contact);
+  if (!config_.record_bag.empty()) {
+    try {
+      bag_.open(config_.record_bag, rosbag::bagmode::Write);
+    } catch (const rosbag::BagException& e) {
+      throw std::runtime_error("node parameter 'record_bag': cannot write '" + config_.record_bag + "': " + e.what() +
+                               "; accepted: a writable file path, or empty for none");
+    }
+    recording_ = true;
+  }
   restart_simulation();
+}
+
+template <class Msg>
+void SimNode::record(const std::string& topic, const Msg& msg, double t_s) {
+  if (!recording_) return;
+  try {
+    bag_.write(topic, std::max(ros::Time().fromSec(std::max(t_s, 0.0)), ros::TIME_MIN), msg);
+  } catch (const rosbag::BagException& e) {
+    // Keep what is recorded (the bag is closed on exit) and say so once.
+    ROS_ERROR("recording to '%s' stopped at t = %.6f s: %s", config_.record_bag.c_str(), t_s, e.what());
+    recording_ = false;
+  }
+}
+
+template <class Msg>
+void SimNode::publish(const ros::Publisher& pub, const Msg& msg, double t_s) {
+  pub.publish(msg);
+  record(pub.getTopic(), msg, t_s);
 }
 
 void SimNode::restart_simulation() {
@@ -87,8 +114,8 @@ bool SimNode::wait_for_subscribers() {
     }
     if (missing.empty()) return true;
     if (ros::WallTime::now() > deadline) {
-      ROS_FATAL("wait_for_subscribers = %u: after wait_timeout_s = %g s these topics still lack subscribers:%s",
-                needed, config_.wait_timeout_s, missing.c_str());
+      ROS_FATAL("wait_for_subscribers = %u: after wait_timeout_s = %g s these topics still lack subscribers:%s", needed,
+                config_.wait_timeout_s, missing.c_str());
       return false;
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
@@ -98,11 +125,12 @@ bool SimNode::wait_for_subscribers() {
 
 int SimNode::run() {
   if (!wait_for_subscribers()) return 1;
-  ROS_INFO("simulating the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
-           "real_time_factor %g, end_action %s",
-           core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
-           scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
-           to_string(config_.end_action));
+  ROS_INFO(
+      "simulating the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
+      "real_time_factor %g, end_action %s",
+      core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
+      scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
+      to_string(config_.end_action));
   set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
   // Chunks of at least one output period and at most 1 ms of simulated time:
   // callbacks are served between chunks, and pacing sleeps per chunk.
@@ -209,7 +237,7 @@ void SimNode::on_sample(const core::Sample& s) {
   last_sample_ = s;
   const auto index = static_cast<uint32_t>(std::llround(s.t_s * scene_.output_rate_hz));
   to_msg(s, index, config_.frame_id, state_msg_);
-  state_pub_.publish(state_msg_);
+  publish(state_pub_, state_msg_, s.t_s);
   ++states_published_;
   if (config_.publish_clock && s.t_s >= next_clock_s_) {
     publish_clock(s.t_s);
@@ -218,7 +246,7 @@ void SimNode::on_sample(const core::Sample& s) {
   if (markers_) {
     markers_->add(s);
     if (s.t_s >= next_marker_s_) {
-      marker_pub_.publish(markers_->build(state_msg_.header.stamp));
+      publish(marker_pub_, markers_->build(state_msg_.header.stamp), s.t_s);
       next_marker_s_ = next_tick(s.t_s, config_.marker_rate_hz);
     }
   }
@@ -235,7 +263,7 @@ void SimNode::on_sample(const core::Sample& s) {
 void SimNode::on_event(const core::ContactEvent& e) {
   to_msg(e, config_.frame_id, event_msg_);
   event_msg_.header.seq = static_cast<uint32_t>(events_published_);
-  event_pub_.publish(event_msg_);
+  publish(event_pub_, event_msg_, e.t_s);
   ++events_published_;
 }
 
@@ -244,7 +272,7 @@ void SimNode::publish_clock(double t_s) {
   if (!(t_s > 0.0)) return;
   rosgraph_msgs::Clock c;
   c.clock.fromSec(t_s);
-  clock_pub_.publish(c);
+  publish(clock_pub_, c, t_s);
 }
 
 void SimNode::publish_stats() {
@@ -275,12 +303,13 @@ void SimNode::publish_stats() {
     msg.failure_class = core::to_string(f->failure_class);
     msg.failure_message = f->message;
   }
-  stats_pub_.publish(msg);
+  publish(stats_pub_, msg, sim_->time());
 }
 
 // ---- Callbacks: messages and services become core calls --------------------
 
 void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg) {
+  record(command_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
   rotor_rub_msgs::SpeedCommandFeedback fb;
   fb.header.stamp.fromSec(sim_->time());
   fb.header.frame_id = config_.frame_id;
@@ -308,7 +337,7 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
     fb.reason = e.what();
     ROS_WARN("speed command rejected, simulation unchanged: %s", e.what());
   }
-  feedback_pub_.publish(fb);
+  publish(feedback_pub_, fb, sim_->time());
 }
 
 bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -332,9 +361,9 @@ bool SimNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
 bool SimNode::on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   if (status_ == Status::kPaused) set_status(Status::kRunning);
   res.success = status_ == Status::kRunning;
-  res.message = res.success ? "running from t = " + std::to_string(sim_->time()) + " s"
-                            : "the run has finished or failed at t = " + std::to_string(sim_->time()) +
-                                  " s; call ~reset";
+  res.message = res.success
+                    ? "running from t = " + std::to_string(sim_->time()) + " s"
+                    : "the run has finished or failed at t = " + std::to_string(sim_->time()) + " s; call ~reset";
   return true;
 }
 
@@ -364,9 +393,7 @@ void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat)
     stat.summaryf(DiagnosticStatus::ERROR, "method failed (%s) at t = %.9g s: %s", core::to_string(f->failure_class),
                   f->time_s, f->message.c_str());
   } else {
-    const char* state = status_ == Status::kRunning  ? "running"
-                        : status_ == Status::kPaused ? "paused"
-                                                     : "finished";
+    const char* state = status_ == Status::kRunning ? "running" : status_ == Status::kPaused ? "paused" : "finished";
     stat.summaryf(DiagnosticStatus::OK, "%s at t = %.6f s", state, sim_->time());
   }
   const auto& st = sim_->stats();

@@ -1,9 +1,9 @@
 // rotor_rub_sim_node: the simulator as a ROS node. Every private parameter is
 // a scene key (config/scene_template.yaml) or a node key (NodeConfig); they
 // are validated once here, and a bad one ends the node with exit status 2.
-#include <cstdio>
-
 #include <ros/ros.h>
+
+#include <cstdio>
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
@@ -20,6 +20,11 @@ int main(int argc, char** argv) {
     ROS_FATAL("bad parameter, not started: %s", e.what());
     return 2;
   }
-  rotor_rub::ros_node::SimNode node(nh, private_nh, setup);
-  return node.run();
+  try {
+    rotor_rub::ros_node::SimNode node(nh, private_nh, setup);
+    return node.run();
+  } catch (const std::runtime_error& e) {
+    ROS_FATAL("not started: %s", e.what());
+    return 2;
+  }
 }

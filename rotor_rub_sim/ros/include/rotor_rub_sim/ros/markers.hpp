@@ -5,9 +5,9 @@
 // millimetre orbit is visible at RViz's default zoom.
 #pragma once
 
-#include <vector>
-
 #include <visualization_msgs/MarkerArray.h>
+
+#include <vector>
 
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"

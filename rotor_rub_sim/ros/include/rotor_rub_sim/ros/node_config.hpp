@@ -29,16 +29,16 @@ struct NodeConfig {
   // 1 = wall-clock pace, 2 = twice as fast, 0 = as fast as possible.
   double real_time_factor = 1.0;
   EndAction end_action = EndAction::kExit;
-  bool start_paused = false;  // wait for ~resume or ~step before simulating
-  double stats_rate_hz = 10.0;         // SolverStats, in simulated time
-  double diagnostics_rate_hz = 2.0;    // /diagnostics, in simulated time
-  double clock_rate_hz = 1000.0;       // /clock, in simulated time (capped by the state rate)
-  bool publish_clock = true;           // one node per ROS graph should publish /clock
-  double marker_rate_hz = 30.0;        // RViz markers, in simulated time; 0 = none
-  double marker_scale = 1000.0;        // drawn length per model length (1000: 1 mm shows as 1 m)
+  bool start_paused = false;                 // wait for ~resume or ~step before simulating
+  double stats_rate_hz = 10.0;               // SolverStats, in simulated time
+  double diagnostics_rate_hz = 2.0;          // /diagnostics, in simulated time
+  double clock_rate_hz = 1000.0;             // /clock, in simulated time (capped by the state rate)
+  bool publish_clock = true;                 // one node per ROS graph should publish /clock
+  double marker_rate_hz = 30.0;              // RViz markers, in simulated time; 0 = none
+  double marker_scale = 1000.0;              // drawn length per model length (1000: 1 mm shows as 1 m)
   double marker_force_scale_m_per_N = 0.01;  // force arrow length in RViz per newton (not scaled)
-  int orbit_trail_samples = 500;       // state samples kept in the orbit trail marker
-  std::string frame_id = "world";      // frame of every header (the stator's rest frame)
+  int orbit_trail_samples = 500;             // state samples kept in the orbit trail marker
+  std::string frame_id = "world";            // frame of every header (the stator's rest frame)
   // Before simulating, wait until every data topic has at least this many
   // subscribers (a recorder, say), so that nothing is published unheard.
   int wait_for_subscribers = 0;
@@ -47,6 +47,9 @@ struct NodeConfig {
   // unbounded: the node never drops a message; a slow subscriber costs memory.
   int publish_queue_size = 0;
   double exit_linger_s = 1.0;  // wall time to let subscribers drain before exiting
+  // Records every message the node publishes (and the speed commands it
+  // receives) into this bag, in-process: nothing is lost at any pace. "" = off.
+  std::string record_bag;
 };
 
 struct NodeKeyInfo {

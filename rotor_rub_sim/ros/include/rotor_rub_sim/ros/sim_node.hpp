@@ -12,13 +12,14 @@
 // real-time factor.
 #pragma once
 
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <std_srvs/Trigger.h>
+
 #include <memory>
 #include <optional>
 #include <vector>
-
-#include <diagnostic_updater/diagnostic_updater.h>
-#include <ros/ros.h>
-#include <std_srvs/Trigger.h>
 
 #include "rotor_rub_msgs/ContactEvent.h"
 #include "rotor_rub_msgs/RotorState.h"
@@ -33,6 +34,7 @@ namespace rotor_rub::ros_node {
 
 class SimNode : public core::SimulationObserver {
  public:
+  // Throws std::runtime_error when the record_bag cannot be opened.
   SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup);
   // Runs until shutdown or, with end_action exit, the end of the scene.
   // Returns the process exit status: 0 ok, 1 start-up failure, 3/4/5 the
@@ -62,6 +64,12 @@ class SimNode : public core::SimulationObserver {
   double running_wall_time_s() const;
   void publish_stats();
   void publish_clock(double t_s);
+  // Publishes and, when recording, writes the message into the bag at the
+  // simulated time t_s (bags hold no time before 1 ns: t = 0 is filed there).
+  template <class Msg>
+  void publish(const ros::Publisher& pub, const Msg& msg, double t_s);
+  template <class Msg>
+  void record(const std::string& topic, const Msg& msg, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
   bool on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
@@ -74,6 +82,8 @@ class SimNode : public core::SimulationObserver {
 
   core::Scene scene_;
   NodeConfig config_;
+  rosbag::Bag bag_;
+  bool recording_ = false;
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order

@@ -1,0 +1,152 @@
+// rotor_rub_compare: compares recorded runs offline. Reads the node's bags
+// (every rotor_rub_msgs/RotorState topic <ns>/state is one run, with its
+// <ns>/contact_events and <ns>/solver_stats) and the headless runner's output
+// (--runner PREFIX reads PREFIX.csv and PREFIX.json), prints a table and
+// writes a CSV: touchdown and lift-off times, max and RMS differences of the
+// rotor and stator positions against a reference run, contact force figures,
+// lost messages and solver cost.
+//
+// Exit status: 0 ok; 2 bad input (usage, a missing, truncated or foreign bag).
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_msgs/ContactEvent.h"
+#include "rotor_rub_msgs/RotorState.h"
+#include "rotor_rub_msgs/SolverStats.h"
+#include "rotor_rub_sim/ros/conversions.hpp"
+#include "run_comparison.hpp"
+
+namespace {
+
+using rotor_rub::tools::RecordedRun;
+
+const char* kUsage =
+    "usage: rotor_rub_compare [BAG]... [--runner PREFIX]... [--reference NAME] [--csv FILE] [--quiet]\n"
+    "  BAG             a bag recorded from rotor_rub_sim_node (one run per <ns>/state topic)\n"
+    "  --runner PREFIX the headless runner's PREFIX.csv (and PREFIX.json for its events)\n"
+    "  --reference N   the run the others are compared with (default: the first --runner, else the first run)\n"
+    "  --csv FILE      one row per run\n";
+
+[[noreturn]] void bad_input(const std::string& msg) {
+  std::cerr << "rotor_rub_compare: " << msg << "\n";
+  std::exit(2);
+}
+
+std::string run_key(const std::string& topic, const std::string& suffix) {
+  return topic.size() > suffix.size() && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0
+             ? topic.substr(0, topic.size() - suffix.size())
+             : std::string();
+}
+
+std::vector<RecordedRun> read_bag(const std::string& path) {
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    bad_input("cannot read bag '" + path + "': " + e.what() + " (an unclosed bag needs `rosbag reindex` first)");
+  }
+  std::map<std::string, RecordedRun> runs;
+  std::map<std::string, std::set<uint32_t>> seqs;
+  try {
+    rosbag::View view(bag);
+    for (const rosbag::MessageInstance& m : view) {
+      const std::string& topic = m.getTopic();
+      if (auto s = m.instantiate<rotor_rub_msgs::RotorState>()) {
+        const std::string key = run_key(topic, "/state").empty() ? topic : run_key(topic, "/state");
+        runs[key].samples.push_back(rotor_rub::ros_node::from_msg(*s));
+        seqs[key].insert(s->header.seq);
+      } else if (auto e = m.instantiate<rotor_rub_msgs::ContactEvent>()) {
+        runs[run_key(topic, "/contact_events")].events.push_back(rotor_rub::ros_node::from_msg(*e));
+      } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
+        RecordedRun& r = runs[run_key(topic, "/solver_stats")];
+        r.method = st->method;
+        r.steps = st->steps;
+        r.rhs_evals = st->rhs_evaluations;
+        r.integration_wall_s = st->integration_wall_time;
+        r.real_time_factor = st->real_time_factor;
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    bad_input("bag '" + path + "' is damaged: " + e.what());
+  }
+  std::vector<RecordedRun> out;
+  for (auto& [key, run] : runs) {
+    if (run.samples.empty()) continue;  // events or stats without states
+    run.name = path.substr(path.find_last_of('/') + 1) + ":" + key;
+    run.has_events = true;
+    std::stable_sort(run.samples.begin(), run.samples.end(),
+                     [](const auto& a, const auto& b) { return a.t_s < b.t_s; });
+    // header.seq is the sample index k: indices missing below the largest
+    // one received are lost messages.
+    const auto& s = seqs[key];
+    run.lost_samples = static_cast<long>(*s.rbegin()) + 1 - static_cast<long>(s.size());
+    out.push_back(std::move(run));
+  }
+  if (out.empty()) bad_input("bag '" + path + "' holds no rotor_rub_msgs/RotorState topic");
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<RecordedRun> runs;
+  std::string reference, csv_path;
+  bool quiet = false;
+  std::size_t runner_runs = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) bad_input(a + " needs a value\n" + kUsage);
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (a == "--runner") {
+      const std::string prefix = value();
+      try {
+        runs.insert(runs.begin() + static_cast<long>(runner_runs++),
+                    rotor_rub::tools::read_runner_csv(prefix + ".csv", prefix + ".json"));
+      } catch (const std::exception& e) {
+        bad_input(e.what());
+      }
+    } else if (a == "--reference") {
+      reference = value();
+    } else if (a == "--csv") {
+      csv_path = value();
+    } else if (a == "--quiet") {
+      quiet = true;
+    } else if (!a.empty() && a[0] == '-') {
+      bad_input("unknown option " + a + "\n" + kUsage);
+    } else {
+      for (auto& r : read_bag(a)) runs.push_back(std::move(r));
+    }
+  }
+  if (runs.empty()) bad_input(std::string("no runs given\n") + kUsage);
+  std::size_t ref = 0;
+  if (!reference.empty()) {
+    auto it = std::find_if(runs.begin(), runs.end(), [&](const RecordedRun& r) {
+      return r.name == reference || r.name.find(reference) != std::string::npos;
+    });
+    if (it == runs.end()) bad_input("no run named '" + reference + "'");
+    ref = static_cast<std::size_t>(it - runs.begin());
+  }
+  std::vector<rotor_rub::tools::RunFigures> rows;
+  for (const auto& r : runs) rows.push_back(rotor_rub::tools::compare_run(r, runs[ref]));
+  if (!quiet) rotor_rub::tools::print_table(std::cout, rows, runs[ref].name);
+  if (!csv_path.empty()) {
+    std::ofstream os(csv_path);
+    rotor_rub::tools::write_figures_csv(os, rows);
+    if (!os) bad_input("cannot write '" + csv_path + "'");
+  }
+  return 0;
+}

@@ -1,0 +1,53 @@
+// Offline comparison of recorded runs (from bags or the runner's CSV): the
+// figures per run and the differences against a reference run. ROS-free; the
+// bag reading lives in rotor_rub_compare.cpp.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/run_types.hpp"
+
+namespace rotor_rub::tools {
+
+struct RecordedRun {
+  std::string name;    // e.g. "paper.bag:/switching/rotor_rub_sim"
+  std::string method;  // from the last SolverStats, or "" when unknown
+  std::vector<core::Sample> samples;
+  std::vector<core::ContactEvent> events;
+  bool has_events = false;  // a CSV without its JSON summary has none
+  long lost_samples = 0;    // gaps in the state messages' sample index
+  // The last SolverStats (bags only; -1 when unknown).
+  long steps = -1, rhs_evals = -1;
+  double integration_wall_s = -1.0, real_time_factor = -1.0;
+};
+
+struct RunFigures {
+  std::string name, method;
+  std::size_t samples = 0;
+  long lost_samples = 0;
+  double first_contact_s, first_touchdown_s, last_liftoff_s, last_contact_end_s;
+  long touchdowns = 0, liftoffs = 0, grazes = 0;
+  double max_orbit_m = 0.0, max_normal_force_N = 0.0;
+  double mean_normal_force_in_contact_N;  // over samples in contact
+  double contact_time_s = 0.0;            // samples in contact x sample period
+  // Against the reference, on the sample times both runs have.
+  std::size_t common_samples = 0;
+  double max_rotor_diff_m, rms_rotor_diff_m, max_stator_diff_m, rms_stator_diff_m, max_normal_force_diff_N;
+  double first_contact_diff_s, last_contact_end_diff_s;
+  long steps = -1, rhs_evals = -1;
+  double integration_wall_s = -1.0, real_time_factor = -1.0;
+};
+
+RunFigures compare_run(const RecordedRun& run, const RecordedRun& reference);
+
+// A fixed-width table for people and a CSV (one row per run) for scripts.
+void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const std::string& reference_name);
+void write_figures_csv(std::ostream& os, const std::vector<RunFigures>& rows);
+
+// The runner's CSV (rotor_rub_run --csv) and, if present, the events of its
+// JSON summary. Throws std::runtime_error naming the file on a bad file.
+RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summary_path);
+
+}  // namespace rotor_rub::tools
