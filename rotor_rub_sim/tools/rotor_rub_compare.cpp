@@ -55,7 +55,7 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
     bad_input("cannot read bag '" + path + "': " + e.what() + " (an unclosed bag needs `rosbag reindex` first)");
   }
   std::map<std::string, RecordedRun> runs;
-  std::map<std::string, std::set<uint32_t>> seqs;
+  std::map<std::string, std::set<uint64_t>> seqs;
   try {
     rosbag::View view(bag);
     for (const rosbag::MessageInstance& m : view) {
@@ -63,7 +63,7 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
       if (auto s = m.instantiate<rotor_rub_msgs::RotorState>()) {
         const std::string key = run_key(topic, "/state").empty() ? topic : run_key(topic, "/state");
         runs[key].samples.push_back(rotor_rub::ros_node::from_msg(*s));
-        seqs[key].insert(s->header.seq);
+        seqs[key].insert(s->sample_index);
       } else if (auto e = m.instantiate<rotor_rub_msgs::ContactEvent>()) {
         runs[run_key(topic, "/contact_events")].events.push_back(rotor_rub::ros_node::from_msg(*e));
       } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
@@ -85,8 +85,8 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
     run.has_events = true;
     std::stable_sort(run.samples.begin(), run.samples.end(),
                      [](const auto& a, const auto& b) { return a.t_s < b.t_s; });
-    // header.seq is the sample index k: indices missing below the largest
-    // one received are lost messages.
+    // Sample indices missing below the largest one received are lost
+    // messages (a bag with a reset in it holds each index more than once).
     const auto& s = seqs[key];
     run.lost_samples = static_cast<long>(*s.rbegin()) + 1 - static_cast<long>(s.size());
     out.push_back(std::move(run));

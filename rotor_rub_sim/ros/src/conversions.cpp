@@ -8,9 +8,9 @@
 
 namespace rotor_rub::ros_node {
 
-void to_msg(const core::Sample& s, uint32_t sample_index, const std::string& frame_id,
+void to_msg(const core::Sample& s, uint64_t sample_index, const std::string& frame_id,
             rotor_rub_msgs::RotorState& msg) {
-  msg.header.seq = sample_index;
+  msg.sample_index = sample_index;
   msg.header.stamp.fromSec(s.t_s);
   msg.header.frame_id = frame_id;
   msg.rotor_position.x = s.kin.rotor_pos.x();

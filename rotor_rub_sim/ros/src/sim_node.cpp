@@ -235,7 +235,7 @@ double SimNode::achieved_real_time_factor() const {
 
 void SimNode::on_sample(const core::Sample& s) {
   last_sample_ = s;
-  const auto index = static_cast<uint32_t>(std::llround(s.t_s * scene_.output_rate_hz));
+  const auto index = static_cast<uint64_t>(std::llround(s.t_s * scene_.output_rate_hz));
   to_msg(s, index, config_.frame_id, state_msg_);
   publish(state_pub_, state_msg_, s.t_s);
   ++states_published_;
@@ -262,7 +262,6 @@ void SimNode::on_sample(const core::Sample& s) {
 
 void SimNode::on_event(const core::ContactEvent& e) {
   to_msg(e, config_.frame_id, event_msg_);
-  event_msg_.header.seq = static_cast<uint32_t>(events_published_);
   publish(event_pub_, event_msg_, e.t_s);
   ++events_published_;
 }

@@ -14,9 +14,9 @@
 
 namespace rotor_rub::ros_node {
 
-// header.seq carries the sample index k (t = k / output_rate_hz), so that a
-// subscriber or a bag reader detects a lost message as a gap in seq.
-void to_msg(const core::Sample& s, uint32_t sample_index, const std::string& frame_id, rotor_rub_msgs::RotorState& msg);
+// sample_index is k (t = k / output_rate_hz), so that a subscriber or a bag
+// reader detects a lost message as a gap (roscpp overwrites header.seq).
+void to_msg(const core::Sample& s, uint64_t sample_index, const std::string& frame_id, rotor_rub_msgs::RotorState& msg);
 void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_msgs::ContactEvent& msg);
 void to_msg(const core::RunStats& stats, const core::Scene& scene, rotor_rub_msgs::SolverStats& msg);
 

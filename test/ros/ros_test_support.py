@@ -1,0 +1,74 @@
+"""Shared helpers of the node's rostests: collectors synchronised on
+received messages (threading conditions with a timeout), the headless runner's
+reference output, and the scene file."""
+import json
+import os
+import subprocess
+import tempfile
+import threading
+
+import roslib.packages
+import rospkg
+import rospy
+
+# Wall-clock bound for a wait on messages: the paper scene at real_time_factor 0
+# takes well under a second; the bound only turns a hang into a failure.
+WAIT_TIMEOUT_S = 60.0
+
+PKG = "rotor_rub_sim"
+PAPER_SCENE = os.path.join(rospkg.RosPack().get_path(PKG), "config", "paper_runup.yaml")
+
+
+def find_binary(name):
+    paths = roslib.packages.find_node(PKG, name)
+    if not paths:
+        raise RuntimeError("cannot find %s in package %s" % (name, PKG))
+    return paths[0]
+
+
+def run_runner(extra_args, prefix):
+    """Runs rotor_rub_run on the paper scene; returns its JSON summary."""
+    subprocess.run([find_binary("rotor_rub_run"), "--scene", PAPER_SCENE, "--csv", prefix + ".csv",
+                    "--summary", prefix + ".json", "--quiet"] + extra_args, check=True)
+    with open(prefix + ".json") as f:
+        return json.load(f)
+
+
+class Collector(object):
+    """Collects every message of a topic; wait_for() blocks on a predicate."""
+
+    def __init__(self, topic, msg_type):
+        self.msgs = []
+        self.cond = threading.Condition()
+        # queue_size None: unbounded, so a burst at real_time_factor 0 is not dropped.
+        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=None)
+
+    def _cb(self, msg):
+        with self.cond:
+            self.msgs.append(msg)
+            self.cond.notify_all()
+
+    def clear(self):
+        with self.cond:
+            self.msgs = []
+
+    def wait_for(self, predicate, what):
+        with self.cond:
+            ok = self.cond.wait_for(lambda: predicate(self.msgs), timeout=WAIT_TIMEOUT_S)
+        if not ok:
+            raise AssertionError("timed out after %g s waiting for %s (%d messages so far)" %
+                                 (WAIT_TIMEOUT_S, what, len(self.msgs)))
+        return list(self.msgs)
+
+    def wait_connected(self):
+        """Until the publisher side has connected to us."""
+        import time
+        deadline = time.time() + WAIT_TIMEOUT_S
+        while self.sub.get_num_connections() == 0:
+            if time.time() > deadline:
+                raise AssertionError("no publisher connected to %s" % self.sub.name)
+            rospy.sleep(0.01)
+
+
+def temp_prefix(name):
+    return os.path.join(tempfile.mkdtemp(prefix="rotor_rub_test_"), name)

@@ -1,0 +1,67 @@
+// The node's parameter table, without a master: scene and node keys split,
+// every bad value named with its accepted range, typos answered with the
+// nearest key of either table.
+#include <gtest/gtest.h>
+
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/ros/node_config.hpp"
+
+namespace rotor_rub::ros_node {
+namespace {
+
+std::string error_of(const std::map<std::string, std::string>& values) {
+  try {
+    node_setup_from_values(values);
+  } catch (const core::SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(NodeConfig, SplitsSceneAndNodeKeys) {
+  const NodeSetup s = node_setup_from_values(
+      {{"method", "iteration"}, {"rtol", "1e-5"}, {"real_time_factor", "0"}, {"end_action", "continue"},
+       {"start_paused", "true"}, {"record_bag", "/tmp/x.bag"}, {"orbit_trail_samples", "10"}});
+  EXPECT_EQ(s.scene.solver.method, core::Method::kIteration);
+  EXPECT_EQ(s.scene.solver.rtol, 1e-5);
+  EXPECT_EQ(s.config.real_time_factor, 0.0);
+  EXPECT_EQ(s.config.end_action, EndAction::kContinue);
+  EXPECT_TRUE(s.config.start_paused);
+  EXPECT_EQ(s.config.record_bag, "/tmp/x.bag");
+  EXPECT_EQ(s.config.orbit_trail_samples, 10);
+}
+
+TEST(NodeConfig, DefaultsAreTheDocumentedOnes) {
+  const NodeSetup s = node_setup_from_values({});
+  const NodeConfig defaults;
+  EXPECT_EQ(s.config.real_time_factor, defaults.real_time_factor);
+  for (const auto& k : node_keys()) {
+    EXPECT_FALSE(k.description.empty()) << k.key;
+    EXPECT_FALSE(k.accepted.empty()) << k.key;
+    EXPECT_TRUE(is_node_key(k.key));
+    // No key is in both tables: a value must have one meaning.
+    for (const auto& sk : core::scene_keys()) EXPECT_NE(sk.key, k.key);
+  }
+}
+
+TEST(NodeConfig, BadValuesNameTheKeyAndTheRange) {
+  EXPECT_NE(error_of({{"real_time_factor", "-1"}}).find("'real_time_factor': value -1 is out of range; accepted: [0,"),
+            std::string::npos);
+  EXPECT_NE(error_of({{"real_time_factor", "fast"}}).find("not a finite number"), std::string::npos);
+  EXPECT_NE(error_of({{"real_time_factor", "nan"}}).find("not a finite number"), std::string::npos);
+  EXPECT_NE(error_of({{"end_action", "stop"}}).find("accepted: exit | continue | pause"), std::string::npos);
+  EXPECT_NE(error_of({{"start_paused", "maybe"}}).find("accepted: true | false"), std::string::npos);
+  EXPECT_NE(error_of({{"orbit_trail_samples", "2.5"}}).find("integer in [2, "), std::string::npos);
+  EXPECT_NE(error_of({{"frame_id", ""}}).find("'frame_id'"), std::string::npos);
+  // Scene keys keep the scene's own messages.
+  EXPECT_NE(error_of({{"rtol", "-1"}}).find("'rtol': value -1 is out of range"), std::string::npos);
+}
+
+TEST(NodeConfig, UnknownKeysSuggestTheNearestOfBothTables) {
+  EXPECT_NE(error_of({{"rtoll", "1e-6"}}).find("did you mean 'rtol'?"), std::string::npos);
+  EXPECT_NE(error_of({{"real_time_factr", "1"}}).find("did you mean 'real_time_factor'?"), std::string::npos);
+  EXPECT_NE(error_of({{"zzzzzzzzzzzz", "1"}}).find("unknown parameter 'zzzzzzzzzzzz'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rotor_rub::ros_node

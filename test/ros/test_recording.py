@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""rostest: bags recorded through the launch files (recording.test)."""
+import csv
+import os
+import subprocess
+import sys
+import unittest
+
+import rosbag
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ros_test_support import Collector, PKG, WAIT_TIMEOUT_S, find_binary, run_runner, temp_prefix  # noqa: E402
+from rotor_rub_msgs.msg import RotorState, SolverStats  # noqa: E402
+
+RATE_HZ = 1000.0  # config/paper_runup.yaml
+END_S = 4.0
+N_STATES = int(END_S * RATE_HZ) + 1
+LAUNCH_TIMEOUT_S = 300.0  # wall bound on one launch (it takes seconds)
+# Accuracy of each method against switching at rtol 1e-7, at the tolerances
+# compare_methods.launch gives them (measured: iteration 2.1e-6 m, penalty
+# 3.6e-5 m, README "Measured figures"); the bound is the measured figure
+# rounded up to the next half decade, so a regression of the method fails.
+METHOD_MAX_ROTOR_DIFF_M = {"iteration": 5e-6, "penalty": 5e-5, "switching": 0.0}
+
+
+def launch(launch_file, *args):
+    proc = subprocess.run(["roslaunch", PKG, launch_file] + list(args), capture_output=True, text=True,
+                          timeout=LAUNCH_TIMEOUT_S)
+    if proc.returncode != 0:
+        raise AssertionError("roslaunch %s failed (%d):\n%s" % (launch_file, proc.returncode, proc.stdout[-3000:]))
+
+
+def compare(*args):
+    out_csv = temp_prefix("figures") + ".csv"
+    subprocess.run([find_binary("rotor_rub_compare")] + list(args) + ["--csv", out_csv, "--quiet"], check=True)
+    with open(out_csv) as f:
+        return {row["run"]: row for row in csv.DictReader(f)}
+
+
+class RecordingTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_recording")
+        cls.runner_prefix = temp_prefix("runner")
+        cls.runner = run_runner([], cls.runner_prefix)
+        cls.sim_bag = temp_prefix("sim") + ".bag"
+        launch("sim.launch", "record:=true", "bag:=" + cls.sim_bag, "real_time_factor:=0")
+
+    def test_sim_launch_bag_holds_every_message(self):
+        with rosbag.Bag(self.sim_bag) as bag:
+            counts = {t: i.message_count for t, i in bag.get_type_and_topic_info().topics.items()}
+            seqs = [m.sample_index for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/state"])]
+            stats = [m for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/solver_stats"])]
+        self.assertEqual(counts["/rotor_rub_sim/state"], N_STATES)
+        self.assertEqual(sorted(seqs), list(range(N_STATES)), "every sample index once: none lost")
+        self.assertEqual(counts["/clock"], N_STATES - 1)  # t = 0 has no clock
+        self.assertEqual(counts["/rotor_rub_sim/contact_events"], len(self.runner["events"]))
+        self.assertEqual(counts["/rotor_rub_sim/markers"], int(END_S * 30) + 1)  # marker_rate_hz 30
+        self.assertEqual(stats[-1].status, SolverStats.FINISHED)
+        self.assertEqual(stats[-1].states_published, N_STATES)
+
+    def test_compare_tool_reproduces_the_runner(self):
+        rows = compare(self.sim_bag, "--runner", self.runner_prefix)
+        run = [r for name, r in rows.items() if name.endswith(":/rotor_rub_sim")][0]
+        self.assertEqual(int(run["lost_samples"]), 0)
+        self.assertEqual(int(run["common_samples"]), N_STATES)
+        # The same core on the same scene: identical samples and events.
+        for column in ["max_rotor_diff_m", "max_stator_diff_m", "max_normal_force_diff_N", "first_contact_diff_s",
+                       "last_contact_end_diff_s"]:
+            self.assertEqual(float(run[column]), 0.0, column)
+        self.assertAlmostEqual(float(run["first_contact_s"]), self.runner["first_contact_s"], delta=1e-9)
+        self.assertAlmostEqual(float(run["max_orbit_m"]), self.runner["max_orbit_m"], delta=1e-12)
+        self.assertEqual(int(run["steps"]), self.runner["stats"]["steps"])
+
+    def test_compare_methods_launch_records_three_runs(self):
+        bag = temp_prefix("compare") + ".bag"
+        launch("compare_methods.launch", "record:=true", "bag:=" + bag)
+        rows = compare(bag, "--reference", "/switching/")
+        self.assertEqual(len(rows), 3)
+        for name, row in rows.items():
+            method = row["method"]
+            self.assertIn("/%s/rotor_rub_sim" % method, name)
+            self.assertEqual(int(row["samples"]), N_STATES, name)
+            self.assertEqual(int(row["lost_samples"]), 0, name)
+            self.assertLessEqual(float(row["max_rotor_diff_m"]), METHOD_MAX_ROTOR_DIFF_M[method], name)
+        self.assertFalse([p for p in os.listdir(os.path.dirname(bag)) if p.endswith(".part")], "parts merged")
+
+    def test_rosbag_play_drives_a_subscriber(self):
+        states = Collector("/rotor_rub_sim/state", RotorState)
+        # Played at 8x the recorded (simulated) pace; --wait-for-subscribers
+        # holds the playback until our subscriber is connected.
+        subprocess.run(["rosbag", "play", "-q", "-r", "8", "--wait-for-subscribers", self.sim_bag,
+                        "--topics", "/rotor_rub_sim/state"], check=True, timeout=WAIT_TIMEOUT_S)
+        got = states.wait_for(lambda m: len(m) >= N_STATES, "the played states")
+        self.assertEqual([m.sample_index for m in got], list(range(N_STATES)))
+
+
+if __name__ == "__main__":
+    rostest.rosrun(PKG, "recording", RecordingTest)
