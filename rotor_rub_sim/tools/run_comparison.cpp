@@ -142,7 +142,7 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
   std::ifstream in(csv_path);
   if (!in) throw std::runtime_error("cannot read the runner CSV '" + csv_path + "'");
   RecordedRun run;
-  run.name = csv_path;
+  run.name = csv_path.substr(csv_path.find_last_of('/') + 1);
   std::string line;
   if (!std::getline(in, line) || line.rfind("t,x_r,y_r,x_s,y_s,", 0) != 0) {
     throw std::runtime_error("'" + csv_path + "' is not a rotor_rub_run CSV (header t,x_r,y_r,x_s,y_s,...)");
@@ -179,6 +179,13 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
     static const std::regex method_re(R"re("method": "(\w+)")re");
     std::smatch m;
     if (std::regex_search(text, m, method_re)) run.method = m[1];
+    static const std::regex steps_re(R"re("steps": ([0-9]+), "rejected_steps": [0-9]+, "rhs_evals": ([0-9]+))re");
+    if (std::regex_search(text, m, steps_re)) {
+      run.steps = std::stol(m[1]);
+      run.rhs_evals = std::stol(m[2]);
+    }
+    static const std::regex wall_re(R"re("wall_time_s": ([-+0-9.eE]+))re");
+    if (std::regex_search(text, m, wall_re)) run.integration_wall_s = std::strtod(m[1].str().c_str(), nullptr);
     static const std::regex event_re(R"re(\{"t": ([-+0-9.eE]+), "kind": "(\w+)")re");
     for (auto it = std::sregex_iterator(text.begin(), text.end(), event_re); it != std::sregex_iterator(); ++it) {
       core::ContactEvent e;

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""The node's performance benchmark (issue 3): the paper scene at a 10 kHz
+state rate, real_time_factor 0, recording a bag through sim.launch. Prints
+the achieved real-time factor, the messages lost (published - recorded) and
+the ROS layer's cost against the headless runner on the same scene and rate,
+measured in the same run (ratios: the machine is noisy).
+
+usage: scripts/bench_node.sh [--rate HZ] [--repeats N] [--method M]"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+import time
+
+import rosbag
+
+p = argparse.ArgumentParser()
+p.add_argument("--rate", type=float, default=10000.0)
+p.add_argument("--repeats", type=int, default=3)
+p.add_argument("--method", default="switching")
+p.add_argument("--runner", required=True)
+p.add_argument("--scene", required=True)
+a = p.parse_args()
+
+tmp = tempfile.mkdtemp(prefix="rotor_rub_bench_")
+params = os.path.join(tmp, "params.yaml")
+with open(params, "w") as f:
+    f.write("output_rate_hz: %r\nexit_linger_s: 0.0\n" % a.rate)
+
+rows = []
+for r in range(a.repeats):
+    # Headless: the core alone, no output written (integration + sampling).
+    t0 = time.monotonic()
+    subprocess.run([a.runner, "--scene", a.scene, "--method", a.method, "--rate", str(a.rate), "--quiet",
+                    "--summary", os.path.join(tmp, "runner.json")], check=True)
+    runner_process_s = time.monotonic() - t0
+    with open(os.path.join(tmp, "runner.json")) as f:
+        runner_wall_s = json.load(f)["stats"]["wall_time_s"]
+    bag = os.path.join(tmp, "bench_%d.bag" % r)
+    subprocess.run(["roslaunch", "rotor_rub_sim", "sim.launch", "record:=true", "bag:=" + bag,
+                    "real_time_factor:=0", "method:=" + a.method, "scene:=" + a.scene, "params:=" + params],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with rosbag.Bag(bag) as b:
+        recorded = b.get_message_count(topic_filters=["/rotor_rub_sim/state"])
+        stats = [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/solver_stats"])][-1]
+    rows.append(dict(rtf=stats.real_time_factor, node_wall=stats.wall_time, sim=stats.sim_time,
+                     published=stats.states_published, recorded=recorded,
+                     lost=stats.states_published - recorded, runner_wall=runner_wall_s,
+                     runner_process=runner_process_s, bag_mb=os.path.getsize(bag) / 1e6))
+
+print("paper scene (%s), method %s, state rate %g Hz, real_time_factor 0, recording a bag; %d repeats, %d cores"
+      % (os.path.basename(a.scene), a.method, a.rate, a.repeats, os.cpu_count()))
+print("%-7s %10s %10s %10s %6s %12s %12s %10s %8s" % ("repeat", "RTF", "published", "recorded", "lost",
+                                                      "node wall s", "runner s", "ROS/core", "bag MB"))
+for i, r in enumerate(rows):
+    print("%-7d %10.1f %10d %10d %6d %12.3f %12.4f %10.1f %8.1f" % (
+        i, r["rtf"], r["published"], r["recorded"], r["lost"], r["node_wall"], r["runner_wall"],
+        r["node_wall"] / r["runner_wall"], r["bag_mb"]))
+med = lambda k: statistics.median(r[k] for r in rows)  # noqa: E731
+print("median: real-time factor %.1f (target >= 50), lost %d (target 0), node wall %.3f s = %.1f x the headless "
+      "core's %.4f s" % (med("rtf"), max(r["lost"] for r in rows), med("node_wall"),
+                         med("node_wall") / med("runner_wall"), med("runner_wall")))
