@@ -9,6 +9,10 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
 export PATH="/usr/bin:$PATH"
 cd "$WS"
+# The rostests' Python test nodes import the generated rotor_rub_msgs: they
+# need the workspace environment (PYTHONPATH) of the built devel space.
+# shellcheck disable=SC1091
+set +u; source "$WS/devel/setup.bash"; set -u
 rm -rf build/test_results
 catkin_make run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
