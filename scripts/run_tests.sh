@@ -14,7 +14,9 @@ cd "$WS"
 # shellcheck disable=SC1091
 set +u; source "$WS/devel/setup.bash"; set -u
 rm -rf build/test_results
-catkin_make run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
+# --force-cmake: catkin caches the test environment at configure time, and on a
+# fresh clone that was before the generated Python messages existed.
+catkin_make --force-cmake run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
