@@ -24,18 +24,6 @@ using namespace rotor_rub;
 constexpr int kExitBadInput = 2;
 constexpr int kExitOutput = 6;
 
-int exit_code(core::FailureClass c) {
-  switch (c) {
-    case core::FailureClass::kStalled:
-      return 3;
-    case core::FailureClass::kDiverged:
-      return 4;
-    case core::FailureClass::kNotConverged:
-      return 5;
-  }
-  return 1;
-}
-
 const char* kUsage =
     "usage: rotor_rub_run --scene FILE [--method penalty|switching|iteration] [--rtol R] [--atol A]\n"
     "                     [--set key=value]... [--rate HZ] [--csv FILE] [--summary FILE] [--quiet]\n"
@@ -139,7 +127,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rotor_rub_run: %s at t = %.9g s: %s (last sample t = %.9g s, x_r = %.9g m, y_r = %.9g m)\n",
                  core::to_string(f->failure_class), f->time_s, f->message.c_str(), last.t_s, last.kin.rotor_pos.x(),
                  last.kin.rotor_pos.y());
-    return exit_code(f->failure_class);
+    return core::exit_status(f->failure_class);
   }
   return status;
 }

@@ -19,9 +19,13 @@ std::string error_of(const std::map<std::string, std::string>& values) {
 }
 
 TEST(NodeConfig, SplitsSceneAndNodeKeys) {
-  const NodeSetup s = node_setup_from_values(
-      {{"method", "iteration"}, {"rtol", "1e-5"}, {"real_time_factor", "0"}, {"end_action", "continue"},
-       {"start_paused", "true"}, {"record_bag", "/tmp/x.bag"}, {"orbit_trail_samples", "10"}});
+  const NodeSetup s = node_setup_from_values({{"method", "iteration"},
+                                              {"rtol", "1e-5"},
+                                              {"real_time_factor", "0"},
+                                              {"end_action", "continue"},
+                                              {"start_paused", "true"},
+                                              {"record_bag", "/tmp/x.bag"},
+                                              {"orbit_trail_samples", "10"}});
   EXPECT_EQ(s.scene.solver.method, core::Method::kIteration);
   EXPECT_EQ(s.scene.solver.rtol, 1e-5);
   EXPECT_EQ(s.config.real_time_factor, 0.0);

@@ -17,18 +17,6 @@ namespace {
 // simulated time; the small margin absorbs k / rate rounding).
 double next_tick(double t_s, double rate_hz) { return (std::floor(t_s * rate_hz + 1e-9) + 1.0) / rate_hz; }
 
-int failure_exit_status(core::FailureClass c) {
-  switch (c) {
-    case core::FailureClass::kStalled:
-      return 3;
-    case core::FailureClass::kDiverged:
-      return 4;
-    case core::FailureClass::kNotConverged:
-      return 5;
-  }
-  return 1;
-}
-
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup)
@@ -157,7 +145,7 @@ int SimNode::run() {
     advance_to(t_next);
   }
   int exit_status = 0;
-  if (sim_->failure()) exit_status = failure_exit_status(sim_->failure()->failure_class);
+  if (sim_->failure()) exit_status = core::exit_status(sim_->failure()->failure_class);
   if (ros::ok()) {
     // Let subscribers (a recorder) drain their queues before the
     // connections close: roscpp offers no delivery acknowledgement.

@@ -75,6 +75,20 @@ inline const char* to_string(FailureClass c) {
   return "?";
 }
 
+// The process exit status of a run that failed, shared by the runner and the
+// node: 3 stalled, 4 diverged, 5 not converged.
+inline int exit_status(FailureClass c) {
+  switch (c) {
+    case FailureClass::kStalled:
+      return 3;
+    case FailureClass::kDiverged:
+      return 4;
+    case FailureClass::kNotConverged:
+      return 5;
+  }
+  return 1;
+}
+
 // A failed run: thrown by the methods, caught by the simulation loop.
 class MethodFailure : public std::runtime_error {
  public:
