@@ -7,29 +7,30 @@
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
 namespace rotor_rub::ros_node {
+namespace {
+
+// The model's plane is x-y: z is always 0.
+template <class Xyz>
+void set_xy(const core::Vec2& v, Xyz& out) {
+  out.x = v.x();
+  out.y = v.y();
+  out.z = 0.0;
+}
+
+}  // namespace
 
 void to_msg(const core::Sample& s, uint64_t sample_index, const std::string& frame_id,
             rotor_rub_msgs::RotorState& msg) {
   msg.sample_index = sample_index;
   msg.header.stamp.fromSec(s.t_s);
   msg.header.frame_id = frame_id;
-  msg.rotor_position.x = s.kin.rotor_pos.x();
-  msg.rotor_position.y = s.kin.rotor_pos.y();
-  msg.rotor_position.z = 0.0;
-  msg.rotor_velocity.x = s.kin.rotor_vel.x();
-  msg.rotor_velocity.y = s.kin.rotor_vel.y();
-  msg.rotor_velocity.z = 0.0;
-  msg.stator_position.x = s.kin.stator_pos.x();
-  msg.stator_position.y = s.kin.stator_pos.y();
-  msg.stator_position.z = 0.0;
-  msg.stator_velocity.x = s.kin.stator_vel.x();
-  msg.stator_velocity.y = s.kin.stator_vel.y();
-  msg.stator_velocity.z = 0.0;
+  set_xy(s.kin.rotor_pos, msg.rotor_position);
+  set_xy(s.kin.rotor_vel, msg.rotor_velocity);
+  set_xy(s.kin.stator_pos, msg.stator_position);
+  set_xy(s.kin.stator_vel, msg.stator_velocity);
   msg.normal_force = s.normal_force_N;
   msg.friction_force = s.friction_force_N;
-  msg.contact_force.x = s.contact_force_on_rotor_N.x();
-  msg.contact_force.y = s.contact_force_on_rotor_N.y();
-  msg.contact_force.z = 0.0;
+  set_xy(s.contact_force_on_rotor_N, msg.contact_force);
   msg.in_contact = s.in_contact;
   msg.penetration = s.penetration_m;
   msg.sliding_velocity = s.sliding_velocity_m_per_s;
