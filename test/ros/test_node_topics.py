@@ -18,10 +18,11 @@ from rotor_rub_msgs.srv import StepSimulation  # noqa: E402
 NODE = "/rotor_rub_sim"
 RATE_HZ = 2000.0  # node_topics.test sets output_rate_hz
 END_S = 4.0
-# The node and the runner run the same core on the same scene: the chunked
-# advance does not change the integrator's steps. The only difference allowed
-# is the runner's JSON text (17 significant digits) against the message's
-# float64 event time: none, so a tolerance of one rounding unit at t ~ 3 s.
+# The node and the runner run the same core on the same scene, and the node's
+# chunked advance does not change the integrator's steps, so event times are
+# the same doubles. The runner's JSON prints them with 17 significant digits,
+# which round-trips exactly; 1e-15 s (a few rounding units at t ~ 3 s) only
+# absorbs the JSON parse, not any numerical difference.
 SAME_CORE_TIME_TOL_S = 1e-15
 # Speed is prescribed (kinematic drive): the sample's speed is the profile
 # evaluated in double precision.
