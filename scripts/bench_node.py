@@ -5,10 +5,14 @@ the achieved real-time factor, the messages lost (published - recorded) and
 the ROS layer's cost against the headless runner on the same scene and rate,
 measured in the same run (ratios: the machine is noisy).
 
+Each repeat also runs the node without recording, so that the recording's
+own cost shows as a ratio measured in the same run.
+
 usage: scripts/bench_node.sh [--rate HZ] [--repeats N] [--method M]"""
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import tempfile
@@ -42,23 +46,34 @@ for r in range(a.repeats):
     subprocess.run(["roslaunch", "rotor_rub_sim", "sim.launch", "record:=true", "bag:=" + bag,
                     "real_time_factor:=0", "method:=" + a.method, "scene:=" + a.scene, "params:=" + params],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    # The same without recording: the node logs its achieved real-time factor on finishing.
+    out = subprocess.run(["roslaunch", "rotor_rub_sim", "sim.launch", "record:=false", "real_time_factor:=0",
+                          "method:=" + a.method, "scene:=" + a.scene, "params:=" + params],
+                         check=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True).stdout
+    found = re.findall(r"achieved real-time factor ([0-9.]+)", out)
+    if not found:
+        raise SystemExit("bench_node: the node without recording did not report its real-time factor:\n" + out)
+    rtf_no_record = float(found[-1])
     with rosbag.Bag(bag) as b:
         recorded = b.get_message_count(topic_filters=["/rotor_rub_sim/state"])
         stats = [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/solver_stats"])][-1]
-    rows.append(dict(rtf=stats.real_time_factor, node_wall=stats.wall_time, sim=stats.sim_time,
+    rows.append(dict(rtf=stats.real_time_factor, rtf_no_record=rtf_no_record, node_wall=stats.wall_time, sim=stats.sim_time,
                      published=stats.states_published, recorded=recorded,
                      lost=stats.states_published - recorded, runner_wall=runner_wall_s,
                      runner_process=runner_process_s, bag_mb=os.path.getsize(bag) / 1e6))
 
 print("paper scene (%s), method %s, state rate %g Hz, real_time_factor 0, recording a bag; %d repeats, %d cores"
       % (os.path.basename(a.scene), a.method, a.rate, a.repeats, os.cpu_count()))
-print("%-7s %10s %10s %10s %6s %12s %12s %10s %8s" % ("repeat", "RTF", "published", "recorded", "lost",
-                                                      "node wall s", "runner s", "ROS/core", "bag MB"))
+print("%-7s %10s %14s %10s %10s %6s %12s %12s %10s %8s" % (
+    "repeat", "RTF", "RTF no record", "published", "recorded", "lost", "node wall s", "runner s", "ROS/core",
+    "bag MB"))
 for i, r in enumerate(rows):
-    print("%-7d %10.1f %10d %10d %6d %12.3f %12.4f %10.1f %8.1f" % (
-        i, r["rtf"], r["published"], r["recorded"], r["lost"], r["node_wall"], r["runner_wall"],
+    print("%-7d %10.1f %14.1f %10d %10d %6d %12.3f %12.4f %10.1f %8.1f" % (
+        i, r["rtf"], r["rtf_no_record"], r["published"], r["recorded"], r["lost"], r["node_wall"], r["runner_wall"],
         r["node_wall"] / r["runner_wall"], r["bag_mb"]))
 med = lambda k: statistics.median(r[k] for r in rows)  # noqa: E731
 print("median: real-time factor %.1f (target >= 50), lost %d (target 0), node wall %.3f s = %.1f x the headless "
       "core's %.4f s" % (med("rtf"), max(r["lost"] for r in rows), med("node_wall"),
                          med("node_wall") / med("runner_wall"), med("runner_wall")))
+print("without recording: real-time factor %.1f; recording costs %.2f x the node's wall time"
+      % (med("rtf_no_record"), med("rtf_no_record") / med("rtf")))

@@ -140,6 +140,9 @@ const std::vector<Entry>& entries() {
       e.set = [](NodeConfig& c, const std::string& text) { c.record_bag = text; };
       t.push_back(e);
     }
+    t.push_back(real("record_flush_period_s", 0, true, 3600,
+                     "wall time between writes of the recording to the file; bounds the loss on SIGKILL [s]",
+                     [](NodeConfig& c) -> double& { return c.record_flush_period_s; }));
     t.push_back(integer("wait_for_subscribers", 0, 1000,
                         "before simulating, wait for this many subscribers on every data topic",
                         [](NodeConfig& c) -> int& { return c.wait_for_subscribers; }));

@@ -47,32 +47,49 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   diagnostics_.add("contact", this, &SimNode::diagnose_contact);
   if (!config_.record_bag.empty()) {
     try {
-      bag_.open(config_.record_bag, rosbag::bagmode::Write);
-    } catch (const rosbag::BagException& e) {
-      throw std::runtime_error("node parameter 'record_bag': cannot write '" + config_.record_bag + "': " + e.what() +
+      bag_.open(config_.record_bag);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("node parameter 'record_bag': ") + e.what() +
                                "; accepted: a writable file path, or empty for none");
     }
     recording_ = true;
+    next_bag_flush_ = ros::WallTime::now() + ros::WallDuration(config_.record_flush_period_s);
   }
   restart_simulation();
 }
 
 template <class Msg>
-void SimNode::record(const std::string& topic, const Msg& msg, double t_s) {
+void SimNode::record(const std::string& topic, const Msg& msg, double t_s, bool latching) {
   if (!recording_) return;
   try {
-    bag_.write(topic, std::max(ros::Time().fromSec(std::max(t_s, 0.0)), ros::TIME_MIN), msg);
-  } catch (const rosbag::BagException& e) {
-    // Keep what is recorded (the bag is closed on exit) and say so once.
-    ROS_ERROR("recording to '%s' stopped at t = %.6f s: %s", config_.record_bag.c_str(), t_s, e.what());
-    recording_ = false;
+    bag_.write(topic, std::max(ros::Time().fromSec(std::max(t_s, 0.0)), ros::TIME_MIN), msg, latching);
+  } catch (const std::runtime_error& e) {
+    stop_recording(e.what(), t_s);
+  }
+}
+
+void SimNode::stop_recording(const std::string& why, double t_s) {
+  // Keep what is recorded (complete chunks stay readable) and say so once.
+  ROS_ERROR("recording to '%s' stopped at t = %.6f s: %s", config_.record_bag.c_str(), t_s, why.c_str());
+  recording_ = false;
+}
+
+void SimNode::flush_recording_if_due() {
+  if (!recording_) return;
+  const ros::WallTime now = ros::WallTime::now();
+  if (now < next_bag_flush_) return;
+  next_bag_flush_ = now + ros::WallDuration(config_.record_flush_period_s);
+  try {
+    bag_.flush();
+  } catch (const std::runtime_error& e) {
+    stop_recording(e.what(), sim_->time());
   }
 }
 
 template <class Msg>
 void SimNode::publish(const ros::Publisher& pub, const Msg& msg, double t_s) {
   pub.publish(msg);
-  record(pub.getTopic(), msg, t_s);
+  record(pub.getTopic(), msg, t_s, pub.isLatched());
 }
 
 void SimNode::restart_simulation() {
@@ -125,6 +142,7 @@ int SimNode::run() {
   const double chunk_s = std::max(1.0 / scene_.output_rate_hz, 1e-3);
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
+    flush_recording_if_due();
     if (status_ != Status::kRunning) {
       const bool over = status_ == Status::kFinished || status_ == Status::kFailed;
       if (over && config_.end_action == EndAction::kExit) break;
@@ -146,6 +164,15 @@ int SimNode::run() {
   }
   int exit_status = 0;
   if (sim_->failure()) exit_status = core::exit_status(sim_->failure()->failure_class);
+  if (recording_) {
+    try {
+      bag_.close();  // the index: the bag is complete, no reindex needed
+      ROS_INFO("recorded %lu messages into '%s'", static_cast<unsigned long>(bag_.messages_written()),
+               config_.record_bag.c_str());
+    } catch (const std::runtime_error& e) {
+      stop_recording(e.what(), sim_->time());
+    }
+  }
   if (ros::ok()) {
     // Let subscribers (a recorder) drain their queues before the
     // connections close: roscpp offers no delivery acknowledgement.

@@ -50,6 +50,9 @@ struct NodeConfig {
   // Records every message the node publishes (and the speed commands it
   // receives) into this bag, in-process: nothing is lost at any pace. "" = off.
   std::string record_bag;
+  // Wall time between hand-overs of the recorded data to the kernel: a node
+  // killed with SIGKILL loses at most this much recording (SIGINT loses none).
+  double record_flush_period_s = 1.0;
 };
 
 struct NodeKeyInfo {

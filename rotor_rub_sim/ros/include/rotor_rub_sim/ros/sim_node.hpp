@@ -14,7 +14,6 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
-#include <rosbag/bag.h>
 #include <std_srvs/Trigger.h>
 
 #include <memory>
@@ -27,6 +26,7 @@
 #include "rotor_rub_msgs/SpeedCommand.h"
 #include "rotor_rub_msgs/StepSimulation.h"
 #include "rotor_rub_sim/core/simulation.hpp"
+#include "rotor_rub_sim/ros/bag_appender.hpp"
 #include "rotor_rub_sim/ros/markers.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
 
@@ -69,7 +69,10 @@ class SimNode : public core::SimulationObserver {
   template <class Msg>
   void publish(const ros::Publisher& pub, const Msg& msg, double t_s);
   template <class Msg>
-  void record(const std::string& topic, const Msg& msg, double t_s);
+  void record(const std::string& topic, const Msg& msg, double t_s, bool latching = false);
+  // Hands the recording to the kernel every record_flush_period_s of wall time.
+  void flush_recording_if_due();
+  void stop_recording(const std::string& why, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
   bool on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
@@ -82,8 +85,9 @@ class SimNode : public core::SimulationObserver {
 
   core::Scene scene_;
   NodeConfig config_;
-  rosbag::Bag bag_;
+  BagAppender bag_;
   bool recording_ = false;
+  ros::WallTime next_bag_flush_;
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
