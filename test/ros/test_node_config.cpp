@@ -3,6 +3,8 @@
 // nearest key of either table.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
 
@@ -65,6 +67,42 @@ TEST(NodeConfig, UnknownKeysSuggestTheNearestOfBothTables) {
   EXPECT_NE(error_of({{"rtoll", "1e-6"}}).find("did you mean 'rtol'?"), std::string::npos);
   EXPECT_NE(error_of({{"real_time_factr", "1"}}).find("did you mean 'real_time_factor'?"), std::string::npos);
   EXPECT_NE(error_of({{"zzzzzzzzzzzz", "1"}}).find("unknown parameter 'zzzzzzzzzzzz'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rotor_rub::ros_node
+
+namespace rotor_rub::ros_node {
+namespace {
+
+// config/node_template.yaml documents every node key with its default (it is
+// generated from the key table; this catches a key added without
+// regenerating it) and loads as the node's parameters, giving the defaults.
+TEST(NodeConfig, TemplateListsEveryKeyWithItsDefault) {
+  std::ifstream in(std::string(ROTOR_RUB_SOURCE_DIR) + "/config/node_template.yaml");
+  ASSERT_TRUE(in) << "config/node_template.yaml missing";
+  std::map<std::string, std::string> values;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto colon = line.find(": ");
+    ASSERT_NE(colon, std::string::npos) << line;
+    std::string value = line.substr(colon + 2);
+    if (value == "\"\"") value.clear();
+    values[line.substr(0, colon)] = value;
+  }
+  ASSERT_EQ(values.size(), node_keys().size());
+  for (const auto& k : node_keys()) {
+    ASSERT_EQ(values.count(k.key), 1u) << k.key << " is not in config/node_template.yaml";
+    EXPECT_EQ(values[k.key], k.default_value) << k.key;
+  }
+  const NodeConfig loaded = node_setup_from_values(values).config;
+  const NodeConfig defaults;
+  EXPECT_EQ(loaded.real_time_factor, defaults.real_time_factor);
+  EXPECT_EQ(loaded.end_action, defaults.end_action);
+  EXPECT_EQ(loaded.record_flush_period_s, defaults.record_flush_period_s);
+  EXPECT_EQ(loaded.orbit_trail_samples, defaults.orbit_trail_samples);
+  EXPECT_EQ(loaded.frame_id, defaults.frame_id);
+  EXPECT_EQ(loaded.record_bag, defaults.record_bag);
 }
 
 }  // namespace

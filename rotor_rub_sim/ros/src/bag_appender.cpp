@@ -86,7 +86,7 @@ void BagAppender::open(const std::string& path, size_t chunk_bytes) {
   chunk_.reserve(chunk_bytes_ + 64 * 1024);
   messages_written_ = 0;
   write_bytes(kVersionLine, kFileHeaderPosition);
-  write_file_header(0);  // index position 0 marks the bag unindexed until close()
+  write_file_header(0);                        // index position 0 marks the bag unindexed until close()
   if (std::fflush(file_) != 0) fail("flush");  // a valid (empty) bag from the start
 }
 

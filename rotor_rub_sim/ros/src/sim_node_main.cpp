@@ -4,12 +4,23 @@
 #include <ros/ros.h>
 
 #include <cstdio>
+#include <cstring>
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
 #include "rotor_rub_sim/ros/sim_node.hpp"
 
 int main(int argc, char** argv) {
+  // --list-keys: the node's own keys, in rotor_rub_run --list-keys' format
+  // (scripts/gen_scene_template.py makes config/node_template.yaml of it).
+  if (argc == 2 && std::strcmp(argv[1], "--list-keys") == 0) {
+    for (const auto& k : rotor_rub::ros_node::node_keys()) {
+      std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(),
+                  k.default_value.empty() ? "\"\"" : k.default_value.c_str(), k.accepted.c_str(),
+                  k.description.c_str());
+    }
+    return 0;
+  }
   ros::init(argc, argv, "rotor_rub_sim");
   ros::NodeHandle nh;
   ros::NodeHandle private_nh("~");
