@@ -232,6 +232,20 @@ int main(int argc, char** argv) {
     core::scene_from_values(base);  // the base scene itself must be valid
     const auto docs = opt.grid_path.empty() ? std::vector<tools::GridDocument>{} : tools::read_grid_file(opt.grid_path);
     runs = tools::expand_grid(docs, opt.axes);
+    // A typo in a grid key is a bad grid, not a row of invalid runs.
+    for (const auto& run : runs) {
+      for (const auto& [key, v] : run.overrides) {
+        const auto& keys = core::scene_keys();
+        const bool known =
+            std::any_of(keys.begin(), keys.end(), [&](const core::SceneKeyInfo& k) { return k.key == key; });
+        if (!known) {
+          const std::string near = core::nearest_scene_key(key);
+          throw std::invalid_argument("grid key '" + key + "' is not a scene key" +
+                                      (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                      "; rotor_rub_run --list-keys prints them");
+        }
+      }
+    }
   } catch (const std::exception& e) {
     bad_input(e.what());
   }

@@ -1,0 +1,176 @@
+// The sweep runner's contract: one CSV row per run with its status and error
+// columns, the reference's error against itself exactly zero, a failing run
+// kept as a row with its class, shards that merge into the unsplit result.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Result {
+  int status;
+  std::string err;
+};
+
+Result sweep(const std::string& args) {
+  const std::string err_path = "/tmp/rotor_rub_sweep_err.txt";
+  const std::string cmd = std::string(ROTOR_RUB_SWEEP) + " " + args + " > /dev/null 2> " + err_path;
+  const int rc = std::system(cmd.c_str());
+  std::ifstream f(err_path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+
+using Row = std::map<std::string, std::string>;
+
+// A CSV reader for this table: quoted fields hold no newlines.
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool q = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (q) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        q = false;
+      } else {
+        cur += c;
+      }
+    } else if (c == '"') {
+      q = true;
+    } else if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+std::vector<Row> read_rows(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  const auto header = split(line);
+  std::vector<Row> rows;
+  while (std::getline(f, line)) {
+    const auto cells = split(line);
+    EXPECT_EQ(cells.size(), header.size()) << line;
+    Row r;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) r[header[i]] = cells[i];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+const std::string kScene = std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_runup.yaml";
+
+// A small grid: two methods, a run that spends its step budget, and the
+// reference's own settings. 1.5 s covers the first contacts (from 1.11 s).
+const std::string kGrid =
+    "method: [switching, iteration]\n"
+    "rtol: 1.0e-5\n"
+    "atol_per_rtol: 1.0e-3\n"
+    "---\n"
+    "method: penalty\n"
+    "max_steps: 50\n"
+    "---\n"
+    "method: switching\n"
+    "rtol: 1.0e-10\n"
+    "atol: 1.0e-13\n";
+
+std::string common_args() {
+  std::ofstream("/tmp/rotor_rub_sweep_grid.yaml") << kGrid;
+  return "--scene " + kScene +
+         " --grid /tmp/rotor_rub_sweep_grid.yaml --set end_time_s=1.5 --repeats 1 --jobs 2 --no-progress"
+         " --reference-rtol 1e-10 --reference-atol 1e-13 --error-rate 10000";
+}
+
+double num(const Row& r, const std::string& k) { return std::stod(r.at(k)); }
+
+}  // namespace
+
+TEST(SweepCli, RowsStatusesAndErrors) {
+  const Result r = sweep(common_args() + " --out /tmp/sweep_all.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = read_rows("/tmp/sweep_all.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  const char* methods[] = {"switching", "iteration", "penalty", "switching"};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].at("run_id"), std::to_string(i));
+    EXPECT_EQ(rows[i].at("runs_total"), "4");
+    EXPECT_EQ(rows[i].at("method"), methods[i]);
+  }
+  // The accurate runs: ok, compared over the whole run, errors small but
+  // not zero (a different tolerance), first contact within 1e-4 s.
+  for (int i : {0, 1}) {
+    EXPECT_EQ(rows[i].at("status"), "ok") << rows[i].at("message");
+    EXPECT_EQ(rows[i].at("compared_samples"), "15001");
+    EXPECT_GT(num(rows[i], "max_rotor_err_m"), 0.0);
+    EXPECT_LT(num(rows[i], "max_rotor_err_m"), 1e-4);  // 5 % of the 2 mm clearance
+    EXPECT_LT(std::abs(num(rows[i], "first_contact_err_s")), 1e-4);
+    EXPECT_GT(num(rows[i], "wall_time_s"), 0.0);
+    EXPECT_EQ(rows[i].at("atol"), "1e-08");  // atol_per_rtol resolved
+  }
+  // The step budget: a stalled run kept as a row with its class, its message
+  // and the samples it delivered before failing.
+  EXPECT_EQ(rows[2].at("status"), "stalled");
+  EXPECT_NE(rows[2].at("message").find("step budget"), std::string::npos) << rows[2].at("message");
+  EXPECT_LT(std::stoul(rows[2].at("compared_samples")), 15001u);
+  EXPECT_TRUE(std::isfinite(num(rows[2], "failure_time_s")));
+  // The reference against itself: every error exactly zero.
+  EXPECT_EQ(rows[3].at("status"), "ok");
+  for (const char* k : {"max_rotor_err_m", "rms_rotor_err_m", "max_stator_err_m", "first_contact_err_s",
+                        "last_contact_end_err_s", "impulse_window_err_rel"}) {
+    EXPECT_EQ(num(rows[3], k), 0.0) << k;
+  }
+  EXPECT_EQ(num(rows[3], "impulse_windows_within_5pct"), 1.0);
+}
+
+TEST(SweepCli, ShardsMergeIntoTheUnsplitResult) {
+  ASSERT_EQ(sweep(common_args() + " --out /tmp/sweep_full.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 0/3 --out /tmp/sweep_s0.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 1/3 --out /tmp/sweep_s1.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 2/3 --out /tmp/sweep_s2.csv").status, 0);
+  // Out of order on purpose: the merge sorts by run.
+  const Result m = sweep("--merge /tmp/sweep_merged.csv /tmp/sweep_s2.csv /tmp/sweep_s0.csv /tmp/sweep_s1.csv");
+  ASSERT_EQ(m.status, 0) << m.err;
+  auto full = read_rows("/tmp/sweep_full.csv");
+  auto merged = read_rows("/tmp/sweep_merged.csv");
+  ASSERT_EQ(full.size(), merged.size());
+  for (std::size_t i = 0; i < full.size(); ++i) {
+    // Wall time is a measurement; everything else is deterministic.
+    full[i].erase("wall_time_s");
+    merged[i].erase("wall_time_s");
+    EXPECT_EQ(full[i], merged[i]) << "run " << i;
+  }
+  // A missing shard is an error that names the missing runs.
+  const Result bad = sweep("--merge /tmp/sweep_bad.csv /tmp/sweep_s0.csv /tmp/sweep_s1.csv");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("missing: 2"), std::string::npos) << bad.err;
+}
+
+TEST(SweepCli, BadInputNamesTheProblem) {
+  Result r = sweep("--scene " + kScene + " --set rtoll=1e-3 --out /tmp/sweep_bad.csv");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("did you mean 'rtol'"), std::string::npos) << r.err;
+  r = sweep("--scene " + kScene + " --set rtol=1e-3 --shard 3/3 --out /tmp/sweep_bad.csv");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("accepted: I/N with 0 <= I < N"), std::string::npos) << r.err;
+  r = sweep("--scene " + kScene + " --set rtol=1e-3");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+}
