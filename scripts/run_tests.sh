@@ -27,22 +27,29 @@ set +u; source "$WS/devel/setup.bash"; set -u
 tool_pass=0; tool_fail=0
 check() {
   local name="$1"; shift
-  if "$@" > /dev/null 2>&1; then tool_pass=$((tool_pass + 1)); echo "[  OK  ] ros tool: $name"
-  else tool_fail=$((tool_fail + 1)); echo "[FAILED] ros tool: $name"; fi
+  if "$@" > /dev/null 2>&1; then tool_pass=$((tool_pass + 1)); echo "[  OK  ] $name"
+  else tool_fail=$((tool_fail + 1)); echo "[FAILED] $name"; fi
 }
 BAG="$WS/tool_check.bag"
-check "rospack find rotor_rub_sim" rospack find rotor_rub_sim
-check "rospack find rotor_rub_msgs" rospack find rotor_rub_msgs
-check "rosmsg show rotor_rub_msgs/RotorState" rosmsg show rotor_rub_msgs/RotorState
-check "rosrun finds rotor_rub_run" rosrun rotor_rub_sim rotor_rub_run --help
-check "write a bag of RotorState" /usr/bin/python3 -c "
+check "ros tool: rospack find rotor_rub_sim" rospack find rotor_rub_sim
+check "ros tool: rospack find rotor_rub_msgs" rospack find rotor_rub_msgs
+check "ros tool: rosmsg show rotor_rub_msgs/RotorState" rosmsg show rotor_rub_msgs/RotorState
+check "ros tool: rosrun finds rotor_rub_run" rosrun rotor_rub_sim rotor_rub_run --help
+check "ros tool: write a bag of RotorState" /usr/bin/python3 -c "
 import rosbag, rospy
 from rotor_rub_msgs.msg import RotorState
 with rosbag.Bag('$BAG', 'w') as b:
     m = RotorState(); m.header.stamp = rospy.Time(1, 0); m.normal_force = 1.5
     b.write('/rotor_rub_sim/state', m, m.header.stamp)"
-check "rosbag info" rosbag info "$BAG"
-check "rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
+check "ros tool: rosbag info" rosbag info "$BAG"
+check "ros tool: rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
+# The chart command end to end on the small CI grid (the images are not
+# judged, but every one must be drawn, and the failed run must be in the CSV).
+CHARTS="$WS/charts_check"
+rm -rf "$CHARTS"
+check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
+  && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
+  && test -s '$CHARTS/table2.md' && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
 
 read -r passed failed < <(/usr/bin/python3 - "$WS/build/test_results" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -105,9 +106,9 @@ inline void check_step_budget(const RunStats& stats, long max_steps, double dt_s
     throw MethodFailure(FailureClass::kStalled, t_s, "step budget of " + std::to_string(max_steps) + " steps spent");
   }
   if (!(std::abs(dt_s) >= min_step_s)) {
-    throw MethodFailure(
-        FailureClass::kStalled, t_s,
-        "step size " + std::to_string(dt_s) + " s fell below min_step_s = " + std::to_string(min_step_s));
+    char what[160];
+    std::snprintf(what, sizeof what, "step size %.3g s fell below min_step_s = %.3g s", dt_s, min_step_s);
+    throw MethodFailure(FailureClass::kStalled, t_s, what);
   }
 }
 

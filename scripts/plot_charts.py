@@ -1,0 +1,296 @@
+#!/usr/bin/python3
+"""Draws the speed-against-accuracy charts from the sweep CSVs and the runner's
+traces, without running anything (scripts/make_charts.sh runs the sweeps).
+
+usage: plot_charts.py --data DIR --traces DIR --out DIR --stamp TEXT
+
+  DIR/work_precision.csv, paper_table2.csv, parameter_study.csv  (rotor_rub_sweep)
+  TRACES/<name>.csv and <name>.json for reference, switching, iteration, penalty (rotor_rub_run)
+Writes work_precision.png, contact_force.png, trajectories.png, parameter_study.png
+and table2.md into OUT. Every chart carries the stamp (scene, cores, date, command).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black"}
+FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "invalid": "P", "no_reference": "*"}
+WINDOW_S = 1e-3  # the impulse window of the force comparison (rotor_rub_sweep --window-ms 1)
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def fnum(row, key):
+    try:
+        return float(row[key])
+    except (KeyError, ValueError):
+        return math.nan
+
+
+def stamp(fig, text):
+    fig.text(0.01, 0.005, text, fontsize=6.5, color="0.35", ha="left", va="bottom", wrap=True)
+
+
+def curve_key(r):
+    label = "%s / %s" % (r["method"], r["integrator"])
+    if r["method"] == "penalty":
+        label += ", k_c %.0e N/m" % fnum(r, "contact_stiffness_N_per_m")
+    return label
+
+
+# ---- work-precision -------------------------------------------------------
+def work_precision(rows, out, text):
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.8))
+    curves = {}
+    for r in rows:
+        curves.setdefault(curve_key(r), []).append(r)
+    styles = ["-", "--", ":", "-."]
+    for i, (label, rs) in enumerate(sorted(curves.items())):
+        rs.sort(key=lambda r: -fnum(r, "rtol"))
+        colour = METHOD_COLOURS.get(rs[0]["method"], "grey")
+        ls = styles[i % len(styles)] if rs[0]["method"] == "penalty" else "-"
+        marker = "o" if rs[0]["integrator"] == "dopri5" else "^"
+        for ax, xkey in zip(axes, ("wall_time_s", "rhs_evals")):
+            ok = [r for r in rs if r["status"] == "ok"]
+            ax.plot([fnum(r, xkey) for r in ok], [fnum(r, "max_rotor_err_m") for r in ok], ls, marker=marker,
+                    color=colour, label=label, alpha=0.85, markersize=4)
+            # Failed runs: drawn where they stopped (their cost, their error
+            # over the samples they delivered), marked with their class.
+            for r in rs:
+                if r["status"] != "ok":
+                    y = fnum(r, "max_rotor_err_m")
+                    x = fnum(r, xkey)
+                    if not (y > 0) or not math.isfinite(y):
+                        y = 1e-2
+                    ax.plot([x], [y], FAIL_MARKERS.get(r["status"], "X"), color=colour, markersize=10,
+                            markeredgecolor="k")
+                    ax.annotate("%s (rtol %s)" % (r["status"], r["rtol"]), (x, y), fontsize=6,
+                                textcoords="offset points", xytext=(4, 4))
+    for ax, xl in zip(axes, ("wall time of the integration [s] (median of repeats)", "right-hand-side evaluations")):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(xl)
+        ax.set_ylabel("max |r_r - r_r,ref| over the run [m]")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.axhline(1e-6, color="0.5", lw=0.8, ls="--")
+    axes[0].set_title("error against cost, rtol 1e-2 .. 1e-10 (atol = 1e-3 rtol)")
+    axes[1].set_title("the same against derivative evaluations")
+    axes[1].legend(fontsize=6.5, loc="lower left", ncol=1)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    stamp(fig, text)
+    fig.savefig(os.path.join(out, "work_precision.png"), dpi=110)
+    plt.close(fig)
+
+
+# ---- traces ------------------------------------------------------------------
+def load_trace(traces, name):
+    data = np.genfromtxt(os.path.join(traces, name + ".csv"), delimiter=",", names=True)
+    with open(os.path.join(traces, name + ".json")) as f:
+        summary = json.load(f)
+    return data, summary
+
+
+def windowed_force(data, events, t_end):
+    """Impulse per 1 ms window / 1 ms: trapezoid on F_n plus impact impulses."""
+    t, f = data["t"], data["normal_force"]
+    n = int(math.ceil(t_end / WINDOW_S)) + 1
+    imp = np.zeros(n)
+    seg = 0.5 * (f[1:] + f[:-1]) * np.diff(t)
+    k = np.floor(t[:-1] / WINDOW_S + 1e-9).astype(int)
+    np.add.at(imp, k, seg)
+    for e in events:
+        imp[int(math.floor(e["t"] / WINDOW_S))] += e.get("impulse_N_s") or 0.0
+    return (np.arange(n) + 0.5) * WINDOW_S, imp / WINDOW_S
+
+
+def contact_intervals(data):
+    c = data["in_contact"] > 0.5
+    t = data["t"]
+    edges = np.flatnonzero(np.diff(c.astype(int)))
+    starts = [t[0]] if c[0] else []
+    ends = []
+    for i in edges:
+        (starts if not c[i] else ends).append(t[i + 1])
+    if c[-1]:
+        ends.append(t[-1])
+    return list(zip(starts, ends))
+
+
+def contact_force(traces, names, out, text):
+    ref, ref_sum = load_trace(traces, "reference")
+    t_end = ref["t"][-1]
+    wt, wref = windowed_force(ref, ref_sum["events"], t_end)
+    peak = np.max(wref)
+    ref_contact = np.zeros_like(wref, dtype=bool)
+    for a, b in contact_intervals(ref):
+        ref_contact |= (wt >= a - WINDOW_S) & (wt <= b + WINDOW_S)
+    fig, axes = plt.subplots(len(names) + 1, 1, figsize=(12, 2.6 * (len(names) + 1)), sharex=True)
+    axes[0].plot(ref["t"], ref["normal_force"], color="black", lw=0.6, label="reference raw F_n")
+    axes[0].step(wt, wref, where="mid", color="tab:orange", lw=1.0, label="reference, 1 ms windows")
+    axes[0].set_ylabel("F_n [N]")
+    axes[0].legend(fontsize=7, loc="upper right")
+    axes[0].set_title("normal force, raw and averaged over 1 ms windows (impact impulses included)")
+    lines = []
+    for ax, name in zip(axes[1:], names):
+        d, s = load_trace(traces, name)
+        ax.plot(d["t"], d["normal_force"], color=METHOD_COLOURS[name], lw=0.5, alpha=0.6, label=name + " raw F_n")
+        _, w = windowed_force(d, s["events"], t_end)
+        w = w[: len(wref)]
+        ax.step(wt[: len(w)], w, where="mid", color="k", lw=0.9, label=name + ", 1 ms windows")
+        ax.step(wt, wref, where="mid", color="tab:orange", lw=0.8, ls="--", label="reference, 1 ms windows")
+        err = np.abs(w - wref[: len(w)]) / peak
+        mask = ref_contact[: len(w)]
+        bad = mask & (err > 0.05)
+        worst = int(np.argmax(np.where(mask, err, 0)))
+        lines.append("%s (%s, rtol %s): windowed force within 5 %% of the reference's peak (%.1f N) in %.1f %% of "
+                     "%d contact windows; worst %.0f %% at t = %.3f s"
+                     % (name, s["integrator"], s["rtol"], peak, 100.0 * (1 - bad.sum() / max(mask.sum(), 1)),
+                        mask.sum(), 100 * err[worst], wt[worst]))
+        for i in np.flatnonzero(bad):
+            ax.axvspan(wt[i] - WINDOW_S / 2, wt[i] + WINDOW_S / 2, color="red", alpha=0.25, lw=0)
+        ylim = max(3 * peak, 1.0)
+        ax.set_ylim(-0.05 * ylim, ylim)
+        ax.set_ylabel("F_n [N]")
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("t [s]   (red: windows off by more than 5 % of the reference's peak; raw F_n clipped)")
+    contact = [(a, b) for a, b in contact_intervals(ref)]
+    if contact:
+        axes[-1].set_xlim(max(0.0, contact[0][0] - 0.05), min(t_end, contact[-1][1] + 0.05))
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    stamp(fig, text)
+    fig.savefig(os.path.join(out, "contact_force.png"), dpi=110)
+    plt.close(fig)
+    return lines
+
+
+def trajectories(traces, names, out, text, clearance_m):
+    all_names = ["reference"] + names
+    fig = plt.figure(figsize=(13, 2.4 * len(all_names)))
+    gs = fig.add_gridspec(len(all_names), 2, width_ratios=(3, 1))
+    for i, name in enumerate(all_names):
+        d, s = load_trace(traces, name)
+        ax = fig.add_subplot(gs[i, 0])
+        ax.plot(d["t"], d["x_r"] * 1e3, color=METHOD_COLOURS[name], lw=0.4)
+        for a, b in contact_intervals(d):
+            ax.axvspan(a, b, color="0.6", alpha=0.35, lw=0)
+        ax.set_ylabel("x_r [mm]")
+        ax.set_title("%s (%s, rtol %s): rotor x, contact shaded" % (name, s["integrator"], s["rtol"]), fontsize=9)
+        if i == len(all_names) - 1:
+            ax.set_xlabel("t [s]")
+        ax2 = fig.add_subplot(gs[i, 1])
+        ax2.plot(d["x_r"] * 1e3, d["y_r"] * 1e3, color=METHOD_COLOURS[name], lw=0.3)
+        # The rotor centre touches when |r_r - r_s| = C: the clearance circle
+        # drawn around the stator's rest position (the stator moves a little).
+        th = np.linspace(0, 2 * np.pi, 400)
+        ax2.plot(clearance_m * 1e3 * np.cos(th), clearance_m * 1e3 * np.sin(th), "k--", lw=0.8)
+        ax2.set_aspect("equal")
+        ax2.set_xlabel("x_r [mm]")
+        ax2.set_ylabel("y_r [mm]")
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    stamp(fig, text)
+    fig.savefig(os.path.join(out, "trajectories.png"), dpi=100)
+    plt.close(fig)
+
+
+def parameter_study(rows, out, text):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.6))
+    by_e = {}
+    for r in rows:
+        by_e.setdefault(fnum(r, "eccentricity_m"), []).append(r)
+    for e, rs in sorted(by_e.items()):
+        rs.sort(key=lambda r: fnum(r, "friction_coefficient"))
+        f = [fnum(r, "friction_coefficient") for r in rs]
+        for ax, key, scale in zip(axes, ("max_orbit_m", "contact_time_s", "peak_normal_force_N"), (1e3, 1, 1)):
+            ok = [r["status"] == "ok" for r in rs]
+            y = [fnum(r, key) * scale for r in rs]
+            ax.plot([x for x, o in zip(f, ok) if o], [v for v, o in zip(y, ok) if o], "o-",
+                    label="e = %.1f mm" % (e * 1e3))
+            for x, v, r in zip(f, y, rs):
+                if r["status"] != "ok":
+                    ax.plot([x], [v], FAIL_MARKERS.get(r["status"], "X"), color="k", markersize=9)
+    for ax, yl in zip(axes, ("max orbit |r_r| [mm]", "time in contact [s]", "peak normal force [N]")):
+        ax.set_xlabel("friction coefficient f")
+        ax.set_ylabel(yl)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[1].set_title("paper run-up, switching rtol 1e-8: friction and unbalance")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    stamp(fig, text)
+    fig.savefig(os.path.join(out, "parameter_study.png"), dpi=110)
+    plt.close(fig)
+
+
+# ---- Table 2 ----------------------------------------------------------------------
+PAPER_TABLE2 = {  # the paper's Table 2 (MATLAB ode45, rtol 1e-3, atol 1e-6)
+    "penalty": ("1123", "62 %", "0 %", "90 459"),
+    "switching": ("45", "64 %", "1 %", "1 857"),
+    "iteration": ("1050", "19 %", "65 %", "8 040"),
+}
+
+
+def table2(t2_rows, wp_rows, out):
+    lines = ["| method | paper: time [s] | paper: derivatives / iteration | paper: steps | ours: time [ms] | "
+             "ours: derivatives / iteration | ours: steps (+rejected) | ours: max error [m] |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in t2_rows:
+        p = PAPER_TABLE2.get(r["method"], ("", "", "", ""))
+        lines.append("| %s | %s | %s / %s | %s | %.2f | %.0f %% / %.0f %% | %s (+%s) | %.1e |" % (
+            r["method"], p[0], p[1], p[2], p[3], 1e3 * fnum(r, "wall_time_s"), 100 * fnum(r, "rhs_share"),
+            100 * fnum(r, "iteration_share"), r["steps"], r["rejected_steps"], fnum(r, "max_rotor_err_m")))
+    lines += ["", "The loosest tolerance at which each method's max |r_r - r_r,ref| is within 1e-6 m "
+              "(from the work-precision sweep; dopri5, atol = 1e-3 rtol):", "",
+              "| method | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
+              "|---|---|---|---|---|---|"]
+    for method in ("switching", "iteration", "penalty"):
+        cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == "dopri5"
+                 and r["status"] == "ok" and fnum(r, "max_rotor_err_m") <= 1e-6]
+        if not cands:
+            best = min((r for r in wp_rows if r["method"] == method and r["status"] == "ok"),
+                       key=lambda r: fnum(r, "max_rotor_err_m"), default=None)
+            lines.append("| %s | none reaches 1e-6 m | | | | best %.1e (rtol %s, k_c %s) |" % (
+                method, fnum(best, "max_rotor_err_m") if best else math.nan, best["rtol"] if best else "",
+                best["contact_stiffness_N_per_m"] if best else ""))
+            continue
+        r = max(cands, key=lambda r: fnum(r, "rtol"))
+        lines.append("| %s | %s | %.2f | %s (+%s) | %s | %.1e |" % (
+            method, r["rtol"], 1e3 * fnum(r, "wall_time_s"), r["steps"], r["rejected_steps"], r["rhs_evals"],
+            fnum(r, "max_rotor_err_m")))
+    with open(os.path.join(out, "table2.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--data", required=True)
+    ap.add_argument("--traces", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--stamp", required=True)
+    ap.add_argument("--clearance", type=float, default=2e-3)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    wp = read_csv(os.path.join(a.data, "work_precision.csv"))
+    work_precision(wp, a.out, a.stamp)
+    names = ["switching", "iteration", "penalty"]
+    for line in contact_force(a.traces, names, a.out, a.stamp):
+        print(line)
+    trajectories(a.traces, names, a.out, a.stamp, a.clearance)
+    parameter_study(read_csv(os.path.join(a.data, "parameter_study.csv")), a.out, a.stamp)
+    for line in table2(read_csv(os.path.join(a.data, "paper_table2.csv")), wp, a.out):
+        print(line)
+    print("charts written to", a.out)
+
+
+if __name__ == "__main__":
+    main()
