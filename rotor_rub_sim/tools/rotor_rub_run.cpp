@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
         st.wall_time_s * 1e3);
   }
   if (const auto& f = sim.failure()) {
-    const core::Sample last = recorder.samples.empty() ? core::Sample{} : recorder.samples.back();
+    const core::Sample& last = recorder.last_sample;
     std::fprintf(stderr, "rotor_rub_run: %s at t = %.9g s: %s (last sample t = %.9g s, x_r = %.9g m, y_r = %.9g m)\n",
                  core::to_string(f->failure_class), f->time_s, f->message.c_str(), last.t_s, last.kin.rotor_pos.x(),
                  last.kin.rotor_pos.y());

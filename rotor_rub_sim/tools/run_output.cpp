@@ -29,6 +29,7 @@ std::string json_escape(const std::string& s) {
 
 void RunRecorder::on_sample(const core::Sample& s) {
   if (keep_samples_) samples.push_back(s);
+  last_sample = s;
   max_orbit_m = std::max(max_orbit_m, s.kin.rotor_pos.norm());
   max_normal_force_N = std::max(max_normal_force_N, s.normal_force_N);
   max_penetration_m = std::max(max_penetration_m, s.penetration_m);

@@ -19,6 +19,7 @@ class RunRecorder : public core::SimulationObserver {
 
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
+  core::Sample last_sample;           // kept even when samples are not (the failure line)
   double max_orbit_m = 0.0;           // max |r_r| over the samples
   double max_normal_force_N = 0.0;    // max F_n over the samples
   double max_penetration_m = -1e300;  // max delta - C over the samples

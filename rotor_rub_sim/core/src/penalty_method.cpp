@@ -3,6 +3,7 @@
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
+#include "rotor_rub_sim/core/dense_rk4.hpp"
 #include "rotor_rub_sim/core/dense_rosenbrock4.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -46,6 +47,15 @@ struct PenaltySystem {
   }
 };
 
+template <class Integrator>
+Integrator make_integrator(const SolverSettings& s) {
+  if constexpr (is_fixed_step<Integrator>::value) {
+    return Integrator(s.fixed_step_s, s.max_steps);
+  } else {
+    return Integrator(s.atol, s.rtol, s.min_step_s, s.max_steps);
+  }
+}
+
 template <int kStatorDof, class Integrator>
 class PenaltyMethod final : public ContactMethod {
  public:
@@ -54,7 +64,7 @@ class PenaltyMethod final : public ContactMethod {
 
   explicit PenaltyMethod(const Scene& scene)
       : model_(scene.model),
-        integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
+        integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
     system_.law = {scene.model.contact_stiffness_N_per_m, contact_damping_N_s_per_m(model_)};
@@ -137,8 +147,13 @@ class PenaltyMethod final : public ContactMethod {
 template <int kStatorDof>
 std::unique_ptr<ContactMethod> make_for_dof(const Scene& scene) {
   using State = typename FreeLayout<kStatorDof>::State;
-  if (scene.solver.integrator == Integrator::kRosenbrock4) {
-    return std::make_unique<PenaltyMethod<kStatorDof, DenseRosenbrock4<State>>>(scene);
+  switch (scene.solver.integrator) {
+    case Integrator::kRosenbrock4:
+      return std::make_unique<PenaltyMethod<kStatorDof, DenseRosenbrock4<State>>>(scene);
+    case Integrator::kRk4:
+      return std::make_unique<PenaltyMethod<kStatorDof, DenseRk4<State>>>(scene);
+    case Integrator::kDopri5:
+      break;
   }
   return std::make_unique<PenaltyMethod<kStatorDof, DenseDopri5<State>>>(scene);
 }

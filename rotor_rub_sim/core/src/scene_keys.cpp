@@ -144,8 +144,8 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(choice<Method, 3>("method", kMethodNames,
                                   "contact method: penalty (I), switching (II), iteration (III)",
                                   [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(choice<Integrator, 2>("integrator", kIntegratorNames,
-                                      "time integrator; rosenbrock4 (stiff) for penalty only",
+    t.push_back(choice<Integrator, 3>("integrator", kIntegratorNames,
+                                      "time integrator; rosenbrock4 (stiff) and rk4 (fixed step) for penalty only",
                                       [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
@@ -153,6 +153,8 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.solver.atol; }));
     t.push_back(real("initial_step_s", 0, true, 1.0, "first trial step [s]",
                      [](Scene& s) -> double& { return s.solver.initial_step_s; }));
+    t.push_back(real("fixed_step_s", 0, true, 1e-2, "the fixed step h of integrator rk4 [s]",
+                     [](Scene& s) -> double& { return s.solver.fixed_step_s; }));
     t.push_back(real("min_step_s", 0, true, 1.0, "smallest step before a run is declared stalled [s]",
                      [](Scene& s) -> double& { return s.solver.min_step_s; }));
     t.push_back(integer("max_steps", 1, 2'000'000'000L, "budget of accepted plus rejected steps",
@@ -228,11 +230,11 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
 }
 
 void validate_scene(const Scene& s) {
-  if (s.solver.integrator == Integrator::kRosenbrock4 && s.solver.method != Method::kPenalty) {
-    throw SceneError(
-        "scene key 'integrator': value 'rosenbrock4' is accepted with method 'penalty' only; accepted "
-        "for method '" +
-        std::string(to_string(s.solver.method)) + "': dopri5");
+  if (s.solver.integrator != Integrator::kDopri5 && s.solver.method != Method::kPenalty) {
+    // The rigid methods locate events and iterate on dopri5's dense output.
+    throw SceneError("scene key 'integrator': value '" + std::string(to_string(s.solver.integrator)) +
+                     "' is accepted with method 'penalty' only; accepted for method '" +
+                     std::string(to_string(s.solver.method)) + "': dopri5");
   }
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
     throw SceneError(

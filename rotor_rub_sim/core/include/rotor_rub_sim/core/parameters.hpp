@@ -13,7 +13,7 @@ namespace rotor_rub::core {
 // ---- Enum-like choices, each with an exhaustive name table -----------------
 
 enum class Method { kPenalty, kSwitching, kIteration };
-enum class Integrator { kDopri5, kRosenbrock4 };
+enum class Integrator { kDopri5, kRosenbrock4, kRk4 };
 enum class StatorModel { kElastic, kRigid };
 
 struct MethodName {
@@ -29,9 +29,10 @@ struct IntegratorName {
   Integrator value;
   const char* name;
 };
-inline constexpr std::array<IntegratorName, 2> kIntegratorNames{{
+inline constexpr std::array<IntegratorName, 3> kIntegratorNames{{
     {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
     {Integrator::kRosenbrock4, "rosenbrock4"},  // linearly implicit, stiff (penalty only)
+    {Integrator::kRk4, "rk4"},                  // classic RK4, fixed step fixed_step_s (penalty only)
 }};
 struct StatorModelName {
   StatorModel value;
@@ -93,8 +94,9 @@ struct SolverSettings {
   double rtol = 1.0e-6;
   double atol = 1.0e-9;  // applies to every state component (m and m/s)
   double initial_step_s = 1.0e-5;
-  double min_step_s = 1.0e-14;  // below it a run is declared stalled
-  long max_steps = 20'000'000;  // accepted + rejected step budget
+  double fixed_step_s = 1.0e-6;  // integrator rk4 only: the fixed step h
+  double min_step_s = 1.0e-14;   // below it a run is declared stalled
+  long max_steps = 20'000'000;   // accepted + rejected step budget
   // Method III: relative tolerance on the normal force root.
   double iteration_force_rtol = 1.0e-12;
   int iteration_max_iterations = 100;

@@ -1,0 +1,80 @@
+// The fixed-step RK4 integrator on the penalty contact: stable below the
+// theoretical step bound h_max = r / omega_c, diverged (and reported as
+// such, with the samples before) above it; rigid methods refuse it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/simulation.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+
+namespace {
+
+// RK4's stability interval on the negative real axis, [-2.785, 0]: the
+// relative contact mode is critically damped for e = 0 (zeta = 1), so its
+// eigenvalue is real, -omega_c (a double root).
+constexpr double kRk4RealAxisRadius = 2.785;
+// The bound is derived for the contact mode alone (k_c >> k_r, k_s: 1e9
+// against 2.5e3 and 3.8e4 N/m here) and ignores friction coupling; 20 %
+// either side of it is where the test expects the clear verdicts.
+constexpr double kMarginBelow = 0.8, kMarginAbove = 1.5;
+
+struct Count : core::SimulationObserver {
+  long samples = 0;
+  void on_sample(const core::Sample& s) override {
+    ++samples;
+    EXPECT_TRUE(s.kin.rotor_pos.allFinite());
+  }
+};
+
+core::Scene rk4_scene(double h_s) {
+  core::Scene s = test::paper_scene();
+  s.solver.method = core::Method::kPenalty;
+  s.solver.integrator = core::Integrator::kRk4;
+  s.solver.fixed_step_s = h_s;
+  s.end_time_s = 1.5;  // sustained contact from 1.11 s
+  return s;
+}
+
+double theoretical_h_max_s(const core::Scene& s) {
+  const core::JeffcottModel m(s.model);
+  EXPECT_EQ(core::contact_damping_ratio(s.model.restitution), 1.0);
+  return kRk4RealAxisRadius / std::sqrt(s.model.contact_stiffness_N_per_m / m.effective_mass_kg());
+}
+
+}  // namespace
+
+TEST(FixedStep, StableBelowTheBoundDivergedAbove) {
+  const double h_max = theoretical_h_max_s(rk4_scene(1e-6));
+  EXPECT_NEAR(h_max, 4.67e-5, 0.01e-5);  // k_c 1e9, m_eff 0.281 kg
+
+  Count below_samples;
+  const core::RunResult below = core::run_scene(rk4_scene(kMarginBelow * h_max), below_samples);
+  EXPECT_FALSE(below.failure) << below.failure->message;
+  EXPECT_EQ(below_samples.samples, 1501);
+  EXPECT_GT(below.stats.touchdowns, 0);
+
+  Count above_samples;
+  const core::RunResult above = core::run_scene(rk4_scene(kMarginAbove * h_max), above_samples);
+  ASSERT_TRUE(above.failure);
+  EXPECT_EQ(above.failure->failure_class, core::FailureClass::kDiverged);
+  EXPECT_NE(above.failure->message.find("unstable"), std::string::npos) << above.failure->message;
+  // It diverges in contact, after the first touch, and the samples before are delivered.
+  EXPECT_GT(above.failure->time_s, 1.11);
+  EXPECT_GT(above_samples.samples, 1100);
+  EXPECT_LT(above_samples.samples, 1501);
+}
+
+TEST(FixedStep, Rk4IsForThePenaltyMethodOnly) {
+  try {
+    core::scene_from_values({{"method", "switching"}, {"integrator", "rk4"}});
+    FAIL() << "accepted rk4 with switching";
+  } catch (const core::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("accepted with method 'penalty' only"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(core::scene_from_values({{"method", "penalty"}, {"integrator", "rk4"}, {"fixed_step_s", "1e-6"}}));
+}
