@@ -22,7 +22,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black"}
-FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "invalid": "P", "no_reference": "*"}
+FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invalid": "P",
+                "no_reference": "*"}
+COMPLETED = ("ok", "inaccurate")  # runs that reached the end: drawn on the curves
 WINDOW_S = 1e-3  # the impulse window of the force comparison (rotor_rub_sweep --window-ms 1)
 
 
@@ -62,13 +64,13 @@ def work_precision(rows, out, text):
         ls = styles[i % len(styles)] if rs[0]["method"] == "penalty" else "-"
         marker = "o" if rs[0]["integrator"] == "dopri5" else "^"
         for ax, xkey in zip(axes, ("wall_time_s", "rhs_evals")):
-            ok = [r for r in rs if r["status"] == "ok"]
+            ok = [r for r in rs if r["status"] in COMPLETED]
             ax.plot([fnum(r, xkey) for r in ok], [fnum(r, "max_rotor_err_m") for r in ok], ls, marker=marker,
                     color=colour, label=label, alpha=0.85, markersize=4)
             # Failed runs: drawn where they stopped (their cost, their error
             # over the samples they delivered), marked with their class.
             for r in rs:
-                if r["status"] != "ok":
+                if r["status"] not in COMPLETED:
                     y = fnum(r, "max_rotor_err_m")
                     x = fnum(r, xkey)
                     if not (y > 0) or not math.isfinite(y):
@@ -212,12 +214,12 @@ def parameter_study(rows, out, text):
         rs.sort(key=lambda r: fnum(r, "friction_coefficient"))
         f = [fnum(r, "friction_coefficient") for r in rs]
         for ax, key, scale in zip(axes, ("max_orbit_m", "contact_time_s", "peak_normal_force_N"), (1e3, 1, 1)):
-            ok = [r["status"] == "ok" for r in rs]
+            ok = [r["status"] in COMPLETED for r in rs]
             y = [fnum(r, key) * scale for r in rs]
             ax.plot([x for x, o in zip(f, ok) if o], [v for v, o in zip(y, ok) if o], "o-",
                     label="e = %.1f mm" % (e * 1e3))
             for x, v, r in zip(f, y, rs):
-                if r["status"] != "ok":
+                if r["status"] not in COMPLETED:
                     ax.plot([x], [v], FAIL_MARKERS.get(r["status"], "X"), color="k", markersize=9)
     for ax, yl in zip(axes, ("max orbit |r_r| [mm]", "time in contact [s]", "peak normal force [N]")):
         ax.set_xlabel("friction coefficient f")
@@ -254,9 +256,9 @@ def table2(t2_rows, wp_rows, out):
               "|---|---|---|---|---|---|"]
     for method in ("switching", "iteration", "penalty"):
         cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == "dopri5"
-                 and r["status"] == "ok" and fnum(r, "max_rotor_err_m") <= 1e-6]
+                 and r["status"] in COMPLETED and fnum(r, "max_rotor_err_m") <= 1e-6]
         if not cands:
-            best = min((r for r in wp_rows if r["method"] == method and r["status"] == "ok"),
+            best = min((r for r in wp_rows if r["method"] == method and r["status"] in COMPLETED),
                        key=lambda r: fnum(r, "max_rotor_err_m"), default=None)
             lines.append("| %s | none reaches 1e-6 m | | | | best %.1e (rtol %s, k_c %s) |" % (
                 method, fnum(best, "max_rotor_err_m") if best else math.nan, best["rtol"] if best else "",

@@ -29,7 +29,7 @@ const char* const kUsage =
     "usage: rotor_rub_sweep [--scene FILE] [--grid FILE] [--set key=v1,v2,...]... --out FILE.csv\n"
     "                       [--repeats N] [--jobs N] [--shard I/N] [--profile] [--cache DIR]\n"
     "                       [--error-rate HZ] [--window-ms MS] [--reference-rtol R] [--reference-atol A]\n"
-    "                       [--no-progress]\n"
+    "                       [--inaccurate-above M] [--no-progress]\n"
     "       rotor_rub_sweep --merge OUT.csv SHARD.csv...\n"
     "  --grid: YAML documents of scene keys to value lists (see config/sweeps/); --set adds an axis\n"
     "  --shard I/N: only runs with id % N == I (0-based); merge the shards' CSVs with --merge\n"
@@ -37,6 +37,7 @@ const char* const kUsage =
     "  --jobs: runs in parallel (default: all cores); wall times are measured under that load\n"
     "  --profile: one more run per point for the shares of time in derivatives and iteration\n"
     "  --cache DIR: keep reference runs on disk, keyed by their scene and the core's build\n"
+    "  --inaccurate-above M: status 'inaccurate' when max |r_r - r_r,ref| > M metres (default 1e-4)\n"
     "exit status: 0 done (failed runs are rows, not errors), 2 bad input\n";
 
 [[noreturn]] void bad_input(const std::string& what) {
@@ -57,6 +58,9 @@ struct Options {
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   std::size_t shard_index = 0, shard_count = 1;
   bool profile = false, progress = true;
+  // A run that completes with max |r_r - r_r,ref| above this is "inaccurate":
+  // 5 % of the paper's 2 mm clearance.
+  double inaccurate_above_m = 1e-4;
   tools::ReferenceSettings reference;
 };
 
@@ -114,6 +118,10 @@ SweepResult run_one(const tools::SweepRun& run, std::size_t total, const Values&
   core::ErrorObserver errors(*ref);
   core::run_scene(es, errors);
   r.errors = errors.finish();
+  if (r.status == "ok" && !(r.errors.max_rotor_m <= opt.inaccurate_above_m)) {
+    r.status = "inaccurate";
+    r.message = "max |r_r - r_r,ref| above --inaccurate-above";
+  }
   return r;
 }
 
@@ -186,6 +194,8 @@ Options parse(int argc, char** argv) {
       }
       o.shard_index = si;
       o.shard_count = sn;
+    } else if (a == "--inaccurate-above") {
+      o.inaccurate_above_m = number(i, a, 0, 1);
     } else if (a == "--profile") {
       o.profile = true;
     } else if (a == "--no-progress") {

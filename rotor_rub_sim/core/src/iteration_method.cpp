@@ -100,7 +100,7 @@ class IterationMethod final : public ContactMethod {
 
   explicit IterationMethod(const Scene& scene)
       : model_(scene.model),
-        solver_(&model_, scene.solver.iteration_force_rtol, scene.solver.iteration_max_iterations),
+        solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         initial_step_s_(scene.solver.initial_step_s),
         gap_tolerance_m_(scene.solver.atol),

@@ -159,9 +159,14 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.solver.min_step_s; }));
     t.push_back(integer("max_steps", 1, 2'000'000'000L, "budget of accepted plus rejected steps",
                         [](Scene& s) -> long& { return s.solver.max_steps; }));
+    t.push_back(real("max_wall_time_s", 0, true, 1e7, "wall-time budget of the integration; beyond it: timed_out [s]",
+                     [](Scene& s) -> double& { return s.solver.max_wall_time_s; }));
     t.push_back(real("iteration_force_rtol", 1e-15, false, 1e-2,
                      "method III: relative tolerance on the normal force root [-]",
                      [](Scene& s) -> double& { return s.solver.iteration_force_rtol; }));
+    t.push_back(integer("iteration_max_iterations", 1, 1000,
+                        "method III: root-finder evaluations per normal force solve before not_converged",
+                        [](Scene& s) -> long& { return s.solver.iteration_max_iterations; }));
     t.push_back(real("max_events_per_ms", 0, true, kInf,
                      "contact events per simulated ms above which a run is chattering [1/ms]",
                      [](Scene& s) -> double& { return s.solver.max_events_per_ms; }));

@@ -102,8 +102,22 @@ bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
   if (failure_) return false;
   const double target = std::min(t_s, scene_.end_time_s);
   const auto wall_start = std::chrono::steady_clock::now();
+  const double wall_before_s = method_->stats().wall_time_s;
+  long steps_since_clock = 0;
   try {
     while (time_s_ < target) {
+      // The wall budget, read every 256 steps (a clock read costs a tenth
+      // of a step; this keeps it off the hot path).
+      if (++steps_since_clock >= 256) {
+        steps_since_clock = 0;
+        const double spent =
+            wall_before_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+        if (spent > scene_.solver.max_wall_time_s) {
+          std::ostringstream what;
+          what << "wall-time budget max_wall_time_s = " << scene_.solver.max_wall_time_s << " s spent";
+          throw MethodFailure(FailureClass::kTimedOut, time_s_, what.str());
+        }
+      }
       if (method_->step_end() > time_s_) {  // serve the rest of the last step
         deliver_until(std::min(method_->step_end(), target), observer);
         continue;

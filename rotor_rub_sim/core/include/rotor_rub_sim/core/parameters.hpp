@@ -97,9 +97,12 @@ struct SolverSettings {
   double fixed_step_s = 1.0e-6;  // integrator rk4 only: the fixed step h
   double min_step_s = 1.0e-14;   // below it a run is declared stalled
   long max_steps = 20'000'000;   // accepted + rejected step budget
+  // Wall-time budget of the integration (cost, not simulated time): a run
+  // that spends it fails as timed_out instead of hanging a sweep or a node.
+  double max_wall_time_s = 600.0;
   // Method III: relative tolerance on the normal force root.
   double iteration_force_rtol = 1.0e-12;
-  int iteration_max_iterations = 100;
+  long iteration_max_iterations = 100;  // root-finder evaluations per solve
   // Switching/iteration: more contact events than this per simulated
   // millisecond is chattering, reported as stalled.
   double max_events_per_ms = 200.0;

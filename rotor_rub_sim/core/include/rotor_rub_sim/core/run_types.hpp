@@ -63,7 +63,10 @@ struct RunStats {
   double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
 };
 
-enum class FailureClass { kStalled, kDiverged, kNotConverged };
+// How a run fails. stalled: the step budget, the minimum step or the chatter
+// counter; diverged: a non-finite or blown-up state; not_converged: the normal
+// force root finder; timed_out: the wall-time budget (max_wall_time_s).
+enum class FailureClass { kStalled, kDiverged, kNotConverged, kTimedOut };
 inline const char* to_string(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -72,12 +75,15 @@ inline const char* to_string(FailureClass c) {
       return "diverged";
     case FailureClass::kNotConverged:
       return "not_converged";
+    case FailureClass::kTimedOut:
+      return "timed_out";
   }
   return "?";
 }
 
 // The process exit status of a run that failed, shared by the runner and the
-// node: 3 stalled, 4 diverged, 5 not converged.
+// node: 3 stalled, 4 diverged, 5 not converged, 7 timed out (6 is the
+// runner's output error).
 inline int exit_status(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -86,6 +92,8 @@ inline int exit_status(FailureClass c) {
       return 4;
     case FailureClass::kNotConverged:
       return 5;
+    case FailureClass::kTimedOut:
+      return 7;
   }
   return 1;
 }

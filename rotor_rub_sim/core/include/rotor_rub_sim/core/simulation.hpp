@@ -36,7 +36,8 @@ class Simulation {
 
   // Advances to min(t_s, end_time_s), delivering samples with t <= t_s.
   // Returns false once the method has failed (see failure()); samples and
-  // events before the failure have been delivered.
+  // events up to the end of the last completed step have been delivered (the
+  // failing step's are withheld: its state is not trusted).
   bool advance_to(double t_s, SimulationObserver& observer);
 
   // A speed command taking effect at the current time(): a ramp at
