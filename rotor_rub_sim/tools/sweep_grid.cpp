@@ -115,6 +115,12 @@ std::vector<SweepRun> expand_grid(const std::vector<GridDocument>& docs, const s
         r.overrides["atol"] = format_double(std::stod(rtol->second) * std::stod(ratio->second));
         r.overrides.erase(ratio);
       }
+      const auto speed = r.overrides.find("constant_speed_rad_per_s");
+      if (speed != r.overrides.end()) {
+        r.overrides["initial_speed_rad_per_s"] = speed->second;
+        r.overrides["target_speed_rad_per_s"] = speed->second;
+        r.overrides.erase(speed);
+      }
       r.id = runs.size();
       runs.push_back(std::move(r));
       bool done = true;

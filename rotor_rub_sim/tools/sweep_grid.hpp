@@ -5,6 +5,7 @@
 //   method: [switching, iteration]
 //   rtol: [1.0e-3, 1.0e-6]
 //   atol_per_rtol: 1.0e-3        # pseudo-key: atol = rtol * this
+//   constant_speed_rad_per_s: 600  # pseudo-key: initial = target speed
 // A document contributes the Cartesian product of its lists (the last key
 // varies fastest); the grid is the documents' runs in file order. Several
 // documents express what one product cannot (rosenbrock4 is for penalty only).
@@ -35,7 +36,7 @@ struct SweepRun {
 };
 
 // Expands the documents (command-line axes are added to every document) into
-// runs. Pseudo-key atol_per_rtol is resolved here.
+// runs. The pseudo-keys atol_per_rtol and constant_speed_rad_per_s are resolved here.
 std::vector<SweepRun> expand_grid(const std::vector<GridDocument>& docs, const std::vector<GridAxis>& extra_axes);
 
 // Shard "i/n" (0 <= i < n): the runs whose id % n == i.
