@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test: the core's gtests, the runner's CLI
-# tests, and checks that every ROS tool sees both packages. Ends with the line
+# Installs, builds and runs every test: the core's gtests, the runner's and
+# sweep's CLI tests, the node's gtests and rostests, the core's tests again
+# under ASan/UBSan, the chart command on a small grid, and checks that every
+# ROS tool sees both packages. Ends with the line
 # "N passed, N failed" counted from the test results; exits non-zero on any
 # failure (catkin_make run_tests alone exits 0 even then).
 set -uo pipefail
@@ -18,6 +20,8 @@ rm -rf build/test_results
 # fresh clone that was before the generated Python messages existed.
 catkin_make --force-cmake run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
+# The core's tests again under ASan and UBSan (their XML joins the results).
+"$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize"
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
 

@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "range_violation.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "test_support.hpp"
 
@@ -48,6 +49,21 @@ TEST(SceneKeys, EveryKeyRejectsABadValueByName) {
       EXPECT_NE(msg.find("accepted"), std::string::npos) << msg;
     }
   }
+}
+
+// Every key with a bounded range, given a value just outside it, names the
+// key, the value and the accepted range.
+TEST(SceneKeys, EveryKeyRejectsAValueOutsideItsRange) {
+  int bounded = 0;
+  for (const auto& k : core::scene_keys()) {
+    const std::string bad = test::outside_range(k.accepted);
+    if (bad.empty()) continue;
+    ++bounded;
+    const std::string msg = error_of({{k.key, bad}});
+    EXPECT_NE(msg.find("'" + k.key + "'"), std::string::npos) << k.key << " = " << bad << ": " << msg;
+    EXPECT_NE(msg.find("accepted: " + k.accepted), std::string::npos) << k.key << " = " << bad << ": " << msg;
+  }
+  EXPECT_GT(bounded, 25);  // all numeric keys but the unbounded initial_angle_rad
 }
 
 TEST(SceneKeys, OutOfRangeNamesTheRange) {

@@ -6,6 +6,7 @@ import os
 import subprocess
 import tempfile
 import threading
+import time
 
 import roslib.packages
 import rospkg
@@ -39,6 +40,7 @@ class Collector(object):
 
     def __init__(self, topic, msg_type):
         self.msgs = []
+        self.arrival_times = []  # time.monotonic() at each message's delivery
         self.cond = threading.Condition()
         # queue_size None: unbounded, so a burst at real_time_factor 0 is not dropped.
         self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=None)
@@ -46,11 +48,13 @@ class Collector(object):
     def _cb(self, msg):
         with self.cond:
             self.msgs.append(msg)
+            self.arrival_times.append(time.monotonic())
             self.cond.notify_all()
 
     def clear(self):
         with self.cond:
             self.msgs = []
+            self.arrival_times = []
 
     def wait_for(self, predicate, what):
         with self.cond:

@@ -5,6 +5,7 @@
 
 #include <fstream>
 
+#include "../core/range_violation.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
 
@@ -61,6 +62,28 @@ TEST(NodeConfig, BadValuesNameTheKeyAndTheRange) {
   EXPECT_NE(error_of({{"frame_id", ""}}).find("'frame_id'"), std::string::npos);
   // Scene keys keep the scene's own messages.
   EXPECT_NE(error_of({{"rtol", "-1"}}).find("'rtol': value -1 is out of range"), std::string::npos);
+}
+
+// Every node key: a value of the wrong kind and, where the range is bounded,
+// one just outside it, each named with the key and the accepted range.
+TEST(NodeConfig, EveryKeyRejectsBadValuesByName) {
+  int bounded = 0;
+  for (const auto& k : node_keys()) {
+    std::vector<std::string> bad = {"banana"};
+    if (k.key == "record_bag") continue;  // any path is a value; an unwritable one fails at open (node test)
+    if (k.key == "frame_id") bad = {""};
+    const std::string outside = test::outside_range(k.accepted);
+    if (!outside.empty()) {
+      bad.push_back(outside);
+      ++bounded;
+    }
+    for (const auto& v : bad) {
+      const std::string msg = error_of({{k.key, v}});
+      EXPECT_NE(msg.find("'" + k.key + "'"), std::string::npos) << k.key << " = '" << v << "': " << msg;
+      EXPECT_NE(msg.find("accepted"), std::string::npos) << k.key << " = '" << v << "': " << msg;
+    }
+  }
+  EXPECT_GT(bounded, 10);
 }
 
 TEST(NodeConfig, UnknownKeysSuggestTheNearestOfBothTables) {

@@ -146,6 +146,9 @@ int SimNode::run() {
     if (status_ != Status::kRunning) {
       const bool over = status_ == Status::kFinished || status_ == Status::kFailed;
       if (over && config_.end_action == EndAction::kExit) break;
+      // Idle (paused, finished, failed): keep /diagnostics alive at the
+      // updater's own period, so a monitor that connects late sees the state.
+      diagnostics_.update();
       queue.callAvailable(ros::WallDuration(0.05));
       continue;
     }
@@ -349,7 +352,11 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
   } catch (const std::invalid_argument& e) {
     fb.accepted = false;
     fb.reason = e.what();
-    ROS_WARN("speed command rejected, simulation unchanged: %s", e.what());
+    // Every command gets its feedback; the log gets at most one line a
+    // second, so that a flood of bad commands cannot flood /rosout too.
+    ++commands_rejected_;
+    ROS_WARN_THROTTLE(1.0, "speed command rejected, simulation unchanged: %s (%lu rejected so far)", e.what(),
+                      static_cast<unsigned long>(commands_rejected_));
   }
   publish(feedback_pub_, fb, sim_->time());
 }

@@ -101,7 +101,7 @@ class SimNode : public core::SimulationObserver {
   rotor_rub_msgs::RotorState state_msg_;  // reused: no allocation per sample
   rotor_rub_msgs::ContactEvent event_msg_;
   core::Sample last_sample_;
-  uint64_t states_published_ = 0, events_published_ = 0;
+  uint64_t states_published_ = 0, events_published_ = 0, commands_rejected_ = 0;
   double next_clock_s_ = 0.0, next_stats_s_ = 0.0, next_diag_s_ = 0.0, next_marker_s_ = 0.0;
 
   // Pacing and the achieved real-time factor (pauses and steps excluded).

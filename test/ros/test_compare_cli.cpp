@@ -1,0 +1,79 @@
+// rotor_rub_compare given what it cannot use: a missing file, a truncated bag,
+// a file that is no bag, a bag without rotor states. Each is a clear error
+// (exit 2, one line naming the file and the problem), never a crash.
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <std_msgs/String.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "rotor_rub_msgs/RotorState.h"
+#include "rotor_rub_sim/ros/bag_appender.hpp"
+
+namespace {
+
+struct Result {
+  int status;  // -1: killed by a signal (a crash)
+  std::string err;
+};
+
+Result compare(const std::string& args) {
+  const std::string err_path = "/tmp/rotor_rub_compare_err.txt";
+  const int rc = std::system((std::string(ROTOR_RUB_COMPARE) + " " + args + " > /dev/null 2> " + err_path).c_str());
+  std::ifstream f(err_path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+
+void expect_clear_error(const Result& r, const std::string& part) {
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("terminate"), std::string::npos) << r.err;
+}
+
+// A real recording: 2000 states, large enough for several chunks.
+void write_states(const std::string& path) {
+  rotor_rub::ros_node::BagAppender bag;
+  bag.open(path, 16 * 1024);
+  for (uint32_t i = 0; i < 2000; ++i) {
+    rotor_rub_msgs::RotorState m;
+    m.sample_index = i;
+    m.header.stamp = ros::Time(1, i * 100000);
+    bag.write("/sim/state", m.header.stamp, m);
+  }
+}
+
+}  // namespace
+
+TEST(CompareCli, MissingFile) { expect_clear_error(compare("/tmp/no_such_rotor_rub.bag"), "cannot read bag"); }
+
+TEST(CompareCli, TruncatedBag) {
+  write_states("/tmp/rotor_rub_whole.bag");
+  std::ifstream in("/tmp/rotor_rub_whole.bag", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 20000u);
+  std::ofstream("/tmp/rotor_rub_truncated.bag", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  expect_clear_error(compare("/tmp/rotor_rub_truncated.bag"), "rosbag reindex");
+  // The whole one is fine: the tool itself works on this bag.
+  EXPECT_EQ(compare("/tmp/rotor_rub_whole.bag --quiet").status, 0);
+}
+
+TEST(CompareCli, NotABag) {
+  std::ofstream("/tmp/rotor_rub_foreign.bag") << "these are not the bags you are looking for\n";
+  expect_clear_error(compare("/tmp/rotor_rub_foreign.bag"), "cannot read bag");
+}
+
+TEST(CompareCli, BagWithoutRotorStates) {
+  {
+    rosbag::Bag b("/tmp/rotor_rub_other.bag", rosbag::bagmode::Write);
+    std_msgs::String s;
+    s.data = "hello";
+    b.write("/chatter", ros::Time(1, 0), s);
+  }
+  expect_clear_error(compare("/tmp/rotor_rub_other.bag"), "holds no rotor_rub_msgs/RotorState topic");
+}
