@@ -143,9 +143,19 @@ const std::vector<Entry>& entries() {
     t.push_back(real("record_flush_period_s", 0, true, 3600,
                      "wall time between writes of the recording to the file; bounds the loss on SIGKILL [s]",
                      [](NodeConfig& c) -> double& { return c.record_flush_period_s; }));
+    t.push_back(real("lockstep_period_s", 0, false, 1,
+                     "closed-loop lockstep: simulated time between waits for the controller's command; 0 = off [s]",
+                     [](NodeConfig& c) -> double& { return c.lockstep_period_s; }));
+    t.push_back(real("lockstep_timeout_s", 0, true, 3600,
+                     "wall time the node waits for the controller's command in lockstep before going on [s]",
+                     [](NodeConfig& c) -> double& { return c.lockstep_timeout_s; }));
     t.push_back(integer("wait_for_subscribers", 0, 1000,
                         "before simulating, wait for this many subscribers on every data topic",
                         [](NodeConfig& c) -> int& { return c.wait_for_subscribers; }));
+    t.push_back(integer("wait_for_state_subscribers", 0, 1000,
+                        "before simulating, wait for this many subscribers on ~state (and, in lockstep, one on "
+                        "~lockstep_state)",
+                        [](NodeConfig& c) -> int& { return c.wait_for_state_subscribers; }));
     t.push_back(real("wait_timeout_s", 0, true, 1e6, "wall time to wait for subscribers before failing [s]",
                      [](NodeConfig& c) -> double& { return c.wait_timeout_s; }));
     t.push_back(integer("publish_queue_size", 0, 100000000,
@@ -216,6 +226,17 @@ NodeSetup node_setup_from_values(const std::map<std::string, std::string>& value
     scene_values[key] = value;
   }
   setup.scene = core::scene_from_values(scene_values);
+  // The lockstep state is a sample: its period must be a whole number of
+  // output periods (at most 1e-9 relative off).
+  const double periods = setup.config.lockstep_period_s * setup.scene.output_rate_hz;
+  if (setup.config.lockstep_period_s > 0.0 &&
+      (periods < 1.0 - 1e-9 || std::abs(periods - std::round(periods)) > 1e-9 * periods)) {
+    std::ostringstream os;
+    os << "node parameter 'lockstep_period_s': value " << setup.config.lockstep_period_s
+       << " is not accepted; accepted: 0 or a whole multiple of the output period 1/output_rate_hz = "
+       << 1.0 / setup.scene.output_rate_hz << " s";
+    throw core::SceneError(os.str());
+  }
   return setup;
 }
 

@@ -36,6 +36,9 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   // Commands are served in arrival order; a deep queue so a burst is judged
   // command by command rather than dropped unseen.
   command_sub_ = private_nh.subscribe("speed_command", 10000, &SimNode::on_speed_command, this);
+  if (config_.lockstep_period_s > 0.0) {
+    lockstep_pub_ = private_nh.advertise<rotor_rub_msgs::RotorState>("lockstep_state", q);
+  }
   reset_srv_ = private_nh.advertiseService("reset", &SimNode::on_reset, this);
   pause_srv_ = private_nh.advertiseService("pause", &SimNode::on_pause, this);
   resume_srv_ = private_nh.advertiseService("resume", &SimNode::on_resume, this);
@@ -94,6 +97,9 @@ void SimNode::publish(const ros::Publisher& pub, const Msg& msg, double t_s) {
 
 void SimNode::restart_simulation() {
   sim_ = std::make_unique<core::Simulation>(scene_);
+  applied_target_ = scene_.speed.target_speed_rad_per_s;  // the scene's own run-up is the command in force
+  applied_accel_ = scene_.speed.acceleration_rad_per_s2;
+  lockstep_awaited_s_ = -1.0;
   if (config_.end_action == EndAction::kContinue) sim_->set_end_time(std::numeric_limits<double>::infinity());
   pending_.clear();
   states_published_ = events_published_ = 0;
@@ -105,22 +111,35 @@ void SimNode::restart_simulation() {
 }
 
 bool SimNode::wait_for_subscribers() {
-  if (config_.wait_for_subscribers == 0) return true;
-  std::vector<const ros::Publisher*> pubs = {&state_pub_, &event_pub_, &stats_pub_, &feedback_pub_};
-  if (config_.publish_clock) pubs.push_back(&clock_pub_);
-  if (markers_) pubs.push_back(&marker_pub_);
-  const auto needed = static_cast<uint32_t>(config_.wait_for_subscribers);
+  std::vector<std::pair<const ros::Publisher*, uint32_t>> needs;
+  const auto all = static_cast<uint32_t>(config_.wait_for_subscribers);
+  if (all > 0) {
+    for (const auto* p : {&state_pub_, &event_pub_, &stats_pub_, &feedback_pub_}) needs.emplace_back(p, all);
+    if (config_.publish_clock) needs.emplace_back(&clock_pub_, all);
+    if (markers_) needs.emplace_back(&marker_pub_, all);
+  }
+  if (config_.wait_for_state_subscribers > 0) {
+    needs.emplace_back(&state_pub_, std::max(all, static_cast<uint32_t>(config_.wait_for_state_subscribers)));
+    if (config_.lockstep_period_s > 0.0) needs.emplace_back(&lockstep_pub_, 1u);
+  }
+  if (needs.empty()) return true;
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(config_.wait_timeout_s);
-  ROS_INFO("waiting for %u subscriber(s) on every data topic (wait_for_subscribers)", needed);
+  ROS_INFO("waiting for subscribers (wait_for_subscribers %u, wait_for_state_subscribers %d)", all,
+           config_.wait_for_state_subscribers);
   while (ros::ok()) {
     std::string missing;
-    for (const auto* p : pubs) {
+    for (const auto& [p, needed] : needs) {
       if (p->getNumSubscribers() < needed) missing += " " + p->getTopic();
+    }
+    // In lockstep the controller must also be heard: a publisher on ~speed_command.
+    if (config_.lockstep_period_s > 0.0 && config_.wait_for_state_subscribers > 0 &&
+        command_sub_.getNumPublishers() == 0) {
+      missing += " (no publisher on " + command_sub_.getTopic() + ")";
     }
     if (missing.empty()) return true;
     if (ros::WallTime::now() > deadline) {
-      ROS_FATAL("wait_for_subscribers = %u: after wait_timeout_s = %g s these topics still lack subscribers:%s", needed,
-                config_.wait_timeout_s, missing.c_str());
+      ROS_FATAL("after wait_timeout_s = %g s these topics still lack subscribers:%s", config_.wait_timeout_s,
+                missing.c_str());
       return false;
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
@@ -157,6 +176,13 @@ int SimNode::run() {
     const double k = std::floor(sim_->time() / chunk_s);
     double t_next = (k + 1.0) * chunk_s;
     if (t_next <= sim_->time()) t_next = (k + 2.0) * chunk_s;
+    if (config_.lockstep_period_s > 0.0) {
+      // Boundaries on the output grid: index arithmetic, not float division.
+      const long per = std::lround(config_.lockstep_period_s * scene_.output_rate_hz);
+      const long done = std::lround(sim_->time() * scene_.output_rate_hz);
+      const double boundary = static_cast<double>((done / per + 1) * per) / scene_.output_rate_hz;
+      t_next = std::min(t_next, boundary);
+    }
     if (config_.real_time_factor > 0.0) {
       const ros::WallTime due =
           pace_wall_anchor_ + ros::WallDuration((t_next - pace_sim_anchor_s_) / config_.real_time_factor);
@@ -164,6 +190,7 @@ int SimNode::run() {
       if (due > now) (due - now).sleep();
     }
     advance_to(t_next);
+    if (config_.lockstep_period_s > 0.0 && status_ == Status::kRunning && !lockstep_wait()) break;
   }
   int exit_status = 0;
   if (sim_->failure()) exit_status = core::exit_status(sim_->failure()->failure_class);
@@ -197,11 +224,39 @@ void SimNode::advance_to(double t_s) {
   check_end_or_failure();
 }
 
+bool SimNode::lockstep_wait() {
+  const long per = std::lround(config_.lockstep_period_s * scene_.output_rate_hz);
+  const long done = std::lround(sim_->time() * scene_.output_rate_hz);
+  if (done % per != 0) return true;  // not at a boundary (a command or the end cut the chunk)
+  lockstep_awaited_s_ = sim_->time();
+  lockstep_replied_ = false;
+  publish(lockstep_pub_, state_msg_, sim_->time());  // the state at the boundary (just sampled)
+  ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(config_.lockstep_timeout_s);
+  while (ros::ok() && !lockstep_replied_) {
+    if (ros::WallTime::now() > deadline) {
+      ++lockstep_timeouts_;
+      ROS_WARN_THROTTLE(1.0,
+                        "lockstep: no speed command stamped t >= %.6f s within lockstep_timeout_s = %g s; going on "
+                        "(this run is no longer reproducible; %lu timeouts)",
+                        lockstep_awaited_s_, config_.lockstep_timeout_s,
+                        static_cast<unsigned long>(lockstep_timeouts_));
+      break;
+    }
+    queue.callAvailable(ros::WallDuration(0.001));
+  }
+  // Wall time spent waiting is the controller's, not the simulator's.
+  anchor_pacing();
+  return ros::ok();
+}
+
 void SimNode::apply_due_commands() {
   while (!pending_.empty() && pending_.front().time_s <= sim_->time()) {
     const PendingCommand c = pending_.front();
     pending_.erase(pending_.begin());
     sim_->command_speed(c.target_rad_per_s, c.accel_rad_per_s2);  // checked on receipt
+    applied_target_ = c.target_rad_per_s;
+    applied_accel_ = c.accel_rad_per_s2;
   }
 }
 
@@ -339,13 +394,20 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
     if (status_ == Status::kFailed) throw std::invalid_argument("the simulation has failed; call ~reset first");
     core::check_speed_command(scene_, msg->target_speed, accel);
     const double t_cmd = msg->header.stamp.toSec();
-    if (t_cmd > sim_->time()) {
+    if (lockstep_awaited_s_ >= 0.0 && t_cmd >= lockstep_awaited_s_ - 0.5 / scene_.output_rate_hz) {
+      lockstep_replied_ = true;  // the controller's command for this period (stamps are rounded to ns)
+    }
+    if (t_cmd <= sim_->time() && pending_.empty() && msg->target_speed == applied_target_ && accel == applied_accel_) {
+      fb.effective_time = sim_->time();  // a repeat of the command in force: nothing changes
+    } else if (t_cmd > sim_->time()) {
       const auto at = std::upper_bound(pending_.begin(), pending_.end(), t_cmd,
                                        [](double t, const PendingCommand& c) { return t < c.time_s; });
       pending_.insert(at, PendingCommand{t_cmd, msg->target_speed, accel});
       fb.effective_time = t_cmd;
     } else {
       sim_->command_speed(msg->target_speed, accel);
+      applied_target_ = msg->target_speed;
+      applied_accel_ = accel;
       fb.effective_time = sim_->time();
     }
     fb.accepted = true;

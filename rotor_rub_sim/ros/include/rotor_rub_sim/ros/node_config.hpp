@@ -42,6 +42,9 @@ struct NodeConfig {
   // Before simulating, wait until every data topic has at least this many
   // subscribers (a recorder, say), so that nothing is published unheard.
   int wait_for_subscribers = 0;
+  // The same for ~state alone (monitoring and control nodes), and, with
+  // lockstep, one subscriber on ~lockstep_state (the controller).
+  int wait_for_state_subscribers = 0;
   double wait_timeout_s = 30.0;  // wall time; the node exits with an error when it runs out
   // Outgoing queue per subscriber for state, events, stats, feedback. 0 =
   // unbounded: the node never drops a message; a slow subscriber costs memory.
@@ -53,6 +56,12 @@ struct NodeConfig {
   // Wall time between hand-overs of the recorded data to the kernel: a node
   // killed with SIGKILL loses at most this much recording (SIGINT loses none).
   double record_flush_period_s = 1.0;
+  // Lockstep (closed loop, reproducible at any pace): every lockstep_period_s
+  // of simulated time the node publishes ~lockstep_state and waits until a
+  // speed command stamped at that time (or later) arrives, at most
+  // lockstep_timeout_s of wall time. 0 = off.
+  double lockstep_period_s = 0.0;
+  double lockstep_timeout_s = 10.0;
 };
 
 struct NodeKeyInfo {

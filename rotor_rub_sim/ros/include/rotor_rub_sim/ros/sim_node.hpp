@@ -75,6 +75,10 @@ class SimNode : public core::SimulationObserver {
   void stop_recording(const std::string& why, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
+  // Lockstep: at a period boundary, publishes ~lockstep_state and serves
+  // callbacks until the controller's command for this time arrives (or the
+  // timeout). Returns false if ROS shut down while waiting.
+  bool lockstep_wait();
   bool on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
@@ -92,7 +96,13 @@ class SimNode : public core::SimulationObserver {
   Status status_ = Status::kRunning;
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
 
-  ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_;
+  ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
+  double lockstep_awaited_s_ = -1.0;  // the boundary a reply is awaited for
+  bool lockstep_replied_ = false;
+  uint64_t lockstep_timeouts_ = 0;
+  // The last command applied (target, acceleration): a repeat changes
+  // nothing, so it is not applied (the integration is not restarted).
+  double applied_target_ = 0.0, applied_accel_ = 0.0;
   ros::Subscriber command_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, resume_srv_, step_srv_;
   diagnostic_updater::Updater diagnostics_;

@@ -1,0 +1,173 @@
+#!/usr/bin/env python3
+"""plot_run: pictures of one run, from a bag the node recorded or from the
+headless runner's CSV: x_r(t) and y_r(t) with contact shaded, the orbit inside
+the clearance circle, the normal force, the speed, and a full-spectrum
+waterfall (forward and backward whirl against speed) -- the plots
+rotordynamics engineers read first. PNGs into the folder named.
+
+usage: plot_run.py RUN.bag|RUN.csv --out DIR [--ns /rotor_rub_sim] [--clearance 0.002]
+                   [--window-s 0.25] [--title TEXT]
+  A bag: the states of <ns>/state (the first RotorState topic if --ns is not
+  given). A CSV: rotor_rub_run --csv output.
+Full spectrum: the FFT of the complex displacement z = x_r + i y_r over sliding
+Hann windows; positive frequencies are forward whirl, negative backward.
+Exit status 2 on an unreadable input, with one line saying why."""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def load_bag(path, ns):
+    import rosbag
+    with rosbag.Bag(path) as b:
+        topics = b.get_type_and_topic_info().topics
+        states = [t for t, i in topics.items() if i.msg_type == "rotor_rub_msgs/RotorState"
+                  and not t.endswith("lockstep_state")]
+        if ns:
+            states = [t for t in states if t == ns.rstrip("/") + "/state"]
+        if not states:
+            raise ValueError("no rotor_rub_msgs/RotorState topic%s in %s" % (" " + ns + "/state" if ns else "", path))
+        topic = sorted(states)[0]
+        rows = [(m.header.stamp.to_sec(), m.rotor_position.x, m.rotor_position.y, m.stator_position.x,
+                 m.stator_position.y, m.normal_force, float(m.in_contact), m.speed)
+                for _, m, _ in b.read_messages(topics=[topic])]
+    return topic, np.array(rows)
+
+
+def load_csv(path):
+    with open(path) as f:
+        r = csv.DictReader(f)
+        need = ["t", "x_r", "y_r", "x_s", "y_s", "normal_force", "in_contact", "speed"]
+        if not r.fieldnames or any(k not in r.fieldnames for k in need):
+            raise ValueError("%s is not a rotor_rub_run CSV (needs columns %s)" % (path, ", ".join(need)))
+        return os.path.basename(path), np.array([[float(row[k]) for k in need] for row in r])
+
+
+def contact_spans(t, c):
+    spans, start = [], None
+    for ti, ci in zip(t, c > 0.5):
+        if ci and start is None:
+            start = ti
+        if not ci and start is not None:
+            spans.append((start, ti))
+            start = None
+    if start is not None:
+        spans.append((start, t[-1]))
+    return spans
+
+
+def shade(ax, spans):
+    for a, b in spans:
+        ax.axvspan(a, b, color="0.6", alpha=0.35, lw=0)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("run")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--ns", default="")
+    ap.add_argument("--clearance", type=float, default=2e-3)
+    ap.add_argument("--window-s", type=float, default=0.25)
+    ap.add_argument("--title", default="")
+    a = ap.parse_args()
+    try:
+        name, d = load_bag(a.run, a.ns) if a.run.endswith(".bag") else load_csv(a.run)
+    except Exception as e:  # an unreadable input is a clear error, not a trace
+        print("plot_run: cannot read %s: %s" % (a.run, e), file=sys.stderr)
+        sys.exit(2)
+    if len(d) < 16:
+        print("plot_run: %s holds %d states, too few to plot" % (a.run, len(d)), file=sys.stderr)
+        sys.exit(2)
+    os.makedirs(a.out, exist_ok=True)
+    t, xr, yr, xs, ys, fn, c, w = d.T
+    spans = contact_spans(t, c)
+    title = a.title or name
+    mm = 1e3
+
+    fig, ax = plt.subplots(2, 1, figsize=(11, 5), sharex=True)
+    for axis, v, lab in ((ax[0], xr, "x_r [mm]"), (ax[1], yr, "y_r [mm]")):
+        axis.plot(t, v * mm, lw=0.5)
+        shade(axis, spans)
+        axis.axhline(a.clearance * mm, color="k", ls="--", lw=0.6)
+        axis.axhline(-a.clearance * mm, color="k", ls="--", lw=0.6)
+        axis.set_ylabel(lab)
+    ax[1].set_xlabel("t [s]   (grey: in contact; dashed: the clearance)")
+    ax[0].set_title(title + ": rotor displacement")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "displacement.png"), dpi=100)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(1, 2, figsize=(10, 5))
+    th = np.linspace(0, 2 * np.pi, 400)
+    for axis, (x, y), lab in ((ax[0], (xr - xs, yr - ys), "relative to the stator (what the probes see)"),
+                              (ax[1], (xr, yr), "absolute")):
+        axis.plot(x * mm, y * mm, lw=0.3)
+        axis.plot(a.clearance * mm * np.cos(th), a.clearance * mm * np.sin(th), "k--", lw=0.8)
+        axis.set_aspect("equal")
+        axis.set_xlabel("x [mm]")
+        axis.set_ylabel("y [mm]")
+        axis.set_title(lab, fontsize=9)
+    fig.suptitle(title + ": orbit and the clearance circle")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "orbit.png"), dpi=100)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(2, 1, figsize=(11, 5), sharex=True)
+    ax[0].plot(t, fn, lw=0.5, color="tab:red")
+    shade(ax[0], spans)
+    ax[0].set_ylabel("normal force [N]")
+    ax[0].set_title(title + ": contact force and speed")
+    ax[1].plot(t, w, color="tab:blue")
+    ax[1].set_ylabel("speed [rad/s]")
+    ax[1].set_xlabel("t [s]")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "force_speed.png"), dpi=100)
+    plt.close(fig)
+
+    # Full-spectrum waterfall over sliding Hann windows.
+    dt = float(np.median(np.diff(t)))
+    n = max(16, int(round(a.window_s / dt)))
+    hop = max(1, n // 4)
+    z = (xr + 1j * yr)
+    win = np.hanning(n)
+    freqs = np.fft.fftshift(np.fft.fftfreq(n, dt))
+    rows, speeds = [], []
+    for i in range(0, len(z) - n + 1, hop):
+        seg = z[i:i + n]  # the mean stays: a static offset (gravity, a pressed rotor) shows at 0 Hz
+        spec = np.abs(np.fft.fftshift(np.fft.fft(seg * win))) * 2 / win.sum()
+        rows.append(spec)
+        speeds.append(np.mean(w[i:i + n]) / (2 * math.pi))
+    fig, axis = plt.subplots(figsize=(10, 6))
+    if rows:
+        spec = np.array(rows) * mm
+        fmax = min(freqs.max(), 4 * max(max(speeds), 1.0))
+        keep = np.abs(freqs) <= fmax
+        extent = (freqs[keep][0], freqs[keep][-1], 0, len(rows))
+        im = axis.imshow(np.log10(spec[:, keep] + 1e-6), aspect="auto", origin="lower", extent=extent,
+                         cmap="viridis")
+        fig.colorbar(im, label="log10 amplitude [mm]")
+        ticks = np.linspace(0, len(rows) - 1, min(8, len(rows))).astype(int)
+        axis.set_yticks(ticks + 0.5)
+        axis.set_yticklabels(["%.1f" % speeds[k] for k in ticks])
+        # 1X lines: forward and backward synchronous whirl.
+        axis.plot(speeds, np.arange(len(rows)) + 0.5, "w--", lw=0.8)
+        axis.plot([-s for s in speeds], np.arange(len(rows)) + 0.5, "w:", lw=0.8)
+    axis.set_xlabel("whirl frequency [Hz]  (+ forward, - backward; dashed: +1X, dotted: -1X)")
+    axis.set_ylabel("spin speed [Hz] at the window's centre")
+    axis.set_title("%s: full-spectrum waterfall (%.2f s Hann windows)" % (title, n * dt))
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "waterfall.png"), dpi=100)
+    plt.close(fig)
+    print("plot_run: %d states from %s -> %s/{displacement,orbit,force_speed,waterfall}.png" % (len(d), name, a.out))
+
+
+if __name__ == "__main__":
+    main()
