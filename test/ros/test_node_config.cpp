@@ -60,6 +60,10 @@ TEST(NodeConfig, BadValuesNameTheKeyAndTheRange) {
   EXPECT_NE(error_of({{"start_paused", "maybe"}}).find("accepted: true | false"), std::string::npos);
   EXPECT_NE(error_of({{"orbit_trail_samples", "2.5"}}).find("integer in [2, "), std::string::npos);
   EXPECT_NE(error_of({{"frame_id", ""}}).find("'frame_id'"), std::string::npos);
+  // The lockstep period must fall on the output grid (1 kHz here).
+  EXPECT_NE(error_of({{"lockstep_period_s", "0.0105"}}).find("whole multiple of the output period"), std::string::npos);
+  EXPECT_EQ(error_of({{"lockstep_period_s", "0.01"}}), "");
+  EXPECT_EQ(error_of({{"lockstep_period_s", "0.005"}, {"output_rate_hz", "2000"}}), "");
   // Scene keys keep the scene's own messages.
   EXPECT_NE(error_of({{"rtol", "-1"}}).find("'rtol': value -1 is out of range"), std::string::npos);
 }
