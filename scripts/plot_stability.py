@@ -147,40 +147,39 @@ def penalty(data, out, text, scene):
     return measured
 
 
-def switching(data, out, text):
-    rest = read_csv(os.path.join(data, "stability_switching_restitution.csv"))
-    graze = read_csv(os.path.join(data, "stability_switching_grazing.csv"))
-    violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == "switching"]
-    fig, axes = plt.subplots(1, 3, figsize=(17, 5.4))
-    class_map(axes[0], rest, "restitution", "friction_coefficient", "restitution x friction, rtol 1e-6")
-    class_map(axes[1], graze, "eccentricity_m", "rtol", "grazing: unbalance near the touching one x rtol")
-    class_map(axes[2], violent, "constant_speed_rad_per_s", "friction_coefficient",
+def method_figure(data, out, text, method, title, panels):
+    """One figure per rigid method: a class map per (csv name, x key, y key,
+    panel title), then the violent-physics map of the method."""
+    fig, axes = plt.subplots(1, len(panels) + 1, figsize=(17, 5.4))
+    tables = []
+    for ax, (name, xkey, ykey, panel_title) in zip(axes, panels):
+        rows = read_csv(os.path.join(data, "stability_%s.csv" % name))
+        class_map(ax, rows, xkey, ykey, panel_title)
+        tables.append(rows)
+    violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == method]
+    class_map(axes[-1], violent, "constant_speed_rad_per_s", "friction_coefficient",
               "constant speed from rest, 1 s, rtol 1e-6")
-    legend(fig, {q["status"] for q in rest + graze + violent})
-    fig.suptitle("switching method (II): where it fails", x=0.3)
+    tables.append(violent)
+    legend(fig, {q["status"] for rows in tables for q in rows})
+    fig.suptitle(title, x=0.3)
     fig.tight_layout(rect=(0, 0.03, 1, 0.93))
     stamp(fig, text)
-    fig.savefig(os.path.join(out, "stability_switching.png"), dpi=100)
+    fig.savefig(os.path.join(out, "stability_%s.png" % method), dpi=100)
     plt.close(fig)
-    return rest, graze, violent
+    return tables
+
+
+def switching(data, out, text):
+    return method_figure(data, out, text, "switching", "switching method (II): where it fails", [
+        ("switching_restitution", "restitution", "friction_coefficient", "restitution x friction, rtol 1e-6"),
+        ("switching_grazing", "eccentricity_m", "rtol", "grazing: unbalance near the touching one x rtol")])
 
 
 def iteration(data, out, text):
-    force = read_csv(os.path.join(data, "stability_iteration_force_tolerance.csv"))
-    step = read_csv(os.path.join(data, "stability_iteration_step.csv"))
-    violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == "iteration"]
-    fig, axes = plt.subplots(1, 3, figsize=(17, 5.4))
-    class_map(axes[0], force, "iteration_force_rtol", "friction_coefficient", "force root tolerance x friction")
-    class_map(axes[1], step, "rtol", "friction_coefficient", "step size (rtol) x friction")
-    class_map(axes[2], violent, "constant_speed_rad_per_s", "friction_coefficient",
-              "constant speed from rest, 1 s, rtol 1e-6")
-    legend(fig, {q["status"] for q in force + step + violent})
-    fig.suptitle("iteration method (III): where it fails", x=0.3)
-    fig.tight_layout(rect=(0, 0.03, 1, 0.93))
-    stamp(fig, text)
-    fig.savefig(os.path.join(out, "stability_iteration.png"), dpi=100)
-    plt.close(fig)
-    return force, step, violent
+    return method_figure(data, out, text, "iteration", "iteration method (III): where it fails", [
+        ("iteration_force_tolerance", "iteration_force_rtol", "friction_coefficient",
+         "force root tolerance x friction"),
+        ("iteration_step", "rtol", "friction_coefficient", "step size (rtol) x friction")])
 
 
 def summary(name, rows):

@@ -10,22 +10,13 @@
 #include <sstream>
 #include <string>
 
+#include "cli_support.hpp"
+
 namespace {
 
-struct Result {
-  int status;
-  std::string err;
-};
+using Result = rotor_rub::test::CliResult;
 
-Result run(const std::string& args) {
-  const std::string err_path = "/tmp/rotor_rub_cli_err.txt";
-  const std::string cmd = std::string(ROTOR_RUB_RUN) + " " + args + " > /dev/null 2> " + err_path;
-  const int rc = std::system(cmd.c_str());
-  std::ifstream f(err_path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
-}
+Result run(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_RUN, args); }
 
 std::string read(const std::string& path) {
   std::ifstream f(path);

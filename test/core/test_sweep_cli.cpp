@@ -12,22 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.hpp"
+
 namespace {
 
-struct Result {
-  int status;
-  std::string err;
-};
+using Result = rotor_rub::test::CliResult;
 
-Result sweep(const std::string& args) {
-  const std::string err_path = "/tmp/rotor_rub_sweep_err.txt";
-  const std::string cmd = std::string(ROTOR_RUB_SWEEP) + " " + args + " > /dev/null 2> " + err_path;
-  const int rc = std::system(cmd.c_str());
-  std::ifstream f(err_path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
-}
+Result sweep(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_SWEEP, args); }
 
 using Row = std::map<std::string, std::string>;
 

@@ -11,24 +11,15 @@
 #include <sstream>
 #include <string>
 
+#include "../core/cli_support.hpp"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_sim/ros/bag_appender.hpp"
 
 namespace {
 
-struct Result {
-  int status;  // -1: killed by a signal (a crash)
-  std::string err;
-};
+using Result = rotor_rub::test::CliResult;
 
-Result compare(const std::string& args) {
-  const std::string err_path = "/tmp/rotor_rub_compare_err.txt";
-  const int rc = std::system((std::string(ROTOR_RUB_COMPARE) + " " + args + " > /dev/null 2> " + err_path).c_str());
-  std::ifstream f(err_path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
-}
+Result compare(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_COMPARE, args); }
 
 void expect_clear_error(const Result& r, const std::string& part) {
   EXPECT_EQ(r.status, 2) << r.err;
