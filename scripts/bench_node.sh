@@ -4,9 +4,6 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh" > /dev/null
-source "$ROOT/scripts/workspace.sh"
-export PATH="/usr/bin:$PATH"
-set +u; source "$WS/devel/setup.bash"; set -u
-export ROS_MASTER_URI="http://localhost:${ROTOR_RUB_BENCH_PORT:-11611}"
+source "$ROOT/scripts/ros_env.sh" "${ROTOR_RUB_BENCH_PORT:-11611}"
 /usr/bin/python3 "$ROOT/scripts/bench_node.py" --runner "$WS/devel/lib/rotor_rub_sim/rotor_rub_run" \
   --scene "$ROOT/config/paper_runup.yaml" "$@"

@@ -6,10 +6,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh" > /dev/null
-source "$ROOT/scripts/workspace.sh"
-export PATH="/usr/bin:$PATH"
-set +u; source "$WS/devel/setup.bash"; set -u
-export ROS_MASTER_URI="http://localhost:${ROTOR_RUB_PICTURES_PORT:-11911}"
+source "$ROOT/scripts/ros_env.sh" "${ROTOR_RUB_PICTURES_PORT:-11911}"
 OUT="$ROOT/out"
 mkdir -p "$OUT"
 "$WS/devel/lib/rotor_rub_sim/rotor_rub_run" --scene "$ROOT/config/paper_runup.yaml" --csv "$OUT/paper_open_loop.csv" --quiet

@@ -8,10 +8,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh"
-source "$ROOT/scripts/workspace.sh"
-export PATH="/usr/bin:$PATH"
-set +u; source "$WS/devel/setup.bash"; set -u
-export ROS_MASTER_URI="http://localhost:${ROTOR_RUB_MAIN_PORT:-11711}"
+source "$ROOT/scripts/ros_env.sh" "${ROTOR_RUB_MAIN_PORT:-11711}"
 BIN="$WS/devel/lib/rotor_rub_sim"
 OUT="$ROOT/out"
 mkdir -p "$OUT"
