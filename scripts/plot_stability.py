@@ -97,15 +97,17 @@ def penalty(data, out, text, scene):
     violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == "penalty"]
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.6), gridspec_kw={"width_ratios": (1.3, 1, 0.8)})
     xs, ys = class_map(axes[0], rk4, "contact_stiffness_N_per_m", "fixed_step_s",
-                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / omega_c")
-    # Theory: e = 0 makes the relative contact mode critically damped (zeta = 1),
-    # a real eigenvalue -omega_c, omega_c = sqrt(k_c / m_eff); RK4 is stable on
-    # [-2.785, 0] of the real axis.
+                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / (9.80 omega_c)")
+    # Theory: e = 0 makes the penalty damper overdamped (zeta = 4.95, the
+    # restitution floor 0.01 of contact_law.hpp): real eigenvalues
+    # -omega_c (zeta +- sqrt(zeta^2 - 1)), omega_c = sqrt(k_c / m_eff); RK4 is
+    # stable on [-2.785, 0] of the real axis.
     mr, ms = scene_masses(scene)
     m_eff = 1.0 / (1.0 / mr + 1.0 / ms)
     r = rk4_radius(math.pi)
     kc = np.logspace(math.log10(xs[0]), math.log10(xs[-1]), 200)
-    h_theory = r / np.sqrt(kc / m_eff)
+    zeta = 4.95
+    h_theory = r / ((zeta + math.sqrt(zeta * zeta - 1.0)) * np.sqrt(kc / m_eff))
     # Map onto the cell grid (log interpolation between cell centres).
     lx = np.interp(np.log10(kc), np.log10(xs), np.arange(len(xs)))
     ly = np.interp(np.log10(h_theory), np.log10(ys), np.arange(len(ys)), left=-0.5, right=len(ys) - 0.5)

@@ -71,8 +71,15 @@ TEST(Failures, ChatterIsStalled) {
 }
 
 TEST(Failures, UnstableFixedStepIsDiverged) {
-  expect_failure(run({{"method", "penalty"}, {"integrator", "rk4"}, {"fixed_step_s", "1e-4"}}),
-                 core::FailureClass::kDiverged, "unstable");
+  // validate_scene() refuses a step above RK4's bound (test_fixed_step.cpp);
+  // a core user who skips it still gets a loud failure, not a NaN.
+  core::Scene s = test::paper_scene();
+  s.solver.method = core::Method::kPenalty;
+  s.solver.integrator = core::Integrator::kRk4;
+  s.solver.fixed_step_s = 1e-4;
+  Outcome o;
+  o.result = core::run_scene(s, o.seen);
+  expect_failure(o, core::FailureClass::kDiverged, "unstable");
 }
 
 TEST(Failures, RootFinderBudgetIsNotConverged) {

@@ -18,10 +18,12 @@ constexpr double kExactConstraint_m = 1e-15;
 constexpr double kIterationDriftPerAtol = 10.0;
 // Penalty: F_n = k_c p + c_c p' exactly (round-off: 1e-9 relative); in
 // sustained contact p' ~ F_n' / k_c, so the damper's share
-// c_c p' / (k_c p) = 2 sqrt(m_eff / k_c) F_n'/F_n is small: measured 1.05 %
-// at F_n = 1.15 N near the onset; 2 % bounds it wherever F_n >= 1 N.
+// c_c p' / (k_c p) = 2 zeta sqrt(m_eff / k_c) F_n'/F_n is small: 1.05 % was
+// measured at zeta = 1 and F_n = 1.15 N near the onset, so 2 % per unit of
+// zeta bounds it wherever F_n >= 1 N (zeta = 4.95 for e = 0: measured
+// 3.6 % at F_n = 1.8 N near the lift-off).
 constexpr double kPenaltyLawRoundoff = 1e-9;
-constexpr double kPenaltyDamperShare = 2e-2;
+constexpr double kPenaltyDamperSharePerZeta = 2e-2;
 // Free flight may end a step beyond the bore by the step's error tolerance
 // (atol + rtol |x|, |x| ~ C) before an event is recognised.
 double free_flight_overshoot_m(const core::Scene& s) { return s.solver.atol + s.solver.rtol * s.model.clearance_m; }
@@ -41,7 +43,9 @@ TEST(MethodPromise, PenaltyPenetrationIsForceOverStiffness) {
     const double damper = core::contact_damping_N_s_per_m(core::JeffcottModel(s.model)) * rate;
     EXPECT_NEAR(smp.penetration_m, (smp.normal_force_N - damper) / kc, kPenaltyLawRoundoff * smp.penetration_m)
         << "t " << smp.t_s;
-    EXPECT_LE(std::abs(damper), kPenaltyDamperShare * smp.normal_force_N) << "t " << smp.t_s;
+    EXPECT_LE(std::abs(damper),
+              kPenaltyDamperSharePerZeta * core::contact_damping_ratio(s.model.restitution) * smp.normal_force_N)
+        << "t " << smp.t_s;
     ++checked;
   }
   EXPECT_GT(checked, 1000);  // the paper scene is in contact for ~1.7 s

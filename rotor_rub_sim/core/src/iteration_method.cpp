@@ -2,78 +2,144 @@
 
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
+#include <string>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
+#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
 namespace {
 
-// Finds the normal force that holds delta'' = 0, or 0 when none is needed.
-class NormalForceSolver {
+// A root of an increasing function r(F) of one force [N], by TOMS 748 on a
+// bracket grown from the last root (the warm start): the model is a black box
+// to the root finder, as a large FE model would be.
+class ForceRoot {
  public:
-  NormalForceSolver(const JeffcottModel* m, double rtol, int max_iterations)
-      : model_(m), rtol_(rtol), max_iterations_(max_iterations) {}
+  ForceRoot(double rtol, int max_iterations, const char* name)
+      : rtol_(rtol), max_iterations_(max_iterations), name_(name) {}
 
-  // delta'' under normal force F [m/s^2].
-  double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double f) const {
-    Vec2 ar, as;
-    model_->accelerations(k, d, g, f, ar, as);
-    return JeffcottModel::distance_acceleration(k, g, ar, as);
-  }
-
-  double solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double t_s, long& iterations) const {
-    const double r0 = distance_acceleration(k, d, g, 0.0);
+  // r must increase with F; finds F in [lo, inf) with r(F) = 0 given r(lo) < 0.
+  template <class R>
+  double solve(R&& r, double lo, double r_lo, double t_s, long& iterations) const {
+    double step = std::max(std::abs(last_N_) * 2.0, 1e-3);
+    double hi = std::max(lo, last_N_) + step;
+    double r_hi = r(hi);
     ++iterations;
-    if (!(r0 > 0.0)) return 0.0;  // separating without help: released
-    // Bracket: grow from the last root until delta'' turns negative.
-    double hi = std::max(last_force_N_ * 2.0, 1e-3);
-    double r_hi = distance_acceleration(k, d, g, hi);
-    ++iterations;
-    for (int i = 0; r_hi > 0.0; ++i) {
-      if (i > 200) throw MethodFailure(FailureClass::kNotConverged, t_s, "normal force not bracketed");
-      hi *= 4.0;
-      r_hi = distance_acceleration(k, d, g, hi);
+    for (int i = 0; r_hi < 0.0; ++i) {
+      if (i > 200) throw MethodFailure(FailureClass::kNotConverged, t_s, std::string(name_) + " not bracketed");
+      lo = hi;
+      r_lo = r_hi;
+      step *= 4.0;
+      hi += step;
+      r_hi = r(hi);
       ++iterations;
     }
+    if (r_hi == 0.0) return last_N_ = hi;
     std::uintmax_t it = static_cast<std::uintmax_t>(max_iterations_);
     const double rtol = rtol_;
-    auto tol = [rtol](double a, double b) { return std::abs(b - a) <= rtol * std::abs(b); };
-    auto f = [&](double force) { return distance_acceleration(k, d, g, force); };
-    const auto br = boost::math::tools::toms748_solve(f, 0.0, hi, r0, r_hi, tol, it);
+    auto tol = [rtol](double a, double b) { return std::abs(b - a) <= rtol * std::max(std::abs(a), std::abs(b)); };
+    const auto br = boost::math::tools::toms748_solve(r, lo, hi, r_lo, r_hi, tol, it);
     iterations += static_cast<long>(it);
     if (static_cast<int>(it) >= max_iterations_ && !tol(br.first, br.second)) {
-      throw MethodFailure(FailureClass::kNotConverged, t_s, "normal force iteration did not converge");
+      throw MethodFailure(FailureClass::kNotConverged, t_s, std::string(name_) + " iteration did not converge");
     }
-    last_force_N_ = 0.5 * (br.first + br.second);
-    return last_force_N_;
+    last_N_ = 0.5 * (br.first + br.second);
+    return last_N_;
+  }
+
+ private:
+  double rtol_;
+  int max_iterations_;
+  const char* name_;
+  mutable double last_N_ = 1.0;
+};
+
+struct ContactForces {
+  double normal_N = 0.0;
+  double tangential_N = 0.0;  // F_t applied (slip: -f F_n s; stick: the stick force)
+  double stick_N = 0.0;       // the F_t that holds v_slide' = 0
+};
+
+// Finds the contact forces of an engaged contact: F_n >= 0 that makes the
+// distance's acceleration delta'' vanish (0 when none is needed), and in
+// stick the F_t that makes the sliding acceleration v_slide' vanish. F_n and
+// F_t act along n and t, so each root is one-dimensional.
+class ContactForceSolver {
+ public:
+  ContactForceSolver(const JeffcottModel* m, double rtol, int max_iterations)
+      : model_(m), normal_(rtol, max_iterations, "normal force"), tangential_(rtol, max_iterations, "stick force") {}
+
+  double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
+                               double ft) const {
+    Vec2 ar, as;
+    model_->accelerations(k, d, g, fn, ft, ar, as);
+    return JeffcottModel::distance_acceleration(k, g, ar, as);
+  }
+  double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
+                              double ft) const {
+    Vec2 ar, as;
+    model_->accelerations(k, d, g, fn, ft, ar, as);
+    return model_->sliding_acceleration(k, d, g, ar, as);
+  }
+
+  // want_stick_force: compute stick_N even when sliding (to decide a
+  // transition).
+  ContactForces solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const FrictionMode& mode,
+                      bool want_stick_force, double t_s, long& iterations) const {
+    ContactForces f;
+    const double r0 = distance_acceleration(k, d, g, 0.0, 0.0);
+    ++iterations;
+    if (!(r0 > 0.0)) return f;  // separating without help: released
+    // delta'' falls as F_n grows: solve -delta''(F_n) = 0 from F_n = 0.
+    f.normal_N =
+        normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, fn, 0.0); }, 0.0, -r0, t_s, iterations);
+    if (mode.stick || want_stick_force) {
+      const double s0 = sliding_acceleration(k, d, g, f.normal_N, 0.0);
+      ++iterations;
+      // v_slide' rises with F_t: solve from the side where it is negative.
+      if (s0 == 0.0) {
+        f.stick_N = 0.0;
+      } else if (s0 < 0.0) {
+        f.stick_N = tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, f.normal_N, ft); }, 0.0, s0,
+                                      t_s, iterations);
+      } else {
+        f.stick_N = -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, f.normal_N, -ft); }, 0.0,
+                                       -s0, t_s, iterations);
+      }
+    }
+    if (mode.stick) {
+      f.tangential_N = f.stick_N;
+    } else if (model_->has_friction()) {
+      f.tangential_N = -model_->parameters().friction_coefficient * f.normal_N * mode.slip_sign;
+    }
+    return f;
   }
 
  private:
   const JeffcottModel* model_;
-  double rtol_;
-  int max_iterations_;
-  mutable double last_force_N_ = 1.0;  // warm start for the bracket
+  ForceRoot normal_, tangential_;
 };
 
 template <int kStatorDof>
 struct IterationSystem {
   using L = FreeLayout<kStatorDof>;
   const JeffcottModel* model = nullptr;
-  const NormalForceSolver* solver = nullptr;
+  const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;
   bool engaged = false;
+  FrictionMode mode;
   long* iterations = nullptr;
   double* rhs_time_s = nullptr;        // profiling only
   double* iteration_time_s = nullptr;  // profiling only
 
-  double normal_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double t) const {
-    if (!engaged) return 0.0;
+  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double t) const {
+    if (!engaged) return {};
     ProfileScope scope(iteration_time_s);
-    return solver->solve(k, d, g, t, *iterations);
+    return solver->solve(k, d, g, mode, false, t, *iterations);
   }
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
@@ -81,8 +147,9 @@ struct IterationSystem {
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
+    const ContactForces f = forces(k, d, g, t);
     Vec2 ar, as;
-    model->accelerations(k, d, g, normal_force(k, d, g, t), ar, as);
+    model->accelerations(k, d, g, f.normal_N, f.tangential_N, ar, as);
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
     dxdt.template segment<2>(L::kRotorVel) = ar;
     if constexpr (kStatorDof == 2) {
@@ -117,20 +184,19 @@ class IterationMethod final : public ContactMethod {
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
     system_.segment = segment;
     system_.engaged = false;
-    pending_ = false;
+    pending_.due = false;
     restart_from(t_s, k, initial_step_s_);
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
     system_.segment = segment;
     ++stats_.restarts;
-    if (pending_) {
-      pending_ = false;
+    if (pending_.due) {
+      pending_.due = false;
       // A restart due exactly here (projection, impact) carries over; one
       // later in the step was decided under the old drive and is dropped.
-      if (pending_t_ <= t_s) {
-        system_.engaged = pending_engaged_;
-        restart_from(pending_t_, pending_kin_, integrator_.dt());
+      if (pending_.t_s <= t_s) {
+        apply(pending_);
         return;
       }
     }
@@ -140,17 +206,16 @@ class IterationMethod final : public ContactMethod {
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
-    if (pending_) {
+    if (pending_.due) {
       // Deferred from the last step, whose dense output served its samples.
-      pending_ = false;
-      system_.engaged = pending_engaged_;
-      restart_from(pending_t_, pending_kin_, integrator_.dt());
+      pending_.due = false;
+      apply(pending_);
     }
     for (;;) {
       integrator_.do_step(system_, stats_);
       if (system_.engaged) break;
       // Free step: reject it while it ends beyond the bore by more than the
-      // gap tolerance (no event location in this method).
+      // gap tolerance (no event location for touchdown in this method).
       const double p = geometry_at(integrator_.t_new()).penetration_m;
       if (p <= gap_tolerance_m_) break;
       integrator_.retreat(0.5 * (integrator_.t_new() - integrator_.t_old()), stats_);
@@ -158,49 +223,41 @@ class IterationMethod final : public ContactMethod {
     valid_begin_ = integrator_.t_old();
     valid_end_ = std::min(integrator_.t_new(), t_limit_s);
     if (valid_end_ < integrator_.t_new()) return;  // a segment change restarts here
+    if (system_.engaged) {
+      if (locate_friction_transition()) return;
+      end_engaged_step(events);
+      return;
+    }
     State x = integrator_.x_new();
     Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = system_.segment.at(valid_end_);
     ContactGeometry g = model_.contact_geometry(k, d);
-    if (system_.engaged) {
-      Kinematics held = k;
-      project_to_bore(held, g);
-      const ContactGeometry gh = model_.contact_geometry(held, d);
-      if (solver_.distance_acceleration(held, d, gh, 0.0) <= 0.0) {
-        // Lift-off: F_n = 0 already separates. The step's end is kept as
-        // integrated (the rotor may have begun to leave within the step).
-        guard_.record(valid_end_);
-        events.push_back({valid_end_, EventKind::kLiftoff, 0.0, 0.0});
-        defer_restart(valid_end_, k, false);
-        return;
-      }
-      // Still held: the drift of this step is projected out.
-      stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(g.penetration_m));
-      stats_.min_abs_sliding_velocity_m_per_s =
-          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(gh.sliding_velocity_m_per_s));
-      defer_restart(valid_end_, held, true);
-      return;
-    }
     if (g.penetration_m < -gap_tolerance_m_) return;  // free flight goes on
     // At the bore within tolerance: impact law, then engage if needed.
     ContactEvent e;
     e.t_s = valid_end_;
-    bool settles = true;
+    bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const ImpactResult ir = apply_impact(model_, g, k);
+      const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, k);
       settles = ir.settles;
+      at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
       e.impulse_N_s = ir.normal_impulse_N_s;
-    } else if (!(solver_.distance_acceleration(k, d, g, 0.0) > 0.0)) {
+    } else if (!(pressing_acceleration(model_, k, d, g) > 0.0)) {
       return;  // at the bore, but leaving and not pressed: nothing happens
     }
     g = model_.contact_geometry(k, d);
-    const bool sustained = settles && solver_.distance_acceleration(k, d, g, 0.0) > 0.0;
+    const bool sustained = settles && pressing_acceleration(model_, k, d, g) > 0.0;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     guard_.record(valid_end_);
     events.push_back(e);
-    if (sustained) project_to_bore(k, g);
-    defer_restart(valid_end_, k, sustained);
+    Pending next{true, valid_end_, k, sustained, {}};
+    if (sustained) {
+      project_to_bore(k, g);
+      next.kin = k;
+      next.mode = mode_at(k, d, at_rest || !model_.has_friction(), valid_end_);
+    }
+    defer(next);
   }
 
   double step_begin() const override { return valid_begin_; }
@@ -212,19 +269,133 @@ class IterationMethod final : public ContactMethod {
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = system_.segment.at(t_s);
     const ContactGeometry g = model_.contact_geometry(k, d);
+    // A copy of the solver: sampling must not move the warm start of the
+    // integration's own solves, or the trajectory would depend on the output
+    // rate.
+    const ContactForceSolver probe = solver_;
     long unused = 0;
-    const double f = system_.engaged ? solver_.solve(k, d, g, t_s, unused) : 0.0;
-    return make_sample(model_, t_s, k, d, f, system_.engaged);
+    ContactForces f;
+    if (system_.engaged) f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
+    return make_sample(model_, t_s, k, d, f.normal_N, f.tangential_N, system_.engaged);
   }
 
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 
  private:
+  struct Pending {
+    bool due = false;
+    double t_s = 0.0;
+    Kinematics kin;
+    bool engaged = false;
+    FrictionMode mode;
+  };
+
   ContactGeometry geometry_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
     return model_.contact_geometry(kinematics_of<kStatorDof>(x), system_.segment.at(t_s));
+  }
+
+  // The friction regime at a state on the bore.
+  FrictionMode mode_at(const Kinematics& k, const DriveState& d, bool at_rest, double t_s) const {
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    const ContactForceSolver probe = solver_;
+    long unused = 0;
+    const ContactForces f = probe.solve(k, d, g, FrictionMode{}, true, t_s, unused);
+    return select_friction_mode(g.sliding_velocity_m_per_s, at_rest, f.stick_N,
+                                model_.parameters().friction_coefficient * f.normal_N);
+  }
+
+  // The friction event function of the engaged regime at t (an event when it
+  // rises through 0): slip, -s v_slide; stick, |F_t,stick| - f F_n.
+  double friction_event(double t_s) const {
+    State x;
+    integrator_.state_at(t_s, x);
+    const Kinematics k = kinematics_of<kStatorDof>(x);
+    const DriveState d = system_.segment.at(t_s);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    if (!system_.mode.stick) return -system_.mode.slip_sign * g.sliding_velocity_m_per_s;
+    const ContactForceSolver probe = solver_;
+    long unused = 0;
+    const ContactForces f = probe.solve(k, d, g, system_.mode, true, t_s, unused);
+    return std::abs(f.stick_N) - model_.parameters().friction_coefficient * f.normal_N;
+  }
+
+  // Locates a slip end or a breakaway inside the engaged step just taken, on
+  // its dense output (the step's end alone would hide a sliding reversal).
+  // Ends the step there and defers the restart in the new friction regime.
+  bool locate_friction_transition() {
+    if (!model_.has_friction()) return false;
+    const double t0 = integrator_.t_old(), t1 = valid_end_;
+    const double f1 = friction_event(t1);
+    if (f1 < 0.0) return false;
+    double f0 = friction_event(t0);
+    double te;
+    if (f0 < 0.0) {
+      te = locate_event([this](double t) { return friction_event(t); }, t0, f0, t1, f1, stats_);
+    } else {
+      // The regime began on its surface (slip from rest): bracket on the
+      // deflated function, whose value at t0 is the rate into the regime.
+      const double rate = friction_event_rate(t0);
+      if (!(rate < 0.0)) return false;  // not leaving the surface: the step-end check decides
+      auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
+      te = locate_event(h, t0, rate, t1, f1 / (t1 - t0), stats_);
+    }
+    valid_end_ = te;
+    ++stats_.friction_transitions;
+    guard_.record(te);
+    State x;
+    integrator_.state_at(te, x);
+    Kinematics k = kinematics_of<kStatorDof>(x);
+    const DriveState d = system_.segment.at(te);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    project_to_bore(k, g);
+    FrictionMode next;
+    if (system_.mode.stick) {
+      const ContactForceSolver probe = solver_;
+      long unused = 0;
+      const ContactForces f = probe.solve(k, d, g, system_.mode, true, te, unused);
+      next.slip_sign = f.stick_N > 0.0 ? -1.0 : 1.0;
+    } else {
+      next = mode_at(k, d, true, te);
+    }
+    defer({true, te, k, true, next});
+    return true;
+  }
+
+  // d/dt of the slip event function at the start of the step (slip only).
+  double friction_event_rate(double t_s) const {
+    const Kinematics k = kinematics_of<kStatorDof>(integrator_.x_old());
+    const DriveState d = system_.segment.at(t_s);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    const ContactForceSolver probe = solver_;
+    long unused = 0;
+    const ContactForces f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
+    return -system_.mode.slip_sign * solver_.sliding_acceleration(k, d, g, f.normal_N, f.tangential_N);
+  }
+
+  void end_engaged_step(std::vector<ContactEvent>& events) {
+    Kinematics k = kinematics_of<kStatorDof>(integrator_.x_new());
+    const DriveState d = system_.segment.at(valid_end_);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    Kinematics held = k;
+    project_to_bore(held, g);
+    const ContactGeometry gh = model_.contact_geometry(held, d);
+    if (pressing_acceleration(model_, held, d, gh) <= 0.0) {
+      // Lift-off: F_n = 0 already separates. The step's end is kept as
+      // integrated (the rotor may have begun to leave within the step).
+      guard_.record(valid_end_);
+      events.push_back({valid_end_, EventKind::kLiftoff, 0.0, 0.0});
+      defer({true, valid_end_, k, false, {}});
+      return;
+    }
+    // Still held: the drift of this step is projected out.
+    stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(g.penetration_m));
+    stats_.min_abs_sliding_velocity_m_per_s =
+        std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(gh.sliding_velocity_m_per_s));
+    if (system_.mode.stick) hold_rolling(held, model_.contact_geometry(held, d));
+    defer({true, valid_end_, held, true, system_.mode});
   }
 
   // Moves both bodies along n so that delta = C, and removes the normal
@@ -238,11 +409,20 @@ class IterationMethod final : public ContactMethod {
     k.stator_vel += g.normal_velocity_m_per_s * (ims / im) * g.normal;
   }
 
-  void defer_restart(double t_s, const Kinematics& k, bool engaged) {
-    pending_ = true;
-    pending_t_ = t_s;
-    pending_kin_ = k;
-    pending_engaged_ = engaged;
+  // In stick, removes the sliding velocity's drift the same way (v_slide = 0).
+  void hold_rolling(Kinematics& k, const ContactGeometry& g) const {
+    const double imr = model_.inv_rotor_mass(), ims = model_.inv_stator_mass(), im = imr + ims;
+    k.rotor_vel -= g.sliding_velocity_m_per_s * (imr / im) * g.tangent;
+    k.stator_vel += g.sliding_velocity_m_per_s * (ims / im) * g.tangent;
+  }
+
+  void defer(const Pending& p) { pending_ = p; }
+
+  void apply(Pending p) {
+    system_.engaged = p.engaged;
+    system_.mode = p.mode;
+    if (p.engaged && p.mode.stick) hold_rolling(p.kin, model_.contact_geometry(p.kin, system_.segment.at(p.t_s)));
+    restart_from(p.t_s, p.kin, integrator_.dt());
   }
 
   void restart_from(double t_s, const Kinematics& k, double dt) {
@@ -253,17 +433,14 @@ class IterationMethod final : public ContactMethod {
   }
 
   JeffcottModel model_;
-  NormalForceSolver solver_;
+  ContactForceSolver solver_;
   IterationSystem<kStatorDof> system_;
   DenseDopri5<State> integrator_;
   double initial_step_s_;
   double gap_tolerance_m_;
   ChatterGuard guard_;
   double valid_begin_ = 0.0, valid_end_ = 0.0;
-  bool pending_ = false;  // a restart (projection, impact, regime) due at pending_t_
-  double pending_t_ = 0.0;
-  Kinematics pending_kin_;
-  bool pending_engaged_ = false;
+  Pending pending_;  // a restart (projection, impact, regime) due at pending_.t_s
   RunStats stats_;
 };
 

@@ -11,14 +11,19 @@
 namespace rotor_rub::core {
 namespace {
 
-// The penalty normal force [N]: spring plus damper while penetrating, never
-// pulling (clamped at 0).
+// The penalty contact law (contact_law.hpp): a spring-dashpot normal force,
+// never pulling (clamped at 0), and a tangential damper capped at the cone.
 struct PenaltyLaw {
   double stiffness_N_per_m;
   double damping_N_s_per_m;
-  double operator()(const ContactGeometry& g) const {
+  double friction_coefficient;
+  double tangential_damping_N_s_per_m;
+  double normal(const ContactGeometry& g) const {
     if (g.penetration_m <= 0.0) return 0.0;
     return std::max(0.0, stiffness_N_per_m * g.penetration_m + damping_N_s_per_m * g.normal_velocity_m_per_s);
+  }
+  double tangential(const ContactGeometry& g, double normal_N) const {
+    return penalty_friction_N(friction_coefficient, normal_N, tangential_damping_N_s_per_m, g.sliding_velocity_m_per_s);
   }
 };
 
@@ -37,7 +42,8 @@ struct PenaltySystem {
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
     Vec2 ar, as;
-    model->accelerations(k, d, g, law(g), ar, as);
+    const double fn = law.normal(g);
+    model->accelerations(k, d, g, fn, law.tangential(g, fn), ar, as);
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
     dxdt.template segment<2>(L::kRotorVel) = ar;
     if constexpr (kStatorDof == 2) {
@@ -67,7 +73,8 @@ class PenaltyMethod final : public ContactMethod {
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
-    system_.law = {scene.model.contact_stiffness_N_per_m, contact_damping_N_s_per_m(model_)};
+    system_.law = {scene.model.contact_stiffness_N_per_m, contact_damping_N_s_per_m(model_),
+                   scene.model.friction_coefficient, tangential_damping_N_s_per_m(model_)};
     if (scene.solver.profile_cost) system_.rhs_time_s = &stats_.rhs_time_s;
   }
 
@@ -121,7 +128,8 @@ class PenaltyMethod final : public ContactMethod {
     const Kinematics k = kinematics_of<kStatorDof>(x);
     const DriveState d = system_.segment.at(t_s);
     const ContactGeometry g = model_.contact_geometry(k, d);
-    return make_sample(model_, t_s, k, d, system_.law(g), g.penetration_m > 0.0);
+    const double fn = system_.law.normal(g);
+    return make_sample(model_, t_s, k, d, fn, system_.law.tangential(g, fn), g.penetration_m > 0.0);
   }
 
   const RunStats& stats() const override { return stats_; }

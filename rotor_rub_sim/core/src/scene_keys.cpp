@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
+
 namespace rotor_rub::core {
 namespace {
 
@@ -117,9 +119,6 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.clearance_m; }));
     t.push_back(real("friction_coefficient", 0, false, 2.0, "Coulomb friction coefficient f [-]; 0 skips friction",
                      [](Scene& s) -> double& { return s.model.friction_coefficient; }));
-    t.push_back(real("friction_regularisation_m_per_s", 0, false, 1.0,
-                     "half-width of the linear friction-sign band [m/s]; 0 = exact sign",
-                     [](Scene& s) -> double& { return s.model.friction_regularisation_m_per_s; }));
     t.push_back(real("restitution", 0, false, 1.0, "normal coefficient of restitution [-]; 0 plastic, 1 elastic",
                      [](Scene& s) -> double& { return s.model.restitution; }));
     t.push_back(real("impact_settle_velocity_m_per_s", 0, false, kInf,
@@ -240,6 +239,16 @@ void validate_scene(const Scene& s) {
     throw SceneError("scene key 'integrator': value '" + std::string(to_string(s.solver.integrator)) +
                      "' is accepted with method 'penalty' only; accepted for method '" +
                      std::string(to_string(s.solver.method)) + "': dopri5");
+  }
+  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
+    const double h_max = rk4_stable_step_s(JeffcottModel(s.model));
+    if (s.solver.fixed_step_s > h_max) {
+      throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +
+                       " is out of range; accepted with rk4 on this contact (contact_stiffness_N_per_m = " +
+                       format_double(s.model.contact_stiffness_N_per_m) +
+                       ", restitution = " + format_double(s.model.restitution) + "): (0, " + format_double(h_max) +
+                       "], RK4's stability bound 2.785 / (omega_c (zeta + sqrt(zeta^2 - 1)))");
+    }
   }
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
     throw SceneError(

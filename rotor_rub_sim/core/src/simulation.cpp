@@ -23,7 +23,11 @@ std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
   throw std::logic_error("unknown method");
 }
 
-Simulation::Simulation(const Scene& scene) : scene_(scene), profile_(scene.speed), method_(make_contact_method(scene)) {
+Simulation::Simulation(const Scene& scene)
+    : scene_(scene),
+      profile_(scene.speed),
+      method_(make_contact_method(scene)),
+      limits_(InvariantLimits::for_scene(scene)) {
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
 }
@@ -84,7 +88,9 @@ void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
         ++it;
       }
     }
-    observer.on_sample(method_->sample(tk));
+    const Sample s = method_->sample(tk);
+    check_invariants(s, limits_);  // a sample that breaks one is never delivered
+    observer.on_sample(s);
     ++next_sample_;
   }
   for (auto it = step_events_.begin(); it != step_events_.end();) {
@@ -128,6 +134,9 @@ bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
       }
       t_limit_s_ = profile_.next_break_after(time_s_);
       method_->step(t_limit_s_, step_events_);
+      // Every accepted step is checked at its end before any of its samples
+      // or events are delivered.
+      check_invariants(method_->sample(method_->step_end()), limits_);
       break_due_ = method_->step_end() >= t_limit_s_;
     }
   } catch (const MethodFailure& f) {

@@ -1,6 +1,8 @@
 #include "rotor_rub_sim/core/switching_method.hpp"
 
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
@@ -46,6 +48,17 @@ struct ContactSystem {
 
 enum class Regime { kFree, kContact };
 
+// The event functions, each an event when it rises through 0. Free flight:
+// kGap = delta - C. Contact: kGap = -F_n (lift-off), kSlipEnd = -s v_slide
+// (the sliding stops), kBreakaway = |F_t,stick| - f F_n (the stick force
+// leaves the cone). A function unused in the current regime is -infinity.
+enum EventFunction { kGap = 0, kSlipEnd = 1, kBreakaway = 2, kEventFunctions = 3 };
+
+struct EventValues {
+  std::array<double, kEventFunctions> value;
+  std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
+};
+
 template <int kStatorDof>
 class SwitchingMethod final : public ContactMethod {
  public:
@@ -86,14 +99,15 @@ class SwitchingMethod final : public ContactMethod {
       free_int_.state_at(t_s, x);
       const double dt = free_int_.dt();
       free_int_.initialize(free_sys_, x, t_s, dt, stats_);
-      event_value_end_ = free_event_value(t_s);
     } else {
       typename CL::State x;
       contact_int_.state_at(t_s, x);
       const double dt = contact_int_.dt();
       contact_int_.initialize(contact_sys_, x, t_s, dt, stats_);
-      event_value_end_ = contact_event_value(t_s);
     }
+    // The event functions are continuous across a drive change (the speed
+    // is), so their arming carries over; only the values are refreshed.
+    values_end_ = event_values(t_s);
     valid_begin_ = valid_end_ = t_s;
   }
 
@@ -117,89 +131,177 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      return make_sample(model_, t_s, kinematics_of<kStatorDof>(x), d, 0.0, false);
+      return make_sample(model_, t_s, kinematics_of<kStatorDof>(x), d, 0.0, 0.0, false);
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
     const auto c = contact_sys_.dynamics.evaluate(x, d);
-    return make_sample(model_, t_s, c.kin, d, c.normal_force_N, true);
+    if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
+      // The located lift-off: F_n is zero there to the root's resolution
+      // (the located time lies on the far side, where F_n = -O(1e-13) N).
+      return make_sample(model_, t_s, c.kin, d, 0.0, 0.0, true);
+    }
+    return make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
   }
 
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 
  private:
-  // Event function of the current regime: free: delta - C (event when it
-  // rises through 0); contact: -F_n (event when F_n falls through 0).
-  double free_event_value(double t_s) const {
-    typename FL::State x;
-    free_int_.state_at(t_s, x);
-    return model_.contact_geometry(kinematics_of<kStatorDof>(x), free_sys_.segment.at(t_s)).penetration_m;
-  }
-  double contact_event_value(double t_s) const {
+  static constexpr double kUnused = -std::numeric_limits<double>::infinity();
+
+  EventValues event_values(double t_s) const {
+    EventValues v;
+    v.value.fill(kUnused);
+    v.rate.fill(std::numeric_limits<double>::quiet_NaN());
+    const DriveState d = free_sys_.segment.at(t_s);
+    if (regime_ == Regime::kFree) {
+      typename FL::State x;
+      free_int_.state_at(t_s, x);
+      const ContactGeometry g = model_.contact_geometry(kinematics_of<kStatorDof>(x), d);
+      v.value[kGap] = g.penetration_m;
+      v.rate[kGap] = g.normal_velocity_m_per_s;
+      return v;
+    }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    return -contact_sys_.dynamics.evaluate(x, contact_sys_.segment.at(t_s)).normal_force_N;
+    const auto c = contact_sys_.dynamics.evaluate(x, d);
+    v.value[kGap] = -c.normal_force_N;
+    const FrictionMode& mode = contact_sys_.dynamics.mode;
+    if (mode.stick) {
+      v.value[kBreakaway] = std::abs(c.stick_force_N) - model_.parameters().friction_coefficient * c.normal_force_N;
+    } else if (model_.has_friction()) {
+      v.value[kSlipEnd] = -mode.slip_sign * c.sliding_velocity_m_per_s;
+      v.rate[kSlipEnd] = -mode.slip_sign * c.sliding_acc_m_per_s2;
+    }
+    return v;
   }
-  double event_value(double t_s) const {
-    return regime_ == Regime::kFree ? free_event_value(t_s) : contact_event_value(t_s);
-  }
+  double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
-  // Checks the event function at the step's quarter points (so a graze inside
-  // one step is not missed) and locates the first upward zero crossing.
+  // The earliest event of [t0, t1], checked at the step's quarter points and
+  // located with TOMS 748 on the dense output. Three ways to a crossing:
+  // * a sign change between two points, of a function that has been seen
+  //   strictly below zero since its regime began (armed);
+  // * a function that starts its regime on its surface (a rebound, a slip
+  //   from rest) with a known rate into its own side: the deflated function
+  //   value / (t - t_start) has the rate's sign at t_start, so the crossing
+  //   right after it is bracketed, however short the flight;
+  // * a graze between two points where the gap is negative at both: the gap's
+  //   rate falls through zero in between (a maximum), located, and the gap at
+  //   the maximum decides.
   void scan(double t0, double t1, std::vector<ContactEvent>& events) {
     valid_begin_ = t0;
-    double prev_t = t0, prev_v = event_value_end_;
+    double prev_t = t0;
+    EventValues prev = values_end_;
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
-      const double vi = event_value(ti);
-      if (armed_ && prev_v < 0.0 && vi >= 0.0) {
-        auto f = [this](double t) { return event_value(t); };
-        const double te = locate_event(f, prev_t, prev_v, ti, vi, stats_);
-        valid_end_ = te;
-        event_value_end_ = 0.0;
-        on_event(te, events);
+      const EventValues cur = event_values(ti);
+      double first_t = std::numeric_limits<double>::infinity();
+      int first_k = -1;
+      for (int k = 0; k < kEventFunctions; ++k) {
+        if (cur.value[k] == kUnused) continue;
+        const double te = crossing(k, prev_t, prev, ti, cur);
+        if (te < first_t) {
+          first_t = te;
+          first_k = k;
+        }
+      }
+      if (first_k >= 0) {
+        valid_end_ = first_t;
+        on_event(static_cast<EventFunction>(first_k), first_t, events);
         return;
       }
-      if (vi < 0.0) armed_ = true;
+      for (int k = 0; k < kEventFunctions; ++k) {
+        if (cur.value[k] < 0.0 && cur.value[k] != kUnused) armed_[k] = true;
+      }
       prev_t = ti;
-      prev_v = vi;
+      prev = cur;
     }
     valid_end_ = t1;
-    event_value_end_ = prev_v;
+    values_end_ = prev;
     // Free flight that never opened the gap after a switch, yet penetrates:
     // force contact (the paper's remedy for the stall).
-    if (!armed_ && regime_ == Regime::kFree && prev_v > penetration_tolerance_m_) on_event(t1, events);
+    if (!armed_[kGap] && regime_ == Regime::kFree && prev.value[kGap] > penetration_tolerance_m_) {
+      on_event(kGap, t1, events);
+    }
   }
 
-  void on_event(double te, std::vector<ContactEvent>& events) {
+  // The crossing time of function k in [a, b], or +infinity.
+  double crossing(int k, double a, const EventValues& va, double b, const EventValues& vb) {
+    auto f = [this, k](double t) { return event_value(k, t); };
+    if (armed_[k] && va.value[k] < 0.0 && vb.value[k] >= 0.0) {
+      return locate_event(f, a, va.value[k], b, vb.value[k], stats_);
+    }
+    if (!armed_[k] && a == regime_start_s_ && start_rate_[k] < 0.0 && vb.value[k] >= 0.0) {
+      auto h = [this, k](double t) { return event_value(k, t) / (t - regime_start_s_); };
+      return locate_event(h, a, start_rate_[k], b, vb.value[k] / (b - a), stats_);
+    }
+    if (k == kGap && regime_ == Regime::kFree && armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0 &&
+        va.rate[k] > 0.0 && vb.rate[k] < 0.0) {
+      auto falling_rate = [this](double t) { return -event_values(t).rate[kGap]; };
+      const double tm = locate_event(falling_rate, a, -va.rate[k], b, -vb.rate[k], stats_);
+      const double gm = f(tm);
+      if (gm >= 0.0) return locate_event(f, a, va.value[k], tm, gm, stats_);
+    }
+    return std::numeric_limits<double>::infinity();
+  }
+
+  void on_event(EventFunction k, double te, std::vector<ContactEvent>& events) {
     guard_.record(te);
     const DriveState d = free_sys_.segment.at(te);
-    ContactEvent e;
-    e.t_s = te;
-    if (regime_ == Regime::kContact) {
-      e.kind = EventKind::kLiftoff;
-      next_kin_ = sample(te).kin;
-      next_regime_ = Regime::kFree;
-    } else {
-      Kinematics k = sample(te).kin;
-      const ContactGeometry g = model_.contact_geometry(k, d);
-      bool settles = true;
-      if (g.normal_velocity_m_per_s > 0.0) {
-        const ImpactResult ir = apply_impact(model_, g, k);
-        settles = ir.settles;
-        e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
-        e.impulse_N_s = ir.normal_impulse_N_s;
-      }
-      next_kin_ = k;
-      const bool sustained =
-          settles && contact_sys_.dynamics.evaluate(contact_sys_.dynamics.reduce(k), d).normal_force_N > 0.0;
-      next_regime_ = sustained ? Regime::kContact : Regime::kFree;
-      e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
-    }
-    events.push_back(e);
     pending_t_ = te;
     pending_ = true;
+    if (regime_ == Regime::kContact) {
+      typename CL::State x;
+      contact_int_.state_at(te, x);
+      if (k == kGap) {
+        events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
+        next_kin_ = contact_sys_.dynamics.kinematics(x);
+        next_regime_ = Regime::kFree;
+        return;
+      }
+      // A friction transition: slip to stick or reversal at v_slide = 0, or
+      // stick to slip at the cone's edge. The contact goes on.
+      ++stats_.friction_transitions;
+      const auto c = contact_sys_.dynamics.evaluate(x, d);
+      const double cone = model_.parameters().friction_coefficient * c.normal_force_N;
+      if (k == kSlipEnd) {
+        next_mode_ = select_friction_mode(0.0, true, c.stick_force_N, cone);
+      } else {
+        next_mode_.stick = false;
+        next_mode_.slip_sign = c.stick_force_N > 0.0 ? -1.0 : 1.0;
+      }
+      next_contact_state_ = x;
+      next_regime_ = Regime::kContact;
+      return;
+    }
+    Kinematics k_at = sample(te).kin;
+    const ContactGeometry g = model_.contact_geometry(k_at, d);
+    ContactEvent e;
+    e.t_s = te;
+    bool settles = true, at_rest = false;
+    if (g.normal_velocity_m_per_s > 0.0) {
+      const ImpactResult ir = apply_impact(model_, g, d, penetration_tolerance_m_, k_at);
+      settles = ir.settles;
+      at_rest = ir.sliding_stopped;
+      e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
+      e.impulse_N_s = ir.normal_impulse_N_s;
+    }
+    next_kin_ = k_at;
+    bool sustained = false;
+    if (settles) {
+      typename CL::State x = contact_sys_.dynamics.reduce(k_at);
+      const auto c = contact_sys_.dynamics.evaluate(x, d);
+      sustained = c.normal_force_N > 0.0;
+      if (sustained) {
+        next_mode_ = select_friction_mode(c.sliding_velocity_m_per_s, at_rest || !model_.has_friction(),
+                                          c.stick_force_N, model_.parameters().friction_coefficient * c.normal_force_N);
+        next_contact_state_ = x;
+      }
+    }
+    next_regime_ = sustained ? Regime::kContact : Regime::kFree;
+    e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
+    events.push_back(e);
   }
 
   void apply_pending() {
@@ -209,28 +311,42 @@ class SwitchingMethod final : public ContactMethod {
     if (next_regime_ == Regime::kFree) {
       regime_ = Regime::kFree;
       enter_free(pending_t_, next_kin_, dt);
-    } else {
-      regime_ = Regime::kContact;
-      const typename CL::State x = contact_sys_.dynamics.reduce(next_kin_);
-      contact_int_.initialize(contact_sys_, x, pending_t_, dt, stats_);
-      armed_ = true;  // touchdown required F_n > 0
-      event_value_end_ = contact_event_value(pending_t_);
-      valid_begin_ = valid_end_ = pending_t_;
+      return;
     }
+    regime_ = Regime::kContact;
+    contact_sys_.dynamics.mode = next_mode_;
+    typename CL::State x = next_contact_state_;
+    if (next_mode_.stick) {
+      // Rolling: v_slide = C psi' + w R_r = 0 exactly.
+      const DriveState d = contact_sys_.segment.at(pending_t_);
+      x[CL::kAngleRate] = -d.speed_rad_per_s * model_.parameters().rotor_radius_m / model_.parameters().clearance_m;
+    }
+    contact_int_.initialize(contact_sys_, x, pending_t_, dt, stats_);
+    begin_regime(pending_t_);
   }
 
   void enter_free(double t_s, const Kinematics& k, double dt) {
     typename FL::State x;
     store_kinematics<kStatorDof>(k, x);
     free_int_.initialize(free_sys_, x, t_s, dt, stats_);
-    event_value_end_ = free_event_value(t_s);
-    armed_ = event_value_end_ < 0.0;
+    begin_regime(t_s);
+  }
+
+  // Every function of the new regime starts unarmed unless already strictly
+  // on its own side; its rate there allows the deflated bracket (scan()).
+  void begin_regime(double t_s) {
+    values_end_ = event_values(t_s);
+    regime_start_s_ = t_s;
+    for (int k = 0; k < kEventFunctions; ++k) {
+      armed_[k] = values_end_.value[k] < 0.0 && values_end_.value[k] != kUnused;
+      start_rate_[k] = values_end_.rate[k];
+    }
     valid_begin_ = valid_end_ = t_s;
   }
 
   void record_contact_quality(double t_s) {
     // The constraint holds by construction; record the sliding speed to show
-    // where the run stands against the friction regularisation band.
+    // how close the run comes to a friction transition.
     const Sample s = sample(t_s);
     stats_.min_abs_sliding_velocity_m_per_s =
         std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(s.sliding_velocity_m_per_s));
@@ -247,13 +363,17 @@ class SwitchingMethod final : public ContactMethod {
   double penetration_tolerance_m_;
   ChatterGuard guard_;
   Regime regime_ = Regime::kFree;
-  bool armed_ = false;
-  double event_value_end_ = -1.0;
+  std::array<bool, kEventFunctions> armed_{};
+  std::array<double, kEventFunctions> start_rate_{};
+  double regime_start_s_ = 0.0;
+  EventValues values_end_{};
   double valid_begin_ = 0.0, valid_end_ = 0.0;
   bool pending_ = false;
   double pending_t_ = 0.0;
   Regime next_regime_ = Regime::kFree;
   Kinematics next_kin_;
+  FrictionMode next_mode_;
+  typename CL::State next_contact_state_;
   RunStats stats_;
 };
 

@@ -3,16 +3,20 @@
 // psi, with r_r = r_s + C n(psi), n = (cos psi, sin psi), t = n' = (-sin, cos).
 //
 // With r_r'' = r_s'' + C psi'' t - C psi'^2 n, the rotor's and stator's
-// equations give the constraint (normal) force and psi'' in closed form
-// (1/m = 1/m_r + 1/m_s, F_r and F_s the free forces of model.hpp):
+// equations give the contact forces and psi'' in closed form
+// (1/m = 1/m_r + 1/m_s, F_r and F_s the free forces of model.hpp, F_t the
+// tangential force on the rotor along t):
 //   F_n   = (F_r.n / m_r - F_s.n / m_s + C psi'^2) / (1/m)
-//   psi'' = (F_r.t / m_r - F_s.t / m_s + F_n (d.t) / m) / C
-//   r_s'' = (F_s - F_n d) / m_s,     d = -n - f sgn(v_slide) t,
-// d being the contact force direction on the rotor (model.hpp).
+//   slip:  F_t = -f F_n s,  psi'' = (F_r.t / m_r - F_s.t / m_s + F_t / m) / C
+//   stick: v_slide = C psi' + w R_r = 0 held, so psi'' = -A R_r / C and
+//          F_t = (C psi'' - F_r.t / m_r + F_s.t / m_s) / (1/m)
+//   r_s'' = (F_s + F_n n - F_t t) / m_s.
+// F_n does not depend on F_t (they act along n and t).
 #pragma once
 
 #include <cmath>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
 namespace rotor_rub::core {
@@ -33,10 +37,15 @@ struct ConstrainedDynamics {
   using L = ContactLayout<kStatorDof>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
+  FrictionMode mode;
 
   struct Result {
     Kinematics kin;
-    double normal_force_N = 0.0;  // the constraint force; < 0 means lift-off
+    double normal_force_N = 0.0;      // the constraint force; < 0 means lift-off
+    double tangential_force_N = 0.0;  // F_t on the rotor along t
+    double stick_force_N = 0.0;       // the F_t that would hold v_slide = 0
+    double sliding_velocity_m_per_s = 0.0;
+    double sliding_acc_m_per_s2 = 0.0;  // v_slide'
     double angle_acc_rad_per_s2 = 0.0;
     Vec2 stator_acc = Vec2::Zero();
   };
@@ -81,11 +90,21 @@ struct ConstrainedDynamics {
     const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
     const Vec2 fr = model->rotor_free_force(r.kin, d);
     const Vec2 fs = model->stator_free_force(r.kin);
-    const Vec2 dir = model->contact_direction(g);
+    const ModelParameters& p = model->parameters();
     r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) / im;
-    r.angle_acc_rad_per_s2 =
-        (fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + r.normal_force_N * dir.dot(g.tangent) * im) / c;
-    r.stator_acc = (fs - r.normal_force_N * dir) * ims;
+    // Tangential relative acceleration without contact force, plus A R_r:
+    // v_slide' = free_t + F_t / m.
+    const double free_t = fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + d.accel_rad_per_s2 * p.rotor_radius_m;
+    r.stick_force_N = -free_t / im;
+    r.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * p.rotor_radius_m;
+    if (mode.stick) {
+      r.tangential_force_N = r.stick_force_N;
+    } else if (model->has_friction()) {
+      r.tangential_force_N = -p.friction_coefficient * r.normal_force_N * mode.slip_sign;
+    }
+    r.sliding_acc_m_per_s2 = free_t + r.tangential_force_N * im;
+    r.angle_acc_rad_per_s2 = (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) / c;
+    r.stator_acc = (fs + r.normal_force_N * g.normal - r.tangential_force_N * g.tangent) * ims;
     return r;
   }
 

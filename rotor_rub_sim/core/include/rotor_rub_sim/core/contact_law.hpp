@@ -1,35 +1,85 @@
 // The contact law shared by the three methods: a normal coefficient of
-// restitution (default 0, plastic) with Coulomb friction.
+// restitution e (default 0, plastic) with Coulomb friction in stick and slip.
 //
-// * Rigid methods (switching, iteration) apply it at touchdown as an impulse:
-//   the closing normal velocity v_n becomes -e v_n; the normal impulse is
-//   P = m_eff (1 + e) v_n, and friction adds the tangential impulse -f P sgn(v_slide)
-//   on the rotor, limited so that it can stop the sliding but never reverse
-//   it. Rebounds slower than impact_settle_velocity_m_per_s settle into
-//   sustained contact (the end of a Zeno sequence).
-// * The penalty method (I) realises the same law with a spring k_c and a
-//   damper c_c = 2 zeta sqrt(k_c m_eff) in parallel, the force clamped at zero
-//   (no adhesion). zeta follows from the linear spring-dashpot's restitution,
-//   e = exp(-zeta pi / sqrt(1 - zeta^2)), i.e. zeta = -ln e / sqrt(pi^2 + ln^2 e),
-//   and zeta = 1 (critical) for e = 0. The undamped spring of the paper is
-//   e = 1. The clamp makes a critically damped contact leave with
-//   exp(-2) = 0.135 of its impact speed, not 0: for impacts at the mm/s
-//   speeds of a run-up rub that rebound is far below the clearance's scale
-//   (measured in the method comparison, README).
+// Rigid methods (switching, iteration):
+// * Touchdown is an impact: the closing normal velocity v_n becomes -e v_n;
+//   the normal impulse is P = m_eff (1 + e) v_n (m_eff = m_r m_s/(m_r + m_s),
+//   m_r for a rigid stator), equal and opposite on rotor and stator. Friction
+//   adds the tangential impulse -f P sgn(v_slide) on the rotor, limited so that
+//   it can stop the sliding but never reverse it (then the contact starts in
+//   stick if the cone allows).
+// * A rebound settles into sustained contact (plastic, e taken as 0) when its
+//   flight could not leave the bore by more than the position tolerance: the
+//   apex (e v_n)^2 / (2 a_press), a_press the normal acceleration that presses
+//   the rotor onto the bore without contact force, is below
+//   settle_apex_m (the run's atol), or the rebound is slower than
+//   impact_settle_velocity_m_per_s. This ends a Zeno sequence of ever smaller
+//   bounces at its accumulation point, with a position error below atol.
+// * In sustained contact, slip: F_t = -f F_n s with s = sgn(v_slide) held
+//   fixed until v_slide crosses 0 (located as an event); stick (rolling):
+//   F_t is the constraint force that holds v_slide = 0, kept while
+//   |F_t| <= f F_n (the crossing located as an event). At v_slide = 0 the
+//   contact sticks if the stick force is inside the cone, else it slides in
+//   the direction s = -sgn(F_t,stick) (select_friction_mode()).
+//
+// Penalty method (I): the same law, regularised.
+// * Normal: spring k_c and damper c_c = 2 zeta sqrt(k_c m_eff) in parallel,
+//   the force clamped at zero (no adhesion: the contact ends when the force,
+//   not the penetration, returns to zero). For this clamped law the rebound
+//   ratio has a closed form (derived in docs/contact_law.md):
+//     zeta < 1:  e = exp(-q (pi - 2 atan q)),   q = zeta / sqrt(1 - zeta^2)
+//     zeta = 1:  e = exp(-2)
+//     zeta > 1:  e = exp(-p ln((p + 1)/(p - 1))), p = zeta / sqrt(zeta^2 - 1)
+//   and contact_damping_ratio() inverts it, so penalty impacts rebound with
+//   the scene's e. e -> 0 needs zeta -> infinity (e ~ 1/(4 zeta^2)); below
+//   kPenaltyRestitutionFloor the penalty method uses the floor (documented
+//   in the README with its cost and its error).
+// * Tangential: a damper capped at the cone, F_t = -clamp(c_t v_slide,
+//   -f F_n, f F_n) with c_t = 2 sqrt(k_c m_eff), the contact's critical
+//   damping. It adds no stiffness beyond the contact's own (its rate c_t /
+//   m_eff = 2 omega_c), so rolling never stalls the integrator; in stick the
+//   surfaces creep at |F_t| / c_t, which vanishes as k_c grows.
 #pragma once
 
 #include <algorithm>
+#include <boost/math/tools/roots.hpp>
 #include <cmath>
+#include <cstdint>
 
 #include "rotor_rub_sim/core/model.hpp"
 
 namespace rotor_rub::core {
 
+// ---- Penalty: the clamped spring-dashpot ----------------------------------
+
+// Rebound ratio of the clamped linear spring-dashpot at damping ratio zeta.
+inline double clamped_dashpot_restitution(double zeta) {
+  if (zeta <= 0.0) return 1.0;
+  if (zeta < 1.0) {
+    const double q = zeta / std::sqrt(1.0 - zeta * zeta);
+    return std::exp(-q * (M_PI - 2.0 * std::atan(q)));
+  }
+  if (zeta == 1.0) return std::exp(-2.0);
+  const double p = zeta / std::sqrt(zeta * zeta - 1.0);
+  return std::exp(-p * std::log((p + 1.0) / (p - 1.0)));
+}
+
+// The penalty method's restitution floor: e -> 0 needs an infinite damper.
+// At 0.01 (zeta = 4.95) the rebound of a 10 mm/s impact is 0.1 mm/s; the
+// damper's rate 2 zeta omega_c sets the explicit step in contact.
+inline constexpr double kPenaltyRestitutionFloor = 0.01;
+
+// The damping ratio whose clamped law rebounds with max(e, floor).
 inline double contact_damping_ratio(double restitution) {
-  if (restitution <= 0.0) return 1.0;
-  if (restitution >= 1.0) return 0.0;
-  const double l = std::log(restitution);
-  return -l / std::sqrt(M_PI * M_PI + l * l);
+  const double e = std::max(restitution, kPenaltyRestitutionFloor);
+  if (e >= 1.0) return 0.0;
+  auto f = [e](double zeta) { return clamped_dashpot_restitution(zeta) - e; };
+  std::uintmax_t it = 200;
+  auto tol = [](double a, double b) { return std::abs(b - a) <= 1e-14 * std::abs(b); };
+  // e(zeta) falls monotonically from 1 at 0 to ~1/(4 zeta^2): [0, 100] brackets
+  // every e >= 1e-4.
+  const auto br = boost::math::tools::toms748_solve(f, 0.0, 100.0, tol, it);
+  return 0.5 * (br.first + br.second);
 }
 
 inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
@@ -37,20 +87,63 @@ inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
          std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
 }
 
+// RK4's stability bound on the penalty contact [s]: the contact mode's
+// fastest eigenvalue is -omega_c (zeta + sqrt(zeta^2 - 1)) when overdamped
+// (zeta >= 1) and omega_c on the unit circle's scale otherwise; RK4 is stable
+// on [-2.785, 0] of the real axis and to 2.828 on the imaginary one, so
+// h <= 2.785 / |lambda_max| holds for every zeta (dense_rk4.hpp). Above it
+// the clamp keeps the state bounded but the contact chatters: a wrong answer,
+// so validate_scene() refuses such a step.
+inline double rk4_stable_step_s(const JeffcottModel& m) {
+  const double zeta = contact_damping_ratio(m.parameters().restitution);
+  const double omega_c = std::sqrt(m.parameters().contact_stiffness_N_per_m / m.effective_mass_kg());
+  const double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
+  return 2.785 / (fast * omega_c);
+}
+
+// The tangential damper of the penalty friction [N s/m].
+inline double tangential_damping_N_s_per_m(const JeffcottModel& m) {
+  return 2.0 * std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
+}
+
+// The penalty friction force on the rotor along t [N].
+inline double penalty_friction_N(double friction_coefficient, double normal_force_N, double tangential_damping,
+                                 double sliding_velocity_m_per_s) {
+  const double cap = friction_coefficient * normal_force_N;
+  return -std::clamp(tangential_damping * sliding_velocity_m_per_s, -cap, cap);
+}
+
+// ---- Rigid methods: impact, settling, stick and slip -----------------------
+
 struct ImpactResult {
   double normal_impulse_N_s = 0.0;
   double closing_velocity_m_per_s = 0.0;  // v_n before the impact
-  bool settles = false;                   // rebound below the settle speed
+  bool settles = false;                   // plastic: sustained contact follows if pressed
+  bool sliding_stopped = false;           // the tangential impulse stopped the sliding
 };
+
+// The normal acceleration of delta without contact force [m/s^2]: > 0 when
+// the free motion presses the rotor onto the bore.
+inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
+                                    const ContactGeometry& g) {
+  Vec2 ar, as;
+  m.accelerations(k, d, g, 0.0, 0.0, ar, as);
+  return JeffcottModel::distance_acceleration(k, g, ar, as);
+}
 
 // Applies the impact law to k (velocities change, positions do not). Call
 // only with a closing normal velocity (g.normal_velocity_m_per_s > 0).
-inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& g, Kinematics& k) {
+// settle_apex_m: a rebound whose flight apex would stay below it settles.
+inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
+                                 double settle_apex_m, Kinematics& k) {
   const ModelParameters& p = m.parameters();
   ImpactResult r;
   r.closing_velocity_m_per_s = g.normal_velocity_m_per_s;
   double e = p.restitution;
-  if (e * g.normal_velocity_m_per_s < p.impact_settle_velocity_m_per_s) {
+  const double rebound = e * g.normal_velocity_m_per_s;
+  const double a_press = pressing_acceleration(m, k, d, g);
+  if (rebound < p.impact_settle_velocity_m_per_s ||
+      (a_press > 0.0 && rebound * rebound <= 2.0 * a_press * settle_apex_m)) {
     e = 0.0;
     r.settles = true;
   }
@@ -60,13 +153,39 @@ inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& 
   if (m.has_friction()) {
     // Tangential impulse opposing sliding, at most what stops it.
     const double stop = std::abs(g.sliding_velocity_m_per_s) / inv_m_sum;
-    const double tangential = std::min(p.friction_coefficient * r.normal_impulse_N_s, stop);
+    const double limit = p.friction_coefficient * r.normal_impulse_N_s;
+    r.sliding_stopped = stop <= limit;
+    const double tangential = std::min(limit, stop);
     const double s = g.sliding_velocity_m_per_s > 0.0 ? 1.0 : (g.sliding_velocity_m_per_s < 0.0 ? -1.0 : 0.0);
     impulse_on_rotor -= tangential * s * g.tangent;
   }
   k.rotor_vel += impulse_on_rotor * m.inv_rotor_mass();
   k.stator_vel -= impulse_on_rotor * m.inv_stator_mass();
   return r;
+}
+
+// The friction regime of a sustained contact. slip_sign s is sgn(v_slide)
+// while sliding (the friction on the rotor is -f F_n s).
+struct FrictionMode {
+  bool stick = false;
+  double slip_sign = 1.0;
+};
+
+// The friction regime at v_slide (at_rest: v_slide is zero to the event's
+// resolution) given the force that would hold v_slide = 0 and the cone f F_n.
+inline FrictionMode select_friction_mode(double sliding_velocity_m_per_s, bool at_rest, double stick_force_N,
+                                         double cone_N) {
+  FrictionMode mode;
+  if (!at_rest) {
+    mode.slip_sign = sliding_velocity_m_per_s >= 0.0 ? 1.0 : -1.0;
+    return mode;
+  }
+  if (std::abs(stick_force_N) <= cone_N) {
+    mode.stick = true;
+    return mode;
+  }
+  mode.slip_sign = stick_force_N > 0.0 ? -1.0 : 1.0;
+  return mode;
 }
 
 }  // namespace rotor_rub::core

@@ -23,16 +23,16 @@
 // * Contact geometry: delta = |r_r - r_s|, outward normal n = (r_r - r_s)/delta,
 //   tangent t = n rotated +90 deg. Penetration is delta - C.
 // * Normal force F_n >= 0 pushes the rotor by -F_n n and the stator by +F_n n.
-// * Friction: Coulomb, f F_n, opposing the sliding velocity of the rotor's
-//   surface over the stator's at the contact point,
-//     v_slide = (r_r' - r_s') . t + w R_r,
-//   so the force on the rotor is -f F_n sgn(v_slide) t and on the stator the
-//   opposite (Newton's third law). The stator does not spin. sgn is
-//   regularised linearly in |v_slide| < friction_regularisation_m_per_s (a
-//   band, not stick-slip): outside the band the law is exact Coulomb. In the
-//   paper scene |v_slide| stays near w (R_r + C) > 0.5 m/s while in contact
-//   (forward whirl), far outside the 1e-4 m/s band: the band only matters for
-//   backward rolling (dry whip), where v_slide -> 0.
+// * Friction: Coulomb with stick and slip. The sliding velocity of the
+//   rotor's surface over the stator's at the contact point is
+//     v_slide = (r_r' - r_s') . t + w R_r
+//   (the stator does not spin). The tangential force on the rotor is F_t t
+//   (the stator gets -F_t t, Newton's third law), with |F_t| <= f F_n:
+//   sliding, F_t = -f F_n sgn(v_slide); sticking (rolling, v_slide = 0), F_t
+//   is whatever holds v_slide = 0, as long as it stays in the cone. How a
+//   method realises that is its own business (contact_law.hpp): the rigid
+//   methods locate v_slide = 0 and switch between slip and stick exactly; the
+//   penalty method caps a tangential damper at f F_n.
 #pragma once
 
 #include <Eigen/Core>
@@ -154,25 +154,16 @@ class JeffcottModel {
     return g;
   }
 
-  // Regularised sgn(v_slide) in [-1, 1].
-  double friction_sign(double sliding_velocity_m_per_s) const {
-    const double band = p_.friction_regularisation_m_per_s;
-    if (band <= 0.0) return sliding_velocity_m_per_s > 0.0 ? 1.0 : (sliding_velocity_m_per_s < 0.0 ? -1.0 : 0.0);
-    return std::clamp(sliding_velocity_m_per_s / band, -1.0, 1.0);
+  // The contact force on the rotor for normal force F_n >= 0 and tangential
+  // force F_t along t [N] (the stator gets the opposite).
+  static Vec2 contact_force_on_rotor(const ContactGeometry& g, double normal_force_N, double tangential_force_N) {
+    return -normal_force_N * g.normal + tangential_force_N * g.tangent;
   }
 
-  // Unit contact force direction on the rotor per unit normal force:
-  // force_on_rotor = F_n * contact_direction (stator gets the opposite).
-  Vec2 contact_direction(const ContactGeometry& g) const {
-    Vec2 dir = -g.normal;
-    if (has_friction_) dir -= p_.friction_coefficient * friction_sign(g.sliding_velocity_m_per_s) * g.tangent;
-    return dir;
-  }
-
-  // Accelerations of rotor and stator under a given normal force [m/s^2].
+  // Accelerations of rotor and stator under given contact forces [m/s^2].
   void accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
-                     Vec2& rotor_acc, Vec2& stator_acc) const {
-    const Vec2 on_rotor = normal_force_N * contact_direction(g);
+                     double tangential_force_N, Vec2& rotor_acc, Vec2& stator_acc) const {
+    const Vec2 on_rotor = contact_force_on_rotor(g, normal_force_N, tangential_force_N);
     rotor_acc = (rotor_free_force(k, d) + on_rotor) * inv_rotor_mass_;
     stator_acc = (stator_free_force(k) - on_rotor) * inv_stator_mass_;
   }
@@ -183,6 +174,15 @@ class JeffcottModel {
                                       const Vec2& stator_acc) {
     const double vt = (k.rotor_vel - k.stator_vel).dot(g.tangent);
     return g.normal.dot(rotor_acc - stator_acc) + vt * vt / g.distance_m;
+  }
+
+  // Time derivative of v_slide for given accelerations:
+  // v_slide' = t . (a_r - a_s) - (v_rel . n)(v_rel . t) / delta + A R_r.
+  double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Vec2& rotor_acc,
+                              const Vec2& stator_acc) const {
+    const Vec2 v = k.rotor_vel - k.stator_vel;
+    return g.tangent.dot(rotor_acc - stator_acc) - v.dot(g.normal) * v.dot(g.tangent) / g.distance_m +
+           d.accel_rad_per_s2 * p_.rotor_radius_m;
   }
 
  private:

@@ -64,11 +64,8 @@ struct ModelParameters {
   double stator_stiffness_N_per_m = 38166.0;
   double stator_damping_N_s_per_m = 3.61;
   double clearance_m = 2.0e-3;        // C: radial clearance
-  double friction_coefficient = 0.1;  // f: Coulomb
-  // Half-width of the band of sliding velocity in which the friction sign is
-  // linearly regularised (see contact_law.hpp). 0 = exact sign.
-  double friction_regularisation_m_per_s = 1.0e-4;
-  double restitution = 0.0;  // normal coefficient of restitution, 0 = plastic
+  double friction_coefficient = 0.1;  // f: Coulomb (stick and slip, contact_law.hpp)
+  double restitution = 0.0;           // normal coefficient of restitution, 0 = plastic
   // Impacts whose rebound velocity falls below this settle into sustained
   // contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;

@@ -55,7 +55,8 @@ struct RunStats {
   long jacobian_evals = 0;   // stiff integrator only
   long root_iterations = 0;  // root-finder function evaluations (events, forces)
   long touchdowns = 0, liftoffs = 0, grazes = 0;
-  long restarts = 0;  // integrator restarts (events, profile breaks, projections)
+  long restarts = 0;              // integrator restarts (events, profile breaks, projections)
+  long friction_transitions = 0;  // rigid methods: slip -> stick, stick -> slip, slip reversals
   double wall_time_s = 0.0;
   double rhs_time_s = 0.0;                          // profile_cost only: in derivative evaluation, iteration included
   double iteration_time_s = 0.0;                    // profile_cost only: in the normal force iteration
@@ -65,8 +66,11 @@ struct RunStats {
 
 // How a run fails. stalled: the step budget, the minimum step or the chatter
 // counter; diverged: a non-finite or blown-up state; not_converged: the normal
-// force root finder; timed_out: the wall-time budget (max_wall_time_s).
-enum class FailureClass { kStalled, kDiverged, kNotConverged, kTimedOut };
+// force root finder; timed_out: the wall-time budget (max_wall_time_s);
+// invariant_violated: an accepted step broke what the contact law guarantees
+// (non-penetration of a rigid method, the friction cone, dissipative friction,
+// finiteness; see invariants.hpp): a defect made loud, never an `ok` run.
+enum class FailureClass { kStalled, kDiverged, kNotConverged, kTimedOut, kInvariantViolated };
 inline const char* to_string(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -77,13 +81,15 @@ inline const char* to_string(FailureClass c) {
       return "not_converged";
     case FailureClass::kTimedOut:
       return "timed_out";
+    case FailureClass::kInvariantViolated:
+      return "invariant_violated";
   }
   return "?";
 }
 
 // The process exit status of a run that failed, shared by the runner and the
 // node: 3 stalled, 4 diverged, 5 not converged, 7 timed out (6 is the
-// runner's output error).
+// runner's output error), 8 invariant violated.
 inline int exit_status(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -94,6 +100,8 @@ inline int exit_status(FailureClass c) {
       return 5;
     case FailureClass::kTimedOut:
       return 7;
+    case FailureClass::kInvariantViolated:
+      return 8;
   }
   return 1;
 }

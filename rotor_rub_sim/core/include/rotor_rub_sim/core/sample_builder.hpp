@@ -7,7 +7,7 @@
 namespace rotor_rub::core {
 
 inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
-                          double normal_force_N, bool in_contact) {
+                          double normal_force_N, double tangential_force_N, bool in_contact) {
   Sample s;
   s.t_s = t_s;
   s.kin = k;
@@ -17,8 +17,8 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   s.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;
   s.in_contact = in_contact;
   s.normal_force_N = normal_force_N;
-  s.contact_force_on_rotor_N = normal_force_N * m.contact_direction(g);
-  s.friction_force_N = s.contact_force_on_rotor_N.dot(g.tangent);
+  s.contact_force_on_rotor_N = JeffcottModel::contact_force_on_rotor(g, normal_force_N, tangential_force_N);
+  s.friction_force_N = tangential_force_N;
   return s;
 }
 

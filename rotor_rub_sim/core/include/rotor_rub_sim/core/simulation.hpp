@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/invariants.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 
@@ -62,6 +63,7 @@ class Simulation {
   Scene scene_;
   SpeedProfile profile_;
   std::unique_ptr<ContactMethod> method_;
+  InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
   double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
