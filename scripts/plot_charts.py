@@ -22,7 +22,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black"}
-FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invalid": "P",
+FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invariant_violated": "^",
+                "invalid": "P",
                 "no_reference": "*"}
 COMPLETED = ("ok", "inaccurate")  # runs that reached the end: drawn on the curves
 WINDOW_S = 1e-3  # the impulse window of the force comparison (rotor_rub_sweep --window-ms 1)

@@ -3,8 +3,8 @@
 a cell coloured by its class. scripts/make_stability.sh runs the sweeps.
 
 usage: plot_stability.py --data DIR --out DIR --stamp TEXT [--scene FILE]
-Writes stability_penalty.png, stability_switching.png, stability_iteration.png
-and prints each method's measured safe region.
+Writes stability_penalty.png, stability_switching.png, stability_iteration.png,
+stability_stick_slip.png and prints each method's measured safe region.
 """
 import argparse
 import csv
@@ -20,7 +20,8 @@ import numpy as np  # noqa: E402
 
 CLASS_COLOURS = {
     "ok": "#4daf4a", "inaccurate": "#ffd92f", "stalled": "#ff7f00", "diverged": "#e41a1c",
-    "not_converged": "#984ea3", "timed_out": "#999999", "no_reference": "#a6cee3", "invalid": "white",
+    "not_converged": "#984ea3", "timed_out": "#999999", "invariant_violated": "#000000", "no_reference": "#a6cee3",
+    "invalid": "white",
 }
 COMPLETED = ("ok", "inaccurate", "no_reference")
 
@@ -184,6 +185,36 @@ def iteration(data, out, text):
         ("iteration_step", "rtol", "friction_coefficient", "step size (rtol) x friction")])
 
 
+def stick_slip(data, out, text):
+    """The stick-slip map: class per (speed, friction) for each method, each
+    cell labelled with the share of its contact time spent sticking."""
+    rows = read_csv(os.path.join(data, "stability_stick_slip.csv"))
+    methods = ("switching", "iteration", "penalty")
+    fig, axes = plt.subplots(1, 3, figsize=(17, 5.6))
+    for ax, method in zip(axes, methods):
+        mine = [r for r in rows if r["method"] == method]
+        class_map(ax, mine, "constant_speed_rad_per_s", "friction_coefficient",
+                  "%s: constant speed from rest, 1 s, rtol 1e-6" % method)
+        xs = sorted({value(r, "constant_speed_rad_per_s") for r in mine})
+        ys = sorted({value(r, "friction_coefficient") for r in mine})
+        for r in mine:
+            if r["status"] not in COMPLETED:
+                continue
+            contact = float(r["contact_time_s"] or 0)
+            share = float(r["stick_time_s"] or 0) / contact if contact > 0 else 0.0
+            label = "-" if contact == 0 else "%.0f" % (100 * share)
+            ax.text(xs.index(value(r, "constant_speed_rad_per_s")), ys.index(value(r, "friction_coefficient")),
+                    label, ha="center", va="center", fontsize=7)
+    legend(fig, {q["status"] for q in rows})
+    fig.suptitle("stick and slip: class per (speed, friction); number: % of contact time sticking "
+                 "(rolling), '-': no contact", x=0.4)
+    fig.tight_layout(rect=(0, 0.03, 1, 0.93))
+    stamp(fig, text)
+    fig.savefig(os.path.join(out, "stability_stick_slip.png"), dpi=100)
+    plt.close(fig)
+    return rows
+
+
 def summary(name, rows):
     counts = {}
     for r in rows:
@@ -208,6 +239,8 @@ def main():
     for name, rows in zip(("iteration force tolerance", "iteration step", "iteration violent"),
                           iteration(a.data, a.out, a.stamp)):
         print(summary(name, rows))
+    for method in ("switching", "iteration", "penalty"):
+        print(summary("stick-slip " + method, [r for r in stick_slip(a.data, a.out, a.stamp) if r["method"] == method]))
     for name in ("stability_penalty_adaptive", "stability_violent"):
         print(summary(name, read_csv(os.path.join(a.data, name + ".csv"))))
     print("stability maps written to", a.out)

@@ -58,7 +58,8 @@ std::string sweep_csv_header() {
          "rhs_evals,jacobian_evals,root_iterations,touchdowns,liftoffs,grazes,rhs_share,iteration_share,"
          "compared_samples,max_rotor_err_m,rms_rotor_err_m,max_stator_err_m,rms_stator_err_m,first_contact_s,"
          "first_contact_err_s,last_contact_end_s,last_contact_end_err_s,impulse_window_err_rel,"
-         "impulse_windows_within_5pct,ref_peak_window_force_N,max_orbit_m,peak_normal_force_N,contact_time_s";
+         "impulse_windows_within_5pct,ref_peak_window_force_N,max_orbit_m,peak_normal_force_N,contact_time_s,stick_"
+         "time_s";
 }
 
 void write_sweep_row(std::ostream& os, const SweepResult& r) {
@@ -86,7 +87,7 @@ void write_sweep_row(std::ostream& os, const SweepResult& r) {
      << ',' << num(e.first_contact_err_s) << ',' << num(e.last_contact_end_s) << ',' << num(e.last_contact_end_err_s)
      << ',' << num(e.impulse_window_err_rel) << ',' << num(e.impulse_windows_within_5pct) << ','
      << num(e.ref_peak_window_force_N) << ',' << num(e.max_orbit_m) << ',' << num(e.peak_normal_force_N) << ','
-     << num(e.contact_time_s) << '\n';
+     << num(e.contact_time_s) << ',' << num(e.stick_time_s) << '\n';
 }
 
 void merge_sweep_csvs(const std::vector<std::string>& parts, std::ostream& out) {

@@ -276,7 +276,9 @@ class IterationMethod final : public ContactMethod {
     long unused = 0;
     ContactForces f;
     if (system_.engaged) f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
-    return make_sample(model_, t_s, k, d, f.normal_N, f.tangential_N, system_.engaged);
+    Sample s = make_sample(model_, t_s, k, d, f.normal_N, f.tangential_N, system_.engaged);
+    s.sticking = system_.engaged && system_.mode.stick;
+    return s;
   }
 
   const RunStats& stats() const override { return stats_; }

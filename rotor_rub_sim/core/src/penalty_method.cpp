@@ -129,7 +129,10 @@ class PenaltyMethod final : public ContactMethod {
     const DriveState d = system_.segment.at(t_s);
     const ContactGeometry g = model_.contact_geometry(k, d);
     const double fn = system_.law.normal(g);
-    return make_sample(model_, t_s, k, d, fn, system_.law.tangential(g, fn), g.penetration_m > 0.0);
+    const double ft = system_.law.tangential(g, fn);
+    Sample s = make_sample(model_, t_s, k, d, fn, ft, g.penetration_m > 0.0);
+    s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
+    return s;
   }
 
   const RunStats& stats() const override { return stats_; }

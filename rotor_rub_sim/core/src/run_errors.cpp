@@ -98,8 +98,10 @@ void ErrorObserver::on_sample(const Sample& s) {
   e_.max_orbit_m = std::max(e_.max_orbit_m, s.kin.rotor_pos.norm());
   e_.peak_normal_force_N = std::max(e_.peak_normal_force_N, s.normal_force_N);
   if (i > 0 && last_in_contact_) e_.contact_time_s += s.t_s - last_t_s_;
+  if (i > 0 && last_sticking_) e_.stick_time_s += s.t_s - last_t_s_;
   last_t_s_ = s.t_s;
   last_in_contact_ = s.in_contact;
+  last_sticking_ = s.sticking;
   windows_.add_sample(s.t_s, s.normal_force_N, s.in_contact);
   ++e_.samples;
 }

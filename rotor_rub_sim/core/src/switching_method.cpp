@@ -141,7 +141,9 @@ class SwitchingMethod final : public ContactMethod {
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
       return make_sample(model_, t_s, c.kin, d, 0.0, 0.0, true);
     }
-    return make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
+    Sample s = make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
+    s.sticking = contact_sys_.dynamics.mode.stick;
+    return s;
   }
 
   const RunStats& stats() const override { return stats_; }

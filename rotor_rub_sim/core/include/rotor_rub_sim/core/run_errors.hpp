@@ -79,6 +79,7 @@ struct RunErrors {
   double max_orbit_m = 0.0;          // max |r_r|
   double peak_normal_force_N = 0.0;  // max sampled F_n (impacts excluded)
   double contact_time_s = 0.0;       // sampled time in contact
+  double stick_time_s = 0.0;         // sampled time in contact and sticking (rolling)
 };
 
 // Compares each sample with the reference sample of the same index as it
@@ -100,6 +101,7 @@ class ErrorObserver : public SimulationObserver {
   double sum_rotor2_ = 0.0, sum_stator2_ = 0.0;
   double last_t_s_ = 0.0;
   bool last_in_contact_ = false;
+  bool last_sticking_ = false;
 };
 
 }  // namespace rotor_rub::core

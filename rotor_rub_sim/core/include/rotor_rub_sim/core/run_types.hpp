@@ -21,6 +21,9 @@ struct Sample {
   double penetration_m = 0.0;  // delta - C: < 0 is the gap
   double sliding_velocity_m_per_s = 0.0;
   bool in_contact = false;
+  // In contact and sticking (rolling, v_slide held at 0): the rigid methods'
+  // stick regime; the penalty method's creep band |c_t v_slide| < f F_n.
+  bool sticking = false;
 };
 
 enum class EventKind { kTouchdown, kLiftoff, kGraze };
