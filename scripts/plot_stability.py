@@ -92,14 +92,34 @@ def rk4_radius(angle):
     return lo
 
 
+def penalty_damping_ratio(restitution):
+    """contact_law.hpp's inversion of the clamped spring-dashpot's rebound
+    ratio (floor 0.01), by bisection."""
+    e = max(restitution, 0.01)
+
+    def rebound(z):
+        if z < 1:
+            q = z / math.sqrt(1 - z * z)
+            return math.exp(-q * (math.pi - 2 * math.atan(q)))
+        if z == 1:
+            return math.exp(-2)
+        p = z / math.sqrt(z * z - 1)
+        return math.exp(-p * math.log((p + 1) / (p - 1)))
+    lo, hi = 0.0, 100.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        (lo, hi) = (mid, hi) if rebound(mid) > e else (lo, mid)
+    return lo
+
+
 def penalty(data, out, text, scene):
     rk4 = read_csv(os.path.join(data, "stability_penalty_rk4.csv"))
     adaptive = read_csv(os.path.join(data, "stability_penalty_adaptive.csv"))
     violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == "penalty"]
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.6), gridspec_kw={"width_ratios": (1.3, 1, 0.8)})
     xs, ys = class_map(axes[0], rk4, "contact_stiffness_N_per_m", "fixed_step_s",
-                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / (9.80 omega_c)")
-    # Theory: e = 0 makes the penalty damper overdamped (zeta = 4.95, the
+                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / (9.51 omega_c); white: refused")
+    # Theory: e = 0 makes the penalty damper overdamped (zeta = 4.81, the
     # restitution floor 0.01 of contact_law.hpp): real eigenvalues
     # -omega_c (zeta +- sqrt(zeta^2 - 1)), omega_c = sqrt(k_c / m_eff); RK4 is
     # stable on [-2.785, 0] of the real axis.
@@ -107,7 +127,7 @@ def penalty(data, out, text, scene):
     m_eff = 1.0 / (1.0 / mr + 1.0 / ms)
     r = rk4_radius(math.pi)
     kc = np.logspace(math.log10(xs[0]), math.log10(xs[-1]), 200)
-    zeta = 4.95
+    zeta = penalty_damping_ratio(0.0)
     h_theory = r / ((zeta + math.sqrt(zeta * zeta - 1.0)) * np.sqrt(kc / m_eff))
     # Map onto the cell grid (log interpolation between cell centres).
     lx = np.interp(np.log10(kc), np.log10(xs), np.arange(len(xs)))

@@ -15,7 +15,7 @@ using namespace rotor_rub;
 namespace {
 
 // RK4's stability interval on the negative real axis, [-2.785, 0]: for e = 0
-// the penalty damper is overdamped (zeta = 4.95, the restitution floor 0.01,
+// the penalty damper is overdamped (zeta = 4.81, the restitution floor 0.01,
 // contact_law.hpp), so the contact mode's eigenvalues are real,
 // -omega_c (zeta +- sqrt(zeta^2 - 1)), and the fast one bounds the step.
 constexpr double kRk4RealAxisRadius = 2.785;
@@ -53,7 +53,7 @@ double theoretical_h_max_s(const core::Scene& s) {
 
 TEST(FixedStep, StableBelowTheBoundDivergedAbove) {
   const double h_max = theoretical_h_max_s(rk4_scene(1e-6));
-  EXPECT_NEAR(h_max, 4.91e-6, 0.01e-6);  // k_c 1e9, m_eff 0.281 kg, zeta 4.95
+  EXPECT_NEAR(h_max, 4.91e-6, 0.01e-6);  // k_c 1e9, m_eff 0.281 kg, zeta 4.81
   EXPECT_DOUBLE_EQ(h_max, core::rk4_stable_step_s(core::JeffcottModel(rk4_scene(1e-6).model)));
 
   Count below_samples;

@@ -2,6 +2,7 @@
 
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
@@ -214,10 +215,10 @@ class IterationMethod final : public ContactMethod {
     for (;;) {
       integrator_.do_step(system_, stats_);
       if (system_.engaged) break;
-      // Free step: reject it while it ends beyond the bore by more than the
-      // gap tolerance (no event location for touchdown in this method).
-      const double p = geometry_at(integrator_.t_new()).penetration_m;
-      if (p <= gap_tolerance_m_) break;
+      // Free step: reject it while it reaches beyond the bore by more than
+      // the gap tolerance anywhere (no event location for touchdown in this
+      // method: the rejections bisect toward the touch).
+      if (max_free_penetration() <= gap_tolerance_m_) break;
       integrator_.retreat(0.5 * (integrator_.t_new() - integrator_.t_old()), stats_);
     }
     valid_begin_ = integrator_.t_old();
@@ -297,6 +298,31 @@ class IterationMethod final : public ContactMethod {
     State x;
     integrator_.state_at(t_s, x);
     return model_.contact_geometry(kinematics_of<kStatorDof>(x), system_.segment.at(t_s));
+  }
+
+  // The largest penetration of the free step just taken, on its dense
+  // output: at its quarter points and, where the gap's rate falls through
+  // zero between two of them (a graze inside the step), at the located
+  // maximum. The end alone would let a graze inside a step pass through
+  // the bore.
+  double max_free_penetration() {
+    const double t0 = integrator_.t_old(), t1 = integrator_.t_new();
+    ContactGeometry prev = geometry_at(t0);
+    double prev_t = t0, worst = -std::numeric_limits<double>::infinity();
+    for (int i = 1; i <= kScanPoints; ++i) {
+      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const ContactGeometry g = geometry_at(ti);
+      worst = std::max(worst, g.penetration_m);
+      if (prev.normal_velocity_m_per_s > 0.0 && g.normal_velocity_m_per_s < 0.0) {
+        auto falling_rate = [this](double t) { return -geometry_at(t).normal_velocity_m_per_s; };
+        const double tm =
+            locate_event(falling_rate, prev_t, -prev.normal_velocity_m_per_s, ti, -g.normal_velocity_m_per_s, stats_);
+        worst = std::max(worst, geometry_at(tm).penetration_m);
+      }
+      prev = g;
+      prev_t = ti;
+    }
+    return worst;
   }
 
   // The friction regime at a state on the bore.
@@ -434,6 +460,7 @@ class IterationMethod final : public ContactMethod {
     valid_begin_ = valid_end_ = t_s;
   }
 
+  static constexpr int kScanPoints = 4;
   JeffcottModel model_;
   ContactForceSolver solver_;
   IterationSystem<kStatorDof> system_;

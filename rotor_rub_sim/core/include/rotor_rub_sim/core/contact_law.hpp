@@ -65,7 +65,7 @@ inline double clamped_dashpot_restitution(double zeta) {
 }
 
 // The penalty method's restitution floor: e -> 0 needs an infinite damper.
-// At 0.01 (zeta = 4.95) the rebound of a 10 mm/s impact is 0.1 mm/s; the
+// At 0.01 (zeta = 4.81) the rebound of a 10 mm/s impact is 0.1 mm/s; the
 // damper's rate 2 zeta omega_c sets the explicit step in contact.
 inline constexpr double kPenaltyRestitutionFloor = 0.01;
 
