@@ -134,15 +134,16 @@ def penalty(data, out, text, scene):
     ly = np.interp(np.log10(h_theory), np.log10(ys), np.arange(len(ys)), left=-0.5, right=len(ys) - 0.5)
     axes[0].plot(lx, ly, "k-", lw=2)
     measured = []
+    fast = zeta + math.sqrt(zeta * zeta - 1.0)
     for k in xs:
         cells = sorted((value(q, "fixed_step_s"), q["status"]) for q in rk4 if value(q, "contact_stiffness_N_per_m") == k)
         stable = None
         for h, st in cells:
-            if st == "diverged":
+            if st not in COMPLETED:
                 break
             stable = h
-        first_bad = next((h for h, st in cells if st == "diverged"), None)
-        measured.append((k, stable, first_bad, r / math.sqrt(k / m_eff)))
+        first_bad = next(("%s at %.3g" % (st, h) for h, st in cells if st not in COMPLETED), None)
+        measured.append((k, stable, first_bad, r / (fast * math.sqrt(k / m_eff))))
     # Adaptive: cost against k_c.
     for integ, mk in (("dopri5", "o"), ("rosenbrock4", "^")):
         rows = sorted((q for q in adaptive if q["integrator"] == integ), key=lambda q: value(q, "contact_stiffness_N_per_m"))
@@ -251,8 +252,8 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     for k, stable, bad, theory in penalty(a.data, a.out, a.stamp, a.scene):
-        print("penalty rk4 k_c %.0e N/m: stable up to h = %s s, first diverged at h = %s s; theory h_max = %.3g s"
-              % (k, "%.3g" % stable if stable else "none", "%.3g" % bad if bad else "none", theory))
+        print("penalty rk4 k_c %.0e N/m: completes up to h = %s s, then %s s; theory h_max = %.3g s"
+              % (k, "%.3g" % stable if stable else "none", bad if bad else "none", theory))
     for name, rows in zip(("switching restitution x friction", "switching grazing", "switching violent"),
                           switching(a.data, a.out, a.stamp)):
         print(summary(name, rows))
