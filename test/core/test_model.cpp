@@ -86,6 +86,10 @@ TEST(ContactLaw, FrictionModeAtRest) {
   EXPECT_FALSE(up.stick);
   EXPECT_EQ(up.slip_sign, -1.0);
   EXPECT_EQ(select_friction_mode(0.0, true, -1.5, 1.0).slip_sign, 1.0);
+  // Without friction there is no stick, even with a zero stick force (the
+  // stability campaign found a frictionless run held in stick, then
+  // outside its zero cone).
+  EXPECT_FALSE(select_friction_mode(0.0, true, 0.0, 0.0).stick);
 }
 
 TEST(ContactLaw, PlasticImpactStopsNormalMotionAndKeepsMomentum) {
