@@ -223,9 +223,11 @@ class IterationMethod final : public ContactMethod {
     }
     valid_begin_ = integrator_.t_old();
     valid_end_ = std::min(integrator_.t_new(), t_limit_s);
+    // A friction transition is located even in a step cut short by a drive
+    // change: after the restart it would no longer be seen as a crossing.
+    if (system_.engaged && locate_friction_transition()) return;
     if (valid_end_ < integrator_.t_new()) return;  // a segment change restarts here
     if (system_.engaged) {
-      if (locate_friction_transition()) return;
       end_engaged_step(events);
       return;
     }
@@ -252,7 +254,7 @@ class IterationMethod final : public ContactMethod {
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     guard_.record(valid_end_);
     events.push_back(e);
-    Pending next{true, valid_end_, k, sustained, {}};
+    Pending next{true, valid_end_, k, sustained, {}, true};
     if (sustained) {
       project_to_bore(k, g);
       next.kin = k;
@@ -275,10 +277,14 @@ class IterationMethod final : public ContactMethod {
     // rate.
     const ContactForceSolver probe = solver_;
     long unused = 0;
+    // At a friction transition's instant the sample reports the new regime
+    // (a stick force that jumped out of the cone at a drive change is not
+    // applied there, the slip force is).
+    const FrictionMode& mode = pending_.due && pending_.engaged && t_s >= pending_.t_s ? pending_.mode : system_.mode;
     ContactForces f;
-    if (system_.engaged) f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
+    if (system_.engaged) f = probe.solve(k, d, g, mode, false, t_s, unused);
     Sample s = make_sample(model_, t_s, k, d, f.normal_N, f.tangential_N, system_.engaged);
-    s.sticking = system_.engaged && system_.mode.stick;
+    s.sticking = system_.engaged && mode.stick;
     return s;
   }
 
@@ -292,6 +298,7 @@ class IterationMethod final : public ContactMethod {
     Kinematics kin;
     bool engaged = false;
     FrictionMode mode;
+    bool new_mode = false;  // a friction regime begins here (touchdown, transition)
   };
 
   ContactGeometry geometry_at(double t_s) const {
@@ -356,20 +363,45 @@ class IterationMethod final : public ContactMethod {
   bool locate_friction_transition() {
     if (!model_.has_friction()) return false;
     const double t0 = integrator_.t_old(), t1 = valid_end_;
-    const double f1 = friction_event(t1);
-    if (f1 < 0.0) return false;
-    double f0 = friction_event(t0);
-    double te;
-    if (f0 < 0.0) {
-      te = locate_event([this](double t) { return friction_event(t); }, t0, f0, t1, f1, stats_);
-    } else {
-      // The regime began on its surface (slip from rest): bracket on the
-      // deflated function, whose value at t0 is the rate into the regime.
-      const double rate = friction_event_rate(t0);
-      if (!(rate < 0.0)) return false;  // not leaving the surface: the step-end check decides
-      auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
-      te = locate_event(h, t0, rate, t1, f1 / (t1 - t0), stats_);
+    double prev_t = t0, prev_f = friction_event(t0);
+    // At the step's start the function is either below zero (the regime
+    // holds), on its surface because the regime began there (slip from
+    // rest: the deflated function, whose value at t0 is the rate into the
+    // regime, brackets the first crossing), or above zero at a step that is
+    // not a regime's start: it jumped there at a drive change (the contact
+    // forces hold m e A and A R_r terms), and the transition is now.
+    bool deflated = false;
+    double rate = 0.0;
+    if (prev_f >= 0.0) {
+      if (t0 != mode_start_s_) return transition_at(t0);
+      rate = friction_event_rate(t0);
+      if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return false;  // the invariant checks decide
+      deflated = true;
     }
+    // The quarter points of the step, so that an excursion out of the
+    // regime and back inside one step is not missed.
+    for (int i = 1; i <= kScanPoints; ++i) {
+      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double fi = friction_event(ti);
+      if (fi >= 0.0) {
+        double te;
+        if (deflated) {
+          auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
+          te = locate_event(h, t0, rate, ti, fi / (ti - t0), stats_);
+        } else {
+          te = locate_event([this](double t) { return friction_event(t); }, prev_t, prev_f, ti, fi, stats_);
+        }
+        return transition_at(te);
+      }
+      deflated = false;
+      prev_t = ti;
+      prev_f = fi;
+    }
+    return false;
+  }
+
+  // Ends the step at te and defers the restart in the next friction regime.
+  bool transition_at(double te) {
     valid_end_ = te;
     ++stats_.friction_transitions;
     guard_.record(te);
@@ -388,12 +420,14 @@ class IterationMethod final : public ContactMethod {
     } else {
       next = mode_at(k, d, true, te);
     }
-    defer({true, te, k, true, next});
+    defer({true, te, k, true, next, true});
     return true;
   }
 
-  // d/dt of the slip event function at the start of the step (slip only).
+  // d/dt of the slip event function at the start of the step (slip only;
+  // a stick regime starts strictly inside the cone, never on its surface).
   double friction_event_rate(double t_s) const {
+    if (system_.mode.stick) return 0.0;
     const Kinematics k = kinematics_of<kStatorDof>(integrator_.x_old());
     const DriveState d = system_.segment.at(t_s);
     const ContactGeometry g = model_.contact_geometry(k, d);
@@ -449,6 +483,7 @@ class IterationMethod final : public ContactMethod {
   void apply(Pending p) {
     system_.engaged = p.engaged;
     system_.mode = p.mode;
+    if (p.new_mode) mode_start_s_ = p.t_s;
     if (p.engaged && p.mode.stick) hold_rolling(p.kin, model_.contact_geometry(p.kin, system_.segment.at(p.t_s)));
     restart_from(p.t_s, p.kin, integrator_.dt());
   }
@@ -461,6 +496,10 @@ class IterationMethod final : public ContactMethod {
   }
 
   static constexpr int kScanPoints = 4;
+  // As in the switching method: a function is on its surface when its value
+  // is what its rate makes in this time.
+  static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
+  double mode_start_s_ = -1.0;  // when the current friction regime began
   JeffcottModel model_;
   ContactForceSolver solver_;
   IterationSystem<kStatorDof> system_;

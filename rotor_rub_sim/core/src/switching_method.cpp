@@ -105,14 +105,27 @@ class SwitchingMethod final : public ContactMethod {
       const double dt = contact_int_.dt();
       contact_int_.initialize(contact_sys_, x, t_s, dt, stats_);
     }
-    // The event functions are continuous across a drive change (the speed
-    // is), so their arming carries over; only the values are refreshed.
+    // Positions and velocities are continuous across a drive change, but the
+    // contact forces are not: the stick force and F_n hold m e A and A R_r
+    // terms, so an event function can jump across zero here. The arming
+    // carries over; the next step() fires such a jump at t_s.
     values_end_ = event_values(t_s);
     valid_begin_ = valid_end_ = t_s;
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     if (pending_) apply_pending();
+    if (regime_ == Regime::kContact) {
+      // An armed function already on its far side at the step's start
+      // jumped there at a drive change: its event is now (a zero-length step).
+      for (int k = 0; k < kEventFunctions; ++k) {
+        if (armed_[k] && values_end_.value[k] >= 0.0) {
+          valid_begin_ = valid_end_;
+          on_event(static_cast<EventFunction>(k), valid_end_, events);
+          return;
+        }
+      }
+    }
     if (regime_ == Regime::kFree) {
       free_int_.do_step(free_sys_, stats_);
       scan(free_int_.t_old(), std::min(free_int_.t_new(), t_limit_s), events);
@@ -141,6 +154,17 @@ class SwitchingMethod final : public ContactMethod {
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
       return make_sample(model_, t_s, c.kin, d, 0.0, 0.0, true);
     }
+    if (pending_ && t_s >= pending_t_) {
+      // A friction transition at this instant: the sample reports the new
+      // regime's forces (a stick force that jumped out of the cone at a drive
+      // change is not applied, the slip force is).
+      ConstrainedDynamics<kStatorDof> next = contact_sys_.dynamics;
+      next.mode = next_mode_;
+      const auto cn = next.evaluate(x, d);
+      Sample s = make_sample(model_, t_s, cn.kin, d, cn.normal_force_N, cn.tangential_force_N, true);
+      s.sticking = next_mode_.stick;
+      return s;
+    }
     Sample s = make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
     s.sticking = contact_sys_.dynamics.mode.stick;
     return s;
@@ -151,6 +175,10 @@ class SwitchingMethod final : public ContactMethod {
 
  private:
   static constexpr double kUnused = -std::numeric_limits<double>::infinity();
+  // A function starts "on its surface" when its value is what its rate
+  // would make in this time: the deflated bracket value / (t - t_start) is
+  // only sound there (elsewhere it is singular at t_start).
+  static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
 
   EventValues event_values(double t_s) const {
     EventValues v;
@@ -234,7 +262,8 @@ class SwitchingMethod final : public ContactMethod {
     if (armed_[k] && va.value[k] < 0.0 && vb.value[k] >= 0.0) {
       return locate_event(f, a, va.value[k], b, vb.value[k], stats_);
     }
-    if (!armed_[k] && a == regime_start_s_ && start_rate_[k] < 0.0 && vb.value[k] >= 0.0) {
+    if (!armed_[k] && a == regime_start_s_ && start_rate_[k] < 0.0 && vb.value[k] >= 0.0 &&
+        std::abs(va.value[k]) <= -start_rate_[k] * kOnSurface_s) {
       auto h = [this, k](double t) { return event_value(k, t) / (t - regime_start_s_); };
       return locate_event(h, a, start_rate_[k], b, vb.value[k] / (b - a), stats_);
     }

@@ -36,9 +36,10 @@
 //   in the README with its cost and its error).
 // * Tangential: a damper capped at the cone, F_t = -clamp(c_t v_slide,
 //   -f F_n, f F_n) with c_t = 2 sqrt(k_c m_eff), the contact's critical
-//   damping. It adds no stiffness beyond the contact's own (its rate c_t /
-//   m_eff = 2 omega_c), so rolling never stalls the integrator; in stick the
-//   surfaces creep at |F_t| / c_t, which vanishes as k_c grows.
+//   damping. Its rate c_t / m_eff = 2 omega_c is of the contact's own order
+//   (below the normal damper's 9.5 omega_c at e = 0; it sets RK4's bound for
+//   e >= 0.1, rk4_stable_step_s()), so rolling never stalls the integrator;
+//   in stick the surfaces creep at |F_t| / c_t, which vanishes as k_c grows.
 #pragma once
 
 #include <algorithm>
@@ -97,7 +98,10 @@ inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
 inline double rk4_stable_step_s(const JeffcottModel& m) {
   const double zeta = contact_damping_ratio(m.parameters().restitution);
   const double omega_c = std::sqrt(m.parameters().contact_stiffness_N_per_m / m.effective_mass_kg());
-  const double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
+  double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
+  // The friction's tangential damper (below) adds the real eigenvalue
+  // -c_t / m_eff = -2 omega_c while the contact creeps.
+  if (m.has_friction()) fast = std::max(fast, 2.0);
   return 2.785 / (fast * omega_c);
 }
 
@@ -180,7 +184,8 @@ inline FrictionMode select_friction_mode(double sliding_velocity_m_per_s, bool a
     mode.slip_sign = sliding_velocity_m_per_s >= 0.0 ? 1.0 : -1.0;
     return mode;
   }
-  if (std::abs(stick_force_N) <= cone_N) {
+  // Without friction (cone 0) there is no stick: the contact slides freely.
+  if (cone_N > 0.0 && std::abs(stick_force_N) <= cone_N) {
     mode.stick = true;
     return mode;
   }
