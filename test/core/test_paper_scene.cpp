@@ -41,16 +41,12 @@ double max_error_until(const test::Run& r, double t_end_s) {
 constexpr double kFirstContactBar_s = 1e-4;
 constexpr double kSwitchingBar_m = 1e-7;
 constexpr double kIterationBar_m = 1e-5;
-// Penalty, e = 0: the clamped critical damper leaves an impact with exp(-2)
-// of its closing speed where the plastic law leaves with 0 (contact_law.hpp).
-// Through the sustained contact this costs < 2e-6 m; the 3.6 cm/s impacts at
-// 2.88 s and 2.93 s then leave the runs 2.4e-5 m apart in free flight,
-// whatever k_c (1e9: 3.5e-5, 1e10: 3.7e-5 m). So the penalty is held to the
-// bar through the sustained contact, and to 5e-5 m (measured 3.6e-5) over
-// the whole run: a contact-law difference, not a numerical error.
+// Penalty, e = 0: the damper inverts the clamped law (rebound 0.01, the
+// floor, contact_law.hpp), so over the whole run the penalty differs from the
+// rigid reference by its compliance, ~ F_n / k_c: measured 1.8e-6 m at k_c 1e9
+// (it was 3.6e-5 m with the critically damped law, whose impacts rebounded at
+// e^-2 = 0.135).
 constexpr double kPenaltyBar_m = 2e-5;
-constexpr double kPenaltySustainedEnd_s = 2.85;
-constexpr double kPenaltyWholeRun_m = 5e-5;
 
 }  // namespace
 
@@ -80,11 +76,10 @@ TEST(PaperScene, IterationMeetsItsBar) {
   EXPECT_NEAR(core::first_contact_s(r.out.events), core::first_contact_s(reference().out.events), kFirstContactBar_s);
 }
 
-TEST(PaperScene, PenaltyAgreesWithinTheContactLawDifference) {
+TEST(PaperScene, PenaltyMeetsItsBar) {
   const test::Run r = run_at(core::Method::kPenalty, 1e-6, 1e-9);
   ASSERT_FALSE(r.result.failure);
-  EXPECT_LE(max_error_until(r, kPenaltySustainedEnd_s), kPenaltyBar_m);
-  EXPECT_LE(max_error_until(r, 4.0), kPenaltyWholeRun_m);
+  EXPECT_LE(max_error_until(r, 4.0), kPenaltyBar_m);
   EXPECT_NEAR(core::first_contact_s(r.out.events), core::first_contact_s(reference().out.events), kFirstContactBar_s);
 }
 
@@ -97,15 +92,17 @@ TEST(PaperScene, ErrorFallsAsToleranceTightens) {
 }
 
 TEST(PaperScene, PenaltyErrorFallsAsContactStiffnessGrows) {
-  // Through the sustained contact, where the contact law's rebound plays no
-  // part, the penalty's compliance is the error: it falls with k_c.
+  // The penalty's compliance is its error, over the whole run now that its
+  // impacts rebound as the rigid law's: it falls as 1/k_c (measured 2.0e-5,
+  // 2.0e-6 m at 1e8, 1e9: a factor 10; 0.2 leaves room for the reference's
+  // and the integration's own error).
   std::vector<double> err;
-  for (double kc : {1e6, 1e7, 1e8}) {
-    core::Scene s = test::with_method(test::paper_scene(), core::Method::kPenalty, 1e-8, 1e-11);
+  for (double kc : {1e7, 1e8, 1e9}) {
+    core::Scene s = test::with_method(test::paper_scene(), core::Method::kPenalty, 1e-7, 1e-10);
     s.model.contact_stiffness_N_per_m = kc;
     s.output_rate_hz = kRate_hz;
-    err.push_back(max_error_until(test::run(s), 2.7));
+    err.push_back(max_error_until(test::run(s), 4.0));
   }
-  EXPECT_LT(err[1], err[0]);
-  EXPECT_LT(err[2], err[1]);
+  EXPECT_LT(err[1], 0.2 * err[0]);
+  EXPECT_LT(err[2], 0.2 * err[1]);
 }
