@@ -40,22 +40,60 @@ sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from rub_detector import RubDetector  # noqa: E402
 
 
+class RunUpPolicy(object):
+    """The controller's decisions, without ROS: fed the time, whether the
+    detector sees sustained rub, and the speed; returns the target speed.
+    `accel` is the acceleration limit to command with it."""
+
+    def __init__(self, operating, accel, max_accel, backoff, hold_s, log=lambda msg: None):
+        self.operating = operating
+        self.accel = accel
+        self.max_accel = max_accel
+        self.backoff = backoff
+        self.hold_s = hold_s
+        self.log = log
+        self.target = operating
+        self.escalated = False
+        self.clear_since = None  # when the rub last cleared while backed off
+
+    def decide(self, t, rubbing, speed):
+        if rubbing:
+            self.clear_since = None
+            if speed >= 0.9 * self.operating and self.target >= speed:
+                self.target = (1.0 - self.backoff) * speed
+                self.log("sustained rub at %.1f rad/s (t = %.3f s): backing off to %.1f rad/s"
+                         % (speed, t, self.target))
+            elif speed < 0.9 * self.operating and self.accel < self.max_accel and not self.escalated:
+                self.accel = min(2.0 * self.accel, self.max_accel)
+                self.escalated = True  # once per alarm
+                self.log("sustained rub in the run-up at %.1f rad/s (t = %.3f s): accelerating at %.0f rad/s^2"
+                         % (speed, t, self.accel))
+            return self.target
+        self.escalated = False
+        if self.target < self.operating:
+            # Backed off and clear: resume once the rub has stayed clear for hold_s.
+            if self.clear_since is None:
+                self.clear_since = t
+            if t - self.clear_since >= self.hold_s:
+                self.target = self.operating
+                self.clear_since = None
+                self.log("rub clear for %.2f s (t = %.3f s): resuming to %.1f rad/s" % (self.hold_s, t, self.target))
+        return self.target
+
+
 class RunUpController(object):
     def __init__(self):
         sim = rospy.get_param("~sim", "/rotor_rub_sim")
-        self.operating = rospy.get_param("~operating_speed_rad_per_s", 280.0)
-        self.accel = rospy.get_param("~run_up_accel_rad_per_s2", 500.0)
-        self.max_accel = rospy.get_param("~max_accel_rad_per_s2", 1000.0)
-        self.backoff = rospy.get_param("~backoff_fraction", 0.1)
-        self.hold_s = rospy.get_param("~hold_s", 0.2)
+        self.policy = RunUpPolicy(rospy.get_param("~operating_speed_rad_per_s", 280.0),
+                                  rospy.get_param("~run_up_accel_rad_per_s2", 500.0),
+                                  rospy.get_param("~max_accel_rad_per_s2", 1000.0),
+                                  rospy.get_param("~backoff_fraction", 0.1), rospy.get_param("~hold_s", 0.2),
+                                  log=rospy.loginfo)
         self.period_s = rospy.get_param("~control_period_s", 0.01)
         # Decided once: commands stamped 0 in a lockstep run would make it
         # depend on timing again.
         self.lockstep = rospy.get_param("~lockstep", False)
         self.detector = RubDetector(rospy.get_param("~clearance_m", 0.002))
-        self.target = self.operating
-        self.escalated = False
-        self.clear_since = None
         self.states = []  # received, not yet fed to the detector
         self.last_fed = -1
         self.last_speed = 0.0
@@ -76,29 +114,10 @@ class RunUpController(object):
         self.states = [s for s in self.states if s.sample_index > index]
 
     def decide(self, t):
-        if self.detector.rubbing:
-            self.clear_since = None
-            if self.last_speed >= 0.9 * self.operating and self.target >= self.last_speed:
-                self.target = (1.0 - self.backoff) * self.last_speed
-                rospy.loginfo("sustained rub at %.1f rad/s (t = %.3f s): backing off to %.1f rad/s",
-                              self.last_speed, t, self.target)
-            elif self.last_speed < 0.9 * self.operating and self.accel < self.max_accel and not self.escalated:
-                self.accel = min(2.0 * self.accel, self.max_accel)
-                self.escalated = True  # once per alarm
-                rospy.loginfo("sustained rub in the run-up at %.1f rad/s (t = %.3f s): accelerating at %.0f rad/s^2",
-                              self.last_speed, t, self.accel)
-        if not self.detector.rubbing:
-            self.escalated = False
-        elif self.target < self.operating:
-            self.clear_since = t if self.clear_since is None else self.clear_since
-            if t - self.clear_since >= self.hold_s:
-                self.target = self.operating
-                rospy.loginfo("rub clear for %.2f s (t = %.3f s): resuming to %.1f rad/s", self.hold_s, t,
-                              self.target)
-        return self.target
+        return self.policy.decide(t, self.detector.rubbing, self.last_speed)
 
     def command(self, stamp, target):
-        cmd = SpeedCommand(target_speed=target, acceleration_limit=self.accel)
+        cmd = SpeedCommand(target_speed=target, acceleration_limit=self.policy.accel)
         cmd.header.stamp = stamp
         self.pub.publish(cmd)
 

@@ -17,6 +17,9 @@ from rotor_rub_msgs.msg import RubAlarm
 
 from ros_test_support import Collector, find_binary, temp_prefix
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
+from runup_controller import RunUpPolicy  # noqa: E402
+
 # The detector raises its alarm when half of a 20 ms window touches the
 # clearance: a rub that stays from its first touch is detected 10 ms after it.
 # One whole window (20 ms) bounds the delay on the paper scene, whose first
@@ -36,6 +39,38 @@ def contact_time_s(states):
 
 
 class ClosedLoop(unittest.TestCase):
+    def test_policy_backs_off_then_resumes_after_hold(self):
+        """The controller's policy alone: rub at speed backs off; the rub
+        clearing for hold_s resumes the run-up (it once never did: the resume
+        branch only ran while rubbing); a rub before hold_s restarts the wait."""
+        p = RunUpPolicy(operating=100.0, accel=500.0, max_accel=1000.0, backoff=0.1, hold_s=0.05)
+        self.assertEqual(p.decide(0.00, False, 50.0), 100.0)   # running up
+        self.assertEqual(p.decide(0.10, True, 100.0), 90.0)    # rub at speed: back off 10 %
+        self.assertEqual(p.decide(0.15, True, 95.0), 90.0)     # still slowing down: no second back-off
+        self.assertEqual(p.decide(0.20, True, 90.0), 81.0)     # at the target, still rubbing: back off again
+        self.assertEqual(p.decide(0.25, True, 81.0), 81.0)     # below 90 % of the operating speed: hold
+        self.assertEqual(p.decide(0.30, False, 81.0), 81.0)    # clear: the hold starts
+        self.assertEqual(p.decide(0.33, True, 81.0), 81.0)     # rub again before hold_s: the wait restarts
+        self.assertEqual(p.decide(0.34, False, 81.0), 81.0)
+        self.assertEqual(p.decide(0.38, False, 81.0), 81.0)    # 0.04 s clear: not yet
+        self.assertEqual(p.decide(0.40, False, 81.0), 100.0)   # 0.06 s >= hold_s clear: resume
+        self.assertEqual(p.decide(0.50, False, 100.0), 100.0)
+        self.assertEqual(p.decide(0.60, True, 100.0), 90.0)    # and it can back off again
+
+    def test_controller_resumes_after_backing_off(self):
+        """End to end: operating speed 110 rad/s, hold 0.05 s. The rotor rubs on
+        reaching it (measured: 0.25 s), backs off to 89 rad/s, the rub clears
+        (0.32 s) and the run-up resumes to 110 rad/s (0.42 s). The speed must
+        fall (back-off) and later climb back to the operating speed (resume).
+        (At 100 rad/s the rotor is caught in full annular rub at 81 rad/s,
+        below 90 % of the operating speed, where this policy only holds.)"""
+        states = launch(temp_prefix("resume") + ".bag", "operating_speed_rad_per_s:=110", "hold_s:=0.05")
+        speeds = [s.speed for s in states]
+        peak = next(i for i, w in enumerate(speeds) if w >= 109.9)  # first reaches the operating speed
+        low = min(range(peak, len(speeds)), key=lambda i: speeds[i])
+        self.assertLess(speeds[low], 100.0, "never backed off")
+        self.assertGreater(max(speeds[low:]), 109.9, "backed off to %.1f rad/s and never resumed" % speeds[low])
+
     def test_lockstep_is_reproducible_and_the_controller_cuts_the_rub(self):
         a = launch(temp_prefix("loop_a") + ".bag")
         b = launch(temp_prefix("loop_b") + ".bag")
