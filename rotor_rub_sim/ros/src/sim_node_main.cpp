@@ -28,7 +28,15 @@ int main(int argc, char** argv) {
   try {
     setup = rotor_rub::ros_node::node_setup_from_values(rotor_rub::ros_node::private_params_as_text(private_nh));
   } catch (const rotor_rub::core::SceneError& e) {
-    ROS_FATAL("bad parameter, not started: %s", e.what());
+    // Parameters outlive a node on the master: an unknown key may be a typo
+    // in this launch's YAML or one left over from an earlier run.
+    const bool unknown = std::strstr(e.what(), "unknown parameter") != nullptr;
+    ROS_FATAL("bad parameter, not started: %s%s%s%s", e.what(),
+              unknown ? "; the node reads every parameter under " : "",
+              unknown ? private_nh.getNamespace().c_str() : "",
+              unknown ? " on the master: a key left there by an earlier run stays until `rosparam delete` (the "
+                        "package's launch files clear the node's parameters at start)"
+                      : "");
     return 2;
   }
   try {
