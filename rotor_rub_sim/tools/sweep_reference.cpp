@@ -14,8 +14,10 @@ namespace rotor_rub::tools {
 namespace {
 
 // Keys that choose how a run is computed, not what it models: the reference
-// sets its own. contact_stiffness_N_per_m is the penalty method's numerical
-// parameter: the reference is the rigid limit it should converge to.
+// sets its own (the budgets at their defaults: a run's small wall budget or
+// iteration limit must not fail its reference). contact_stiffness_N_per_m is
+// the penalty method's numerical parameter: the reference is the rigid limit
+// it should converge to.
 const char* const kMethodOnlyKeys[] = {"method",
                                        "integrator",
                                        "rtol",
@@ -23,7 +25,10 @@ const char* const kMethodOnlyKeys[] = {"method",
                                        "initial_step_s",
                                        "min_step_s",
                                        "max_steps",
+                                       "max_wall_time_s",
+                                       "fixed_step_s",
                                        "iteration_force_rtol",
+                                       "iteration_max_iterations",
                                        "max_events_per_ms",
                                        "output_rate_hz",
                                        "contact_stiffness_N_per_m"};

@@ -81,7 +81,10 @@ const std::string kGrid =
     "---\n"
     "method: switching\n"
     "rtol: 1.0e-10\n"
-    "atol: 1.0e-13\n";
+    "atol: 1.0e-13\n"
+    "---\n"
+    "method: penalty\n"
+    "max_wall_time_s: 1.0e-4\n";
 
 std::string common_args() {
   std::ofstream("/tmp/rotor_rub_sweep_grid.yaml") << kGrid;
@@ -98,11 +101,11 @@ TEST(SweepCli, RowsStatusesAndErrors) {
   const Result r = sweep(common_args() + " --out /tmp/sweep_all.csv");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto rows = read_rows("/tmp/sweep_all.csv");
-  ASSERT_EQ(rows.size(), 4u);
-  const char* methods[] = {"switching", "iteration", "penalty", "switching"};
+  ASSERT_EQ(rows.size(), 5u);
+  const char* methods[] = {"switching", "iteration", "penalty", "switching", "penalty"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
     EXPECT_EQ(rows[i].at("run_id"), std::to_string(i));
-    EXPECT_EQ(rows[i].at("runs_total"), "4");
+    EXPECT_EQ(rows[i].at("runs_total"), "5");
     EXPECT_EQ(rows[i].at("method"), methods[i]);
   }
   // The accurate runs: ok, compared over the whole run, errors small but
@@ -129,6 +132,10 @@ TEST(SweepCli, RowsStatusesAndErrors) {
     EXPECT_EQ(num(rows[3], k), 0.0) << k;
   }
   EXPECT_EQ(num(rows[3], "impulse_windows_within_5pct"), 1.0);
+  // A run's own wall budget is not its reference's (issue 15: the reference
+  // inherited it and failed with the run).
+  EXPECT_EQ(rows[4].at("status"), "timed_out") << rows[4].at("message");
+  EXPECT_EQ(rows[4].at("message").find("reference failed"), std::string::npos) << rows[4].at("message");
 }
 
 TEST(SweepCli, ShardsMergeIntoTheUnsplitResult) {
