@@ -61,10 +61,14 @@ class RecordingTest(unittest.TestCase):
     def test_sim_launch_bag_holds_every_message(self):
         with rosbag.Bag(self.sim_bag) as bag:
             counts = {t: i.message_count for t, i in bag.get_type_and_topic_info().topics.items()}
-            seqs = [m.sample_index for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/state"])]
+            states = [m for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/state"])]
+            seqs = [m.sample_index for m in states]
             stats = [m for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/solver_stats"])]
         self.assertEqual(counts["/rotor_rub_sim/state"], N_STATES)
         self.assertEqual(sorted(seqs), list(range(N_STATES)), "every sample index once: none lost")
+        # header.seq as on the live topic (roscpp numbers each publisher's
+        # messages 0, 1, ...: here the sample index), not 0.
+        self.assertEqual([m.header.seq for m in states], seqs)
         self.assertEqual(counts["/clock"], N_STATES - 1)  # t = 0 has no clock
         self.assertEqual(counts["/rotor_rub_sim/contact_events"], len(self.runner["events"]))
         self.assertEqual(counts["/rotor_rub_sim/markers"], int(END_S * 30) + 1)  # marker_rate_hz 30

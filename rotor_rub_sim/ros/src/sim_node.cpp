@@ -92,7 +92,18 @@ void SimNode::flush_recording_if_due() {
 template <class Msg>
 void SimNode::publish(const ros::Publisher& pub, const Msg& msg, double t_s) {
   pub.publish(msg);
-  record(pub.getTopic(), msg, t_s, pub.isLatched());
+  if constexpr (ros::message_traits::HasHeader<Msg>::value) {
+    // roscpp stamps header.seq on the wire copy only: the bag's copy gets
+    // the same number.
+    const uint32_t seq = published_seq_[pub.getTopic()]++;
+    if (recording_) {
+      Msg copy = msg;
+      copy.header.seq = seq;
+      record(pub.getTopic(), copy, t_s, pub.isLatched());
+    }
+  } else {
+    record(pub.getTopic(), msg, t_s, pub.isLatched());
+  }
 }
 
 void SimNode::restart_simulation() {

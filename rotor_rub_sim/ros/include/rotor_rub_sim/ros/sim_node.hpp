@@ -16,6 +16,7 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -91,6 +92,9 @@ class SimNode : public core::SimulationObserver {
   NodeConfig config_;
   BagAppender bag_;
   bool recording_ = false;
+  // header.seq of each published topic, as roscpp numbers it on the wire
+  // (0, 1, ... per publisher), so that the bag's copy carries the same.
+  std::map<std::string, uint32_t> published_seq_;
   ros::WallTime next_bag_flush_;
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
