@@ -72,6 +72,12 @@ class RecordingTest(unittest.TestCase):
         self.assertEqual(counts["/clock"], N_STATES - 1)  # t = 0 has no clock
         self.assertEqual(counts["/rotor_rub_sim/contact_events"], len(self.runner["events"]))
         self.assertEqual(counts["/rotor_rub_sim/markers"], int(END_S * 30) + 1)  # marker_rate_hz 30
+        # /diagnostics too (issue 15: it was promised and left out), at its
+        # rate of 2 Hz of simulated time plus the start and the end.
+        self.assertGreaterEqual(counts["/diagnostics"], int(END_S * 2))
+        with rosbag.Bag(self.sim_bag) as bag:
+            names = {st.name for _, m, _ in bag.read_messages(topics=["/diagnostics"]) for st in m.status}
+        self.assertIn("rotor_rub_sim: solver", names)
         self.assertEqual(stats[-1].status, SolverStats.FINISHED)
         self.assertEqual(stats[-1].states_published, N_STATES)
 

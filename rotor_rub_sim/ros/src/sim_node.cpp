@@ -77,6 +77,28 @@ void SimNode::stop_recording(const std::string& why, double t_s) {
   recording_ = false;
 }
 
+void SimNode::update_diagnostics(double t_s) {
+  diagnostics_.force_update();
+  if (!recording_) return;
+  // diagnostic_updater publishes /diagnostics itself and offers no copy of
+  // its message: the bag gets the same statuses, built the same way
+  // ("<node>: <task>", the hardware id), stamped with the simulated time.
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time().fromSec(std::max(t_s, 0.0));
+  using Task = void (SimNode::*)(diagnostic_updater::DiagnosticStatusWrapper&);
+  const std::pair<const char*, Task> tasks[] = {{"solver", &SimNode::diagnose_solver},
+                                                {"real-time factor", &SimNode::diagnose_pace},
+                                                {"contact", &SimNode::diagnose_contact}};
+  for (const auto& [name, task] : tasks) {
+    diagnostic_updater::DiagnosticStatusWrapper status;
+    (this->*task)(status);
+    status.name = ros::this_node::getName().substr(1) + ": " + name;
+    status.hardware_id = std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method);
+    array.status.push_back(status);
+  }
+  record("/diagnostics", array, t_s);
+}
+
 void SimNode::flush_recording_if_due() {
   if (!recording_) return;
   const ros::WallTime now = ros::WallTime::now();
@@ -294,7 +316,7 @@ void SimNode::set_status(Status s) {
   status_ = s;
   if (s == Status::kRunning) anchor_pacing();
   publish_stats();
-  diagnostics_.force_update();
+  update_diagnostics(sim_->time());
 }
 
 void SimNode::anchor_pacing() {
@@ -339,7 +361,7 @@ void SimNode::on_sample(const core::Sample& s) {
     next_stats_s_ = next_tick(s.t_s, config_.stats_rate_hz);
   }
   if (s.t_s >= next_diag_s_) {
-    diagnostics_.force_update();
+    update_diagnostics(s.t_s);
     next_diag_s_ = next_tick(s.t_s, config_.diagnostics_rate_hz);
   }
 }

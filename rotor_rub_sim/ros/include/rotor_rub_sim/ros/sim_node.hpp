@@ -84,6 +84,8 @@ class SimNode : public core::SimulationObserver {
   bool on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_step(rotor_rub_msgs::StepSimulation::Request& req, rotor_rub_msgs::StepSimulation::Response& res);
+  // Updates /diagnostics now and records the same statuses into the bag.
+  void update_diagnostics(double t_s);
   void diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_pace(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_contact(diagnostic_updater::DiagnosticStatusWrapper& stat);
