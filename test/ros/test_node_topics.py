@@ -112,11 +112,12 @@ class NodeTopicsTest(NodeTestBase):
         self.assertEqual(final.steps, summary["stats"]["steps"])
         self.assertGreater(final.real_time_factor, 0.0)
 
-    def send(self, t, target, accel):
+    def send(self, t, target, accel, command_id=0):
         cmd = SpeedCommand()
         cmd.header.stamp = rospy.Time.from_sec(t)
         cmd.target_speed = target
         cmd.acceleration_limit = accel
+        cmd.command_id = command_id
         self.command_pub.publish(cmd)
 
     GOOD = [(0.5, 100.0, 200.0), (1.0, 50.0, 0.0)]  # accel 0: the scene's 70 rad/s^2
@@ -126,8 +127,8 @@ class NodeTopicsTest(NodeTestBase):
     def commanded_run(self, with_bad):
         self.fresh_paused_run()
         sent = self.GOOD + (self.BAD if with_bad else [])
-        for c in sent:
-            self.send(*c)
+        for i, c in enumerate(sent):
+            self.send(*c, command_id=100 + i)
         feedback = self.feedback.wait_for(lambda m: len(m) >= len(sent), "feedback on every command")
         res = self.step_srv(2.0)
         self.assertTrue(res.success, res.message)
@@ -143,9 +144,17 @@ class NodeTopicsTest(NodeTestBase):
         self.assertEqual(len(rejected), len(self.BAD))
         self.assertEqual(sorted(f.effective_time for f in accepted), [0.5, 1.0])
         self.assertEqual([f.acceleration_limit for f in accepted], [200.0, 70.0])
-        for f in rejected:
-            self.assertIn("out of range; accepted:", f.reason)
-        self.assertIn("(0, inf)", rejected[3].reason)  # the negative acceleration
+        # Each answer names the command by the id its sender chose.
+        self.assertEqual(sorted(f.command_id for f in feedback), list(range(100, 100 + len(feedback))))
+        by_id = {f.command_id: f for f in rejected}
+        nan, negative, high, bad_accel, inf = (by_id[100 + len(self.GOOD) + k] for k in range(5))
+        self.assertIn("target NaN rad/s is not a finite number; accepted: [0,", nan.reason)
+        self.assertIn("is out of range; accepted: [0,", negative.reason)
+        self.assertIn("is out of range; accepted: [0,", high.reason)
+        # The negative acceleration: its field, and that 0 means the scene's.
+        self.assertIn("acceleration_limit -5 rad/s^2 is out of range", bad_accel.reason)
+        self.assertIn("or 0 for the scene's acceleration_rad_per_s2 = 70", bad_accel.reason)
+        self.assertIn("is not a finite number", inf.reason)
         # The speed follows the commands as specified.
         good = [(t, v, a if a > 0 else 70.0) for (t, v, a) in self.GOOD]
         for s in states_a:

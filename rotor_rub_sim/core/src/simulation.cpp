@@ -34,15 +34,27 @@ Simulation::Simulation(const Scene& scene)
 
 void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2) {
   const double vmax = scene.speed.max_speed_rad_per_s;
+  auto verdict = [](double v) { return std::isfinite(v) ? "is out of range" : "is not a finite number"; };
+  // A NaN's sign bit is noise ("-nan" from a YAML .nan): name it plainly.
+  auto shown = [](double v) {
+    std::ostringstream os;
+    if (std::isnan(v)) {
+      os << "NaN";
+    } else {
+      os << v;
+    }
+    return os.str();
+  };
   if (!std::isfinite(target_rad_per_s) || target_rad_per_s < 0.0 || target_rad_per_s > vmax) {
     std::ostringstream os;
-    os << "speed command target " << target_rad_per_s << " rad/s is out of range; accepted: [0, " << vmax
-       << "] (max_speed_rad_per_s)";
+    os << "speed command target " << shown(target_rad_per_s) << " rad/s " << verdict(target_rad_per_s)
+       << "; accepted: [0, " << vmax << "] (max_speed_rad_per_s)";
     throw std::invalid_argument(os.str());
   }
   if (!std::isfinite(accel_magnitude_rad_per_s2) || accel_magnitude_rad_per_s2 <= 0.0) {
     std::ostringstream os;
-    os << "speed command acceleration " << accel_magnitude_rad_per_s2 << " rad/s^2 is out of range; accepted: (0, inf)";
+    os << "speed command acceleration " << shown(accel_magnitude_rad_per_s2) << " rad/s^2 "
+       << verdict(accel_magnitude_rad_per_s2) << "; accepted: (0, inf)";
     throw std::invalid_argument(os.str());
   }
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "rotor_rub_msgs/SpeedCommandFeedback.h"
 #include "rotor_rub_sim/ros/conversions.hpp"
@@ -418,13 +419,26 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
   rotor_rub_msgs::SpeedCommandFeedback fb;
   fb.header.stamp.fromSec(sim_->time());
   fb.header.frame_id = config_.frame_id;
-  fb.command_seq = msg->header.seq;
+  fb.command_id = msg->command_id;
   fb.target_speed = msg->target_speed;
   // acceleration_limit 0 means the scene's acceleration.
   const double accel = msg->acceleration_limit == 0.0 ? scene_.speed.acceleration_rad_per_s2 : msg->acceleration_limit;
   fb.acceleration_limit = accel;
   try {
     if (status_ == Status::kFailed) throw std::invalid_argument("the simulation has failed; call ~reset first");
+    if (!(msg->acceleration_limit >= 0.0) || std::isinf(msg->acceleration_limit)) {
+      std::ostringstream os;
+      os << "speed command acceleration_limit ";
+      if (std::isnan(msg->acceleration_limit)) {
+        os << "NaN";  // a NaN's sign bit is noise
+      } else {
+        os << msg->acceleration_limit;
+      }
+      os << " rad/s^2 " << (std::isfinite(msg->acceleration_limit) ? "is out of range" : "is not a finite number")
+         << "; accepted: (0, inf), or 0 for the scene's acceleration_rad_per_s2 = "
+         << scene_.speed.acceleration_rad_per_s2;
+      throw std::invalid_argument(os.str());
+    }
     core::check_speed_command(scene_, msg->target_speed, accel);
     const double t_cmd = msg->header.stamp.toSec();
     if (lockstep_awaited_s_ >= 0.0 && t_cmd >= lockstep_awaited_s_ - 0.5 / scene_.output_rate_hz) {
