@@ -15,6 +15,13 @@ import collections
 import math
 
 
+def clearance_of(rx, ry, sx, sy, penetration):
+    """The scene's clearance C [m] from one simulator state: its penetration is
+    |r_r - r_s| - C. A value the scene owns comes from the simulator, never a
+    second parameter that may disagree with it."""
+    return math.hypot(rx - sx, ry - sy) - penetration
+
+
 class RubDetector(object):
     def __init__(self, clearance_m, window_s=0.02, touch_ratio=0.995, raise_fraction=0.5, clear_fraction=0.1):
         self.clearance_m = clearance_m

@@ -6,9 +6,12 @@ and /diagnostics, and validates itself against the simulator's contact events
 (ground truth, used for nothing else): the detection delay is the time from
 the first contact to the first alarm.
 
+The clearance is the simulator's: each state's penetration is |r_r - r_s| - C,
+so the monitor takes C from the states it judges (no parameter to keep in
+step with the scene).
+
 Parameters (private): ~state_topic (/rotor_rub_sim/state), ~events_topic
-(/rotor_rub_sim/contact_events), ~clearance_m (the scene's clearance, default
-the rosparam /rotor_rub_sim/clearance_m or 0.002), ~window_s (0.02),
+(/rotor_rub_sim/contact_events), ~window_s (0.02),
 ~touch_ratio (0.995), ~raise_fraction (0.5), ~clear_fraction (0.1),
 ~publish_rate_hz (20: alarm and diagnostics in simulated time, and on every change)."""
 import math
@@ -20,15 +23,16 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rotor_rub_msgs.msg import ContactEvent, RotorState, RubAlarm
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from rub_detector import RubDetector  # noqa: E402
+from rub_detector import RubDetector, clearance_of  # noqa: E402
 
 
 class RubMonitor(object):
     def __init__(self):
-        clearance = rospy.get_param("~clearance_m", rospy.get_param("/rotor_rub_sim/clearance_m", 0.002))
-        self.detector = RubDetector(clearance, rospy.get_param("~window_s", 0.02),
-                                    rospy.get_param("~touch_ratio", 0.995), rospy.get_param("~raise_fraction", 0.5),
-                                    rospy.get_param("~clear_fraction", 0.1))
+        if rospy.has_param("~clearance_m"):
+            rospy.logwarn("~clearance_m is ignored: the clearance comes from the simulator's states")
+        self.settings = (rospy.get_param("~window_s", 0.02), rospy.get_param("~touch_ratio", 0.995),
+                         rospy.get_param("~raise_fraction", 0.5), rospy.get_param("~clear_fraction", 0.1))
+        self.detector = None  # made on the first state, with the simulator's clearance
         self.period_s = 1.0 / rospy.get_param("~publish_rate_hz", 20.0)
         self.next_publish_s = 0.0
         self.first_contact_s = float("nan")
@@ -45,8 +49,15 @@ class RubMonitor(object):
             self.first_contact_s = e.time
 
     def on_state(self, s):
-        if self.last_index is not None and s.sample_index <= self.last_index:
-            self.__init_detector_again()  # the simulator was reset
+        clearance = clearance_of(s.rotor_position.x, s.rotor_position.y, s.stator_position.x, s.stator_position.y,
+                                 s.penetration)
+        if self.detector is None:
+            rospy.loginfo("clearance %.6g m, from the simulator's states", clearance)
+            self.detector = RubDetector(clearance, *self.settings)
+        elif self.last_index is not None and s.sample_index <= self.last_index:
+            # The simulator was reset (its scene, and so its clearance, may be new).
+            self.detector = RubDetector(clearance, *self.settings)
+            self.first_contact_s = float("nan")
         self.last_index = s.sample_index
         t = s.header.stamp.to_sec()
         was = self.detector.rubbing
@@ -63,11 +74,6 @@ class RubMonitor(object):
                               if first else "")
             elif was and not now:
                 rospy.loginfo("rub alarm cleared at t = %.4f s", t)
-
-    def __init_detector_again(self):
-        d = self.detector
-        self.detector = RubDetector(d.clearance_m, d.window_s, d.touch_ratio, d.raise_fraction, d.clear_fraction)
-        self.first_contact_s = float("nan")
 
     def publish(self, s, t):
         d = self.detector

@@ -25,7 +25,7 @@ period of the states it receives, stamped 0 (applied on receipt).
 
 Parameters (private): ~sim (the simulator's node name, /rotor_rub_sim),
 ~operating_speed_rad_per_s (280), ~run_up_accel_rad_per_s2 (500), ~max_accel_rad_per_s2 (1000),
-~backoff_fraction (0.1), ~hold_s (0.2), ~clearance_m (0.002),
+~backoff_fraction (0.1), ~hold_s (0.2),
 ~control_period_s (0.01, without lockstep), ~lockstep (false; closed_loop.launch sets it with the
 simulator's). One run per start: restart the controller after the simulator's ~reset."""
 import math
@@ -37,7 +37,7 @@ import rospy
 from rotor_rub_msgs.msg import RotorState, SpeedCommand
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from rub_detector import RubDetector  # noqa: E402
+from rub_detector import RubDetector, clearance_of  # noqa: E402
 
 
 class RunUpPolicy(object):
@@ -93,7 +93,9 @@ class RunUpController(object):
         # Decided once: commands stamped 0 in a lockstep run would make it
         # depend on timing again.
         self.lockstep = rospy.get_param("~lockstep", False)
-        self.detector = RubDetector(rospy.get_param("~clearance_m", 0.002))
+        # The clearance is the simulator's, taken from its first state
+        # (penetration = |r_r - r_s| - C): never a parameter of its own.
+        self.detector = None
         self.states = []  # received, not yet fed to the detector
         self.last_fed = -1
         self.last_speed = 0.0
@@ -106,6 +108,9 @@ class RunUpController(object):
     def feed_until(self, index):
         """Feeds the detector every state up to sample index (in order)."""
         for s in sorted(self.states, key=lambda m: m.sample_index):
+            if self.detector is None:
+                self.detector = RubDetector(clearance_of(s.rotor_position.x, s.rotor_position.y, s.stator_position.x,
+                                                         s.stator_position.y, s.penetration))
             if self.last_fed < s.sample_index <= index:
                 self.detector.feed(s.header.stamp.to_sec(), s.rotor_position.x, s.rotor_position.y,
                                    s.stator_position.x, s.stator_position.y)
@@ -114,7 +119,8 @@ class RunUpController(object):
         self.states = [s for s in self.states if s.sample_index > index]
 
     def decide(self, t):
-        return self.policy.decide(t, self.detector.rubbing, self.last_speed)
+        rubbing = self.detector is not None and self.detector.rubbing
+        return self.policy.decide(t, rubbing, self.last_speed)
 
     def command(self, stamp, target):
         cmd = SpeedCommand(target_speed=target, acceleration_limit=self.policy.accel)

@@ -6,6 +6,7 @@ cuts the contact duration against the paper's open-loop run-up; plot_run.py
 draws a recorded bag."""
 import math
 import os
+import re
 import subprocess
 import sys
 import unittest
@@ -87,6 +88,24 @@ class ClosedLoop(unittest.TestCase):
         rospy.loginfo("contact time: closed loop %.3f s, open loop %.3f s", closed, opened)
         self.assertGreater(opened, 1.0)  # the paper's run-up rubs for 1.7 s
         self.assertLess(closed, 0.5 * opened)
+
+    def test_monitor_takes_the_clearance_from_the_simulator(self):
+        """A scene of 1 mm clearance (the monitor once assumed 2 mm from its own
+        parameter and raised no alarm in 2.77 s of contact): the alarm comes,
+        within the stated delay."""
+        scene = temp_prefix("scene_1mm") + ".yaml"
+        with open(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "config",
+                               "paper_runup.yaml")) as f:
+            text = f.read()
+        with open(scene, "w") as f:
+            f.write(re.sub(r"(?m)^clearance_m:.*$", "clearance_m: 1.0e-3", text))
+        alarms = Collector("/rub_monitor/alarm", RubAlarm)
+        states = launch(temp_prefix("monitored_1mm") + ".bag", "controller:=false", "scene:=" + scene)
+        self.assertGreater(contact_time_s(states), 1.0)
+        got = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= 3.9, "the monitor's last verdict")
+        delay = got[-1].detection_delay
+        self.assertTrue(math.isfinite(delay), "no alarm on a 1 mm scene")
+        self.assertLessEqual(delay, MAX_DETECTION_DELAY_S)
 
     def test_monitor_detects_the_rub_within_its_delay(self):
         alarms = Collector("/rub_monitor/alarm", RubAlarm)
