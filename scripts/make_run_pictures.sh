@@ -13,7 +13,7 @@ mkdir -p "$OUT"
 /usr/bin/python3 "$ROOT/rotor_rub_sim/tools/plot_run.py" "$OUT/paper_open_loop.csv" --out "$ROOT/docs/run_paper" \
   --title "paper run-up, open loop (switching)"
 rm -f "$OUT/closed_loop.bag"
-roslaunch rotor_rub_sim closed_loop.launch record:=true bag:="$OUT/closed_loop.bag" > "$OUT/closed_loop.log" 2>&1 \
+rosrun rotor_rub_sim launch_checked.py rotor_rub_sim closed_loop.launch record:=true bag:="$OUT/closed_loop.bag" > "$OUT/closed_loop.log" 2>&1 \
   || { tail -n 30 "$OUT/closed_loop.log"; exit 1; }
 /usr/bin/python3 "$ROOT/rotor_rub_sim/tools/plot_run.py" "$OUT/closed_loop.bag" --out "$ROOT/docs/run_closed_loop" \
   --title "closed loop (run-up controller, lockstep)"

@@ -18,7 +18,7 @@ echo "1. headless reference: switching at rtol 1e-10"
   --csv "$OUT/reference.csv" --summary "$OUT/reference.json" --quiet
 echo "2. the three methods as ROS nodes, recorded into $OUT/paper_methods.bag"
 rm -f "$OUT/paper_methods.bag"
-roslaunch rotor_rub_sim compare_methods.launch record:=true bag:="$OUT/paper_methods.bag" > "$OUT/compare_methods.log" 2>&1 \
+rosrun rotor_rub_sim launch_checked.py rotor_rub_sim compare_methods.launch record:=true bag:="$OUT/paper_methods.bag" > "$OUT/compare_methods.log" 2>&1 \
   || { tail -n 40 "$OUT/compare_methods.log"; exit 1; }
 echo "3. offline comparison of the bag against the reference"
 "$BIN/rotor_rub_compare" "$OUT/paper_methods.bag" --runner "$OUT/reference" --csv "$OUT/paper_methods_compare.csv"

@@ -4,6 +4,7 @@ import csv
 import os
 import subprocess
 import sys
+import time
 import unittest
 
 import rosbag
@@ -26,10 +27,17 @@ METHOD_MAX_ROTOR_DIFF_M = {"iteration": 5e-6, "penalty": 5e-6, "switching": 0.0}
 
 
 def launch(launch_file, *args):
-    proc = subprocess.run(["roslaunch", PKG, launch_file] + list(args), capture_output=True, text=True,
-                          timeout=LAUNCH_TIMEOUT_S)
+    """Through launch_checked.py: a node's failure fails the launch (roslaunch
+    alone exits 0)."""
+    proc = run_launch(launch_file, *args)
     if proc.returncode != 0:
         raise AssertionError("roslaunch %s failed (%d):\n%s" % (launch_file, proc.returncode, proc.stdout[-3000:]))
+    return proc
+
+
+def run_launch(launch_file, *args):
+    return subprocess.run([find_binary("launch_checked.py"), PKG, launch_file] + list(args), capture_output=True,
+                          text=True, timeout=LAUNCH_TIMEOUT_S)
 
 
 def compare(*args):
@@ -47,6 +55,23 @@ class RecordingTest(unittest.TestCase):
         cls.runner = run_runner([], cls.runner_prefix)
         cls.sim_bag = temp_prefix("sim") + ".bag"
         launch("sim.launch", "record:=true", "bag:=" + cls.sim_bag, "real_time_factor:=0")
+
+    def test_a_failed_node_fails_the_launch_at_once(self):
+        # roslaunch exits 0 when a node fails; launch_checked.py exits with
+        # the node's status and ends the launch at once (compare_methods used
+        # to wait 60 s for nodes that had died).
+        typo = temp_prefix("typo") + ".yaml"
+        with open(typo, "w") as f:
+            f.write("clearence_m: 0.002\n")
+        for launch_file in ("sim.launch", "compare_methods.launch"):
+            start = time.time()
+            proc = run_launch(launch_file, "params:=" + typo, "real_time_factor:=0")
+            self.assertEqual(proc.returncode, 2, launch_file + ": " + proc.stdout[-2000:] + proc.stderr[-500:])
+            self.assertIn("exited with status 2", proc.stderr)
+            self.assertLess(time.time() - start, 30.0, launch_file)
+        # A normal end is not reported as a crash.
+        proc = launch("sim.launch", "real_time_factor:=0")
+        self.assertNotIn("REQUIRED process", proc.stdout)
 
     def test_leftover_parameter_does_not_poison_a_later_launch(self):
         # A typo left on the master by an earlier run (issue 15): the launch
