@@ -5,10 +5,12 @@ the clearance circle, the normal force, the speed, and a full-spectrum
 waterfall (forward and backward whirl against speed) -- the plots
 rotordynamics engineers read first. PNGs into the folder named.
 
-usage: plot_run.py RUN.bag|RUN.csv --out DIR [--ns /rotor_rub_sim] [--clearance 0.002]
+usage: plot_run.py RUN.bag|RUN.csv --out DIR [--ns /rotor_rub_sim] [--clearance M]
                    [--window-s 0.25] [--title TEXT]
-  A bag: the states of <ns>/state (the first RotorState topic if --ns is not
-  given). A CSV: rotor_rub_run --csv output.
+  A bag: the states of <ns>/state (with several runs in the bag and no --ns,
+  the first in name order, and it says so). A CSV: rotor_rub_run --csv output.
+  The clearance is the run's own (its penetration = |r_r - r_s| - C) unless
+  --clearance overrides it.
 Full spectrum: the FFT of the complex displacement z = x_r + i y_r over sliding
 Hann windows; positive frequencies are forward whirl, negative backward.
 Exit status 2 on an unreadable input, with one line saying why."""
@@ -36,8 +38,11 @@ def load_bag(path, ns):
         if not states:
             raise ValueError("no rotor_rub_msgs/RotorState topic%s in %s" % (" " + ns + "/state" if ns else "", path))
         topic = sorted(states)[0]
+        if len(states) > 1:
+            print("plot_run: %s holds %d runs (%s); plotting %s (choose with --ns)"
+                  % (path, len(states), ", ".join(sorted(states)), topic), file=sys.stderr)
         rows = [(m.header.stamp.to_sec(), m.rotor_position.x, m.rotor_position.y, m.stator_position.x,
-                 m.stator_position.y, m.normal_force, float(m.in_contact), m.speed)
+                 m.stator_position.y, m.normal_force, float(m.in_contact), m.speed, m.penetration)
                 for _, m, _ in b.read_messages(topics=[topic])]
     return topic, np.array(rows)
 
@@ -45,7 +50,7 @@ def load_bag(path, ns):
 def load_csv(path):
     with open(path) as f:
         r = csv.DictReader(f)
-        need = ["t", "x_r", "y_r", "x_s", "y_s", "normal_force", "in_contact", "speed"]
+        need = ["t", "x_r", "y_r", "x_s", "y_s", "normal_force", "in_contact", "speed", "penetration"]
         if not r.fieldnames or any(k not in r.fieldnames for k in need):
             raise ValueError("%s is not a rotor_rub_run CSV (needs columns %s)" % (path, ", ".join(need)))
         return os.path.basename(path), np.array([[float(row[k]) for k in need] for row in r])
@@ -70,13 +75,15 @@ def shade(ax, spans):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("run")
-    ap.add_argument("--out", required=True)
-    ap.add_argument("--ns", default="")
-    ap.add_argument("--clearance", type=float, default=2e-3)
-    ap.add_argument("--window-s", type=float, default=0.25)
-    ap.add_argument("--title", default="")
+    ap = argparse.ArgumentParser(description="Pictures of one run (displacement, orbit, force and speed, "
+                                 "full-spectrum waterfall) as PNGs.")
+    ap.add_argument("run", help="a bag the node recorded, or a rotor_rub_run --csv file")
+    ap.add_argument("--out", required=True, help="folder for the PNGs (made if missing)")
+    ap.add_argument("--ns", default="", help="the run's namespace in a bag of several, e.g. /switching/rotor_rub_sim")
+    ap.add_argument("--clearance", type=float, default=None,
+                    help="clearance C [m] drawn on the plots; default: the run's own, from its penetration")
+    ap.add_argument("--window-s", type=float, default=0.25, help="waterfall window [s] of simulated time")
+    ap.add_argument("--title", default="", help="title prefix (default: the run's name)")
     a = ap.parse_args()
     try:
         name, d = load_bag(a.run, a.ns) if a.run.endswith(".bag") else load_csv(a.run)
@@ -87,7 +94,9 @@ def main():
         print("plot_run: %s holds %d states, too few to plot" % (a.run, len(d)), file=sys.stderr)
         sys.exit(2)
     os.makedirs(a.out, exist_ok=True)
-    t, xr, yr, xs, ys, fn, c, w = d.T
+    t, xr, yr, xs, ys, fn, c, w, pen = d.T
+    if a.clearance is None:
+        a.clearance = float(np.hypot(xr[0] - xs[0], yr[0] - ys[0]) - pen[0])  # the run's own C
     spans = contact_spans(t, c)
     title = a.title or name
     mm = 1e3
@@ -139,12 +148,13 @@ def main():
     z = (xr + 1j * yr)
     win = np.hanning(n)
     freqs = np.fft.fftshift(np.fft.fftfreq(n, dt))
-    rows, speeds = [], []
+    rows, speeds, times = [], [], []
     for i in range(0, len(z) - n + 1, hop):
         seg = z[i:i + n]  # the mean stays: a static offset (gravity, a pressed rotor) shows at 0 Hz
         spec = np.abs(np.fft.fftshift(np.fft.fft(seg * win))) * 2 / win.sum()
         rows.append(spec)
         speeds.append(np.mean(w[i:i + n]) / (2 * math.pi))
+        times.append(t[i + n // 2])
     fig, axis = plt.subplots(figsize=(10, 6))
     if rows:
         spec = np.array(rows) * mm
@@ -154,14 +164,16 @@ def main():
         im = axis.imshow(np.log10(spec[:, keep] + 1e-6), aspect="auto", origin="lower", extent=extent,
                          cmap="viridis")
         fig.colorbar(im, label="log10 amplitude [mm]")
+        # Rows are windows in time order; each tick names the window's time
+        # and spin speed (the speed alone repeats once it is held constant).
         ticks = np.linspace(0, len(rows) - 1, min(8, len(rows))).astype(int)
         axis.set_yticks(ticks + 0.5)
-        axis.set_yticklabels(["%.1f" % speeds[k] for k in ticks])
+        axis.set_yticklabels(["%.2f s  %.1f Hz" % (times[k], speeds[k]) for k in ticks])
         # 1X lines: forward and backward synchronous whirl.
         axis.plot(speeds, np.arange(len(rows)) + 0.5, "w--", lw=0.8)
         axis.plot([-s for s in speeds], np.arange(len(rows)) + 0.5, "w:", lw=0.8)
     axis.set_xlabel("whirl frequency [Hz]  (+ forward, - backward; dashed: +1X, dotted: -1X)")
-    axis.set_ylabel("spin speed [Hz] at the window's centre")
+    axis.set_ylabel("window centre: time [s], spin speed [Hz]")
     axis.set_title("%s: full-spectrum waterfall (%.2f s Hann windows)" % (title, n * dt))
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "waterfall.png"), dpi=100)
