@@ -22,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black"}
+BAD_WINDOW_COLOUR = "magenta"  # not a method's colour
 FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invariant_violated": "^",
                 "invalid": "P",
                 "no_reference": "*"}
@@ -54,7 +55,7 @@ def curve_key(r):
 
 # ---- work-precision -------------------------------------------------------
 def work_precision(rows, out, text):
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.8))
+    fig, axes = plt.subplots(1, 2, figsize=(16, 5.8))
     curves = {}
     for r in rows:
         curves.setdefault(curve_key(r), []).append(r)
@@ -70,16 +71,23 @@ def work_precision(rows, out, text):
                     color=colour, label=label, alpha=0.85, markersize=4)
             # Failed runs: drawn where they stopped (their cost, their error
             # over the samples they delivered), marked with their class.
-            for r in rs:
-                if r["status"] not in COMPLETED:
-                    y = fnum(r, "max_rotor_err_m")
-                    x = fnum(r, xkey)
-                    if not (y > 0) or not math.isfinite(y):
-                        y = 1e-2
-                    ax.plot([x], [y], FAIL_MARKERS.get(r["status"], "X"), color=colour, markersize=10,
-                            markeredgecolor="k")
-                    ax.annotate("%s (rtol %s)" % (r["status"], r["rtol"]), (x, y), fontsize=6,
-                                textcoords="offset points", xytext=(4, 4))
+            failed = [r for r in rs if r["status"] not in COMPLETED]
+            for r in failed:
+                y = fnum(r, "max_rotor_err_m")
+                x = fnum(r, xkey)
+                if not (y > 0) or not math.isfinite(y):
+                    y = 1e-2
+                ax.plot([x], [y], FAIL_MARKERS.get(r["status"], "X"), color=colour, markersize=10,
+                        markeredgecolor="k")
+            # One label per curve and class, at its loosest failed run (the
+            # marker shapes carry the rest), so labels do not pile up.
+            for status in sorted({r["status"] for r in failed}):
+                fs = [r for r in failed if r["status"] == status]
+                r = max(fs, key=lambda q: fnum(q, "rtol"))
+                y = fnum(r, "max_rotor_err_m")
+                y = y if (y > 0 and math.isfinite(y)) else 1e-2
+                ax.annotate("%s, rtol <= %s" % (status, r["rtol"]), (fnum(r, xkey), y), fontsize=6.5,
+                            textcoords="offset points", xytext=(6, -10))
     for ax, xl in zip(axes, ("wall time of the integration [s] (median of repeats)", "right-hand-side evaluations")):
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -89,8 +97,9 @@ def work_precision(rows, out, text):
         ax.axhline(1e-6, color="0.5", lw=0.8, ls="--")
     axes[0].set_title("error against cost, rtol 1e-2 .. 1e-10 (atol = 1e-3 rtol)")
     axes[1].set_title("the same against derivative evaluations")
-    axes[1].legend(fontsize=6.5, loc="lower left", ncol=1)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    handles, labels = axes[1].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="center right", ncol=1)  # beside the data, not over it
+    fig.tight_layout(rect=(0, 0.04, 0.8, 1))
     stamp(fig, text)
     fig.savefig(os.path.join(out, "work_precision.png"), dpi=110)
     plt.close(fig)
@@ -161,12 +170,13 @@ def contact_force(traces, names, out, text):
                      % (name, s["integrator"], s["rtol"], peak, 100.0 * (1 - bad.sum() / max(mask.sum(), 1)),
                         mask.sum(), 100 * err[worst], wt[worst]))
         for i in np.flatnonzero(bad):
-            ax.axvspan(wt[i] - WINDOW_S / 2, wt[i] + WINDOW_S / 2, color="red", alpha=0.25, lw=0)
-        ylim = max(3 * peak, 1.0)
+            ax.axvspan(wt[i] - WINDOW_S / 2, wt[i] + WINDOW_S / 2, color=BAD_WINDOW_COLOUR, alpha=0.35, lw=0)
+        ylim = max(1.3 * peak, 1.0)  # the windowed forces fill the axis; raw impact spikes are clipped
         ax.set_ylim(-0.05 * ylim, ylim)
         ax.set_ylabel("F_n [N]")
         ax.legend(fontsize=7, loc="upper right")
-    axes[-1].set_xlabel("t [s]   (red: windows off by more than 5 % of the reference's peak; raw F_n clipped)")
+    axes[-1].set_xlabel("t [s]   (magenta: windows off by more than 5 % of the reference's peak; raw F_n clipped at "
+                        "1.3x the peak)")
     contact = [(a, b) for a, b in contact_intervals(ref)]
     if contact:
         axes[-1].set_xlim(max(0.0, contact[0][0] - 0.05), min(t_end, contact[-1][1] + 0.05))
@@ -192,14 +202,15 @@ def trajectories(traces, names, out, text, clearance_m):
         if i == len(all_names) - 1:
             ax.set_xlabel("t [s]")
         ax2 = fig.add_subplot(gs[i, 1])
-        ax2.plot(d["x_r"] * 1e3, d["y_r"] * 1e3, color=METHOD_COLOURS[name], lw=0.3)
-        # The rotor centre touches when |r_r - r_s| = C: the clearance circle
-        # drawn around the stator's rest position (the stator moves a little).
+        # The orbit relative to the stator (what probes on the casing see):
+        # the rotor touches when |r_r - r_s| = C, the circle. The absolute
+        # orbit reaches 4.5 mm on this scene because the stator moves with it.
+        ax2.plot((d["x_r"] - d["x_s"]) * 1e3, (d["y_r"] - d["y_s"]) * 1e3, color=METHOD_COLOURS[name], lw=0.3)
         th = np.linspace(0, 2 * np.pi, 400)
         ax2.plot(clearance_m * 1e3 * np.cos(th), clearance_m * 1e3 * np.sin(th), "k--", lw=0.8)
         ax2.set_aspect("equal")
-        ax2.set_xlabel("x_r [mm]")
-        ax2.set_ylabel("y_r [mm]")
+        ax2.set_xlabel("x_r - x_s [mm]")
+        ax2.set_ylabel("y_r - y_s [mm]")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     stamp(fig, text)
     fig.savefig(os.path.join(out, "trajectories.png"), dpi=100)

@@ -24,6 +24,9 @@ CLASS_COLOURS = {
     "invalid": "white",
 }
 COMPLETED = ("ok", "inaccurate", "no_reference")
+# Axes that are not scene keys get a plain name (the sweep's pseudo-key
+# constant_speed_rad_per_s sets initial and target speed alike).
+AXIS_LABELS = {"constant_speed_rad_per_s": "constant speed [rad/s] (initial = target speed)"}
 
 
 def read_csv(path):
@@ -61,8 +64,8 @@ def class_map(ax, rows, xkey, ykey, title, logx=False, logy=False):
     ax.set_xticklabels(["%.3g" % x for x in xs], rotation=45, fontsize=7)
     ax.set_yticks(range(len(ys)))
     ax.set_yticklabels(["%.3g" % y for y in ys], fontsize=7)
-    ax.set_xlabel(xkey)
-    ax.set_ylabel(ykey)
+    ax.set_xlabel(AXIS_LABELS.get(xkey, xkey))
+    ax.set_ylabel(AXIS_LABELS.get(ykey, ykey))
     ax.set_title(title, fontsize=9)
     return xs, ys
 
