@@ -184,8 +184,9 @@ bool SimNode::wait_for_subscribers() {
 int SimNode::run() {
   if (!wait_for_subscribers()) return 1;
   ROS_INFO(
-      "simulating the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
+      "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
+      config_.start_paused ? "paused at t = 0 s (call ~resume or ~step) before simulating" : "simulating",
       core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
       scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
@@ -458,6 +459,10 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
       fb.effective_time = sim_->time();
     }
     fb.accepted = true;
+    // The feedback answers every command; the log names accepted ones at
+    // most once a second (a controller may command every few ms).
+    ROS_INFO_THROTTLE(1.0, "speed command %u accepted: %g rad/s at %g rad/s^2 from t = %.6f s", msg->command_id,
+                      msg->target_speed, accel, fb.effective_time);
   } catch (const std::invalid_argument& e) {
     fb.accepted = false;
     fb.reason = e.what();
@@ -477,6 +482,7 @@ bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   set_status(keep_running ? Status::kRunning : Status::kPaused);
   res.success = true;
   res.message = keep_running ? "reset to t = 0 s, running" : "reset to t = 0 s, paused (call ~resume or ~step)";
+  ROS_INFO("~reset: %s", res.message.c_str());
   return true;
 }
 
@@ -485,6 +491,7 @@ bool SimNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   res.success = status_ == Status::kPaused;
   res.message = res.success ? "paused at t = " + std::to_string(sim_->time()) + " s"
                             : "not running (finished or failed); call ~reset";
+  ROS_INFO("~pause: %s", res.message.c_str());
   return true;
 }
 
@@ -494,6 +501,7 @@ bool SimNode::on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response
   res.message = res.success
                     ? "running from t = " + std::to_string(sim_->time()) + " s"
                     : "the run has finished or failed at t = " + std::to_string(sim_->time()) + " s; call ~reset";
+  ROS_INFO("~resume: %s", res.message.c_str());
   return true;
 }
 
