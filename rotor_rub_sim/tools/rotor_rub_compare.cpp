@@ -48,6 +48,17 @@ std::string run_key(const std::string& topic, const std::string& suffix) {
 }
 
 std::vector<RecordedRun> read_bag(const std::string& path) {
+  // Say what is wrong before rosbag does: a missing file, a file that is
+  // not a bag, and an unclosed bag (the only case `rosbag reindex` mends).
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) bad_input("cannot open '" + path + "': no such file, or not readable");
+    char magic[13] = {};
+    probe.read(magic, 12);
+    if (std::string(magic, static_cast<std::size_t>(probe.gcount())) != "#ROSBAG V2.0") {
+      bad_input("'" + path + "' is not a rosbag 2.0 file (it does not start with #ROSBAG V2.0)");
+    }
+  }
   rosbag::Bag bag;
   try {
     bag.open(path, rosbag::bagmode::Read);

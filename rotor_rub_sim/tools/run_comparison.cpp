@@ -105,18 +105,35 @@ void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const st
   char buf[512];
   os << "reference: " << reference_name << "\n";
   std::snprintf(buf, sizeof buf, "%-44s %-9s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "run", "method",
-                "samples", "lost", "1st contact", "contact end", "max orbit", "max F_n", "max|dr_r|", "rms|dr_r|",
+                "samples", "lost", "1st contact", "contact end", "max |r_r|", "max F_n", "max|dr_r|", "rms|dr_r|",
                 "max|dr_s|", "steps", "wall");
   os << buf;
   std::snprintf(buf, sizeof buf, "%-44s %-9s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "", "", "", "",
                 "[s]", "[s]", "[m]", "[N]", "[m]", "[m]", "[m]", "", "[s]");
   os << buf;
+  // A figure the run does not carry (a bag without contact events or solver
+  // stats, e.g. from `rosbag record` of the states alone) prints as "-".
+  auto fixed = [](double v, const char* fmt) {
+    if (std::isnan(v)) return std::string("-");
+    char b[40];
+    std::snprintf(b, sizeof b, fmt, v);
+    return std::string(b);
+  };
+  bool missing = false;
   for (const auto& r : rows) {
-    std::snprintf(buf, sizeof buf, "%-44s %-9s %7zu %4ld %12.9f %12.9f %10.4g %10.4g %10.3g %10.3g %9.3g %8ld %9.4f\n",
-                  r.name.c_str(), r.method.c_str(), r.samples, r.lost_samples, r.first_contact_s, r.last_contact_end_s,
-                  r.max_orbit_m, r.max_normal_force_N, r.max_rotor_diff_m, r.rms_rotor_diff_m, r.max_stator_diff_m,
-                  r.steps, r.integration_wall_s);
+    const std::string method = r.method.empty() ? "-" : r.method;
+    const std::string steps = r.steps < 0 ? "-" : std::to_string(r.steps);
+    const std::string wall = r.steps < 0 ? "-" : fixed(r.integration_wall_s, "%.4f");
+    missing = missing || r.steps < 0 || std::isnan(r.first_contact_s);
+    std::snprintf(buf, sizeof buf, "%-44s %-9s %7zu %4ld %12s %12s %10.4g %10.4g %10.3g %10.3g %9.3g %8s %9s\n",
+                  r.name.c_str(), method.c_str(), r.samples, r.lost_samples, fixed(r.first_contact_s, "%.9f").c_str(),
+                  fixed(r.last_contact_end_s, "%.9f").c_str(), r.max_orbit_m, r.max_normal_force_N, r.max_rotor_diff_m,
+                  r.rms_rotor_diff_m, r.max_stator_diff_m, steps.c_str(), wall.c_str());
     os << buf;
+  }
+  os << "max |r_r|: the rotor's absolute orbit (the stator moves too; |r_r - r_s| stays within the clearance)\n";
+  if (missing) {
+    os << "-: not in the run (a bag without contact events or solver stats, or a run without contact)\n";
   }
 }
 

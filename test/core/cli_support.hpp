@@ -15,15 +15,19 @@ namespace rotor_rub::test {
 struct CliResult {
   int status;
   std::string err;
+  std::string out;
 };
 
 inline CliResult run_cli(const std::string& binary, const std::string& args) {
-  const std::string err_path = "/tmp/rotor_rub_cli_err." + std::to_string(::getpid()) + ".txt";
-  const int rc = std::system((binary + " " + args + " > /dev/null 2> " + err_path).c_str());
-  std::ifstream f(err_path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+  const std::string base = "/tmp/rotor_rub_cli." + std::to_string(::getpid());
+  const int rc = std::system((binary + " " + args + " > " + base + ".out 2> " + base + ".err").c_str());
+  auto slurp = [](const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(base + ".err"), slurp(base + ".out")};
 }
 
 }  // namespace rotor_rub::test
