@@ -10,8 +10,9 @@ The clearance is the simulator's: each state's penetration is |r_r - r_s| - C,
 so the monitor takes C from the states it judges (no parameter to keep in
 step with the scene).
 
-Parameters (private): ~state_topic (/rotor_rub_sim/state), ~events_topic
-(/rotor_rub_sim/contact_events), ~window_s (0.02),
+Topics: it subscribes to the simulator's state and contact_events by their
+relative names, so it runs in the simulator's namespace (closed_loop.launch)
+or anywhere with a remap. Parameters (private): ~window_s (0.02),
 ~touch_ratio (0.995), ~raise_fraction (0.5), ~clear_fraction (0.1),
 ~publish_rate_hz (20: alarm and diagnostics in simulated time, and on every change)."""
 import math
@@ -39,9 +40,9 @@ class RubMonitor(object):
         self.last_index = None
         self.alarm_pub = rospy.Publisher("~alarm", RubAlarm, queue_size=100, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
-        rospy.Subscriber(rospy.get_param("~events_topic", "/rotor_rub_sim/contact_events"), ContactEvent,
+        rospy.Subscriber("contact_events", ContactEvent,
                          self.on_event, queue_size=None)
-        rospy.Subscriber(rospy.get_param("~state_topic", "/rotor_rub_sim/state"), RotorState, self.on_state,
+        rospy.Subscriber("state", RotorState, self.on_state,
                          queue_size=None)
 
     def on_event(self, e):

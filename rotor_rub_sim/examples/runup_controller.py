@@ -16,18 +16,19 @@ During the run-up it never backs off: slowing down there would keep the rotor
 in the resonance (and in the rub); it accelerates through.
 
 Lockstep (the simulator's lockstep_period_s > 0): the controller answers
-every ~lockstep_state with a command stamped at that state's time, after it
+every lockstep_state with a command stamped at that state's time, after it
 has fed its detector every state up to that one, so the closed loop gives
 the same trajectory at any pace. It runs the detector itself rather than
 subscribing to the monitor's ~alarm: an alarm from another node would arrive
 at a load-dependent time. Without lockstep it commands once per control
 period of the states it receives, stamped 0 (applied on receipt).
 
-Parameters (private): ~sim (the simulator's node name, /rotor_rub_sim),
-~operating_speed_rad_per_s (280), ~run_up_accel_rad_per_s2 (500), ~max_accel_rad_per_s2 (1000),
+Topics: state, lockstep_state and speed_command by their relative names (run
+it in the simulator's namespace, as closed_loop.launch does, or remap them).
+Parameters (private): ~operating_speed_rad_per_s (280), ~run_up_accel_rad_per_s2 (500), ~max_accel_rad_per_s2 (1000),
 ~backoff_fraction (0.1), ~hold_s (0.2),
 ~control_period_s (0.01, without lockstep), ~lockstep (false; closed_loop.launch sets it with the
-simulator's). One run per start: restart the controller after the simulator's ~reset."""
+simulator's). One run per start: restart the controller after the simulator's reset."""
 import math
 import os
 import sys
@@ -83,7 +84,6 @@ class RunUpPolicy(object):
 
 class RunUpController(object):
     def __init__(self):
-        sim = rospy.get_param("~sim", "/rotor_rub_sim")
         self.policy = RunUpPolicy(rospy.get_param("~operating_speed_rad_per_s", 280.0),
                                   rospy.get_param("~run_up_accel_rad_per_s2", 500.0),
                                   rospy.get_param("~max_accel_rad_per_s2", 1000.0),
@@ -101,9 +101,9 @@ class RunUpController(object):
         self.last_speed = 0.0
         self.next_control_s = 0.0
         self.cond = threading.Condition()
-        self.pub = rospy.Publisher(sim + "/speed_command", SpeedCommand, queue_size=1000)
-        rospy.Subscriber(sim + "/state", RotorState, self.on_state, queue_size=None)
-        rospy.Subscriber(sim + "/lockstep_state", RotorState, self.on_lockstep, queue_size=None)
+        self.pub = rospy.Publisher("speed_command", SpeedCommand, queue_size=1000)
+        rospy.Subscriber("state", RotorState, self.on_state, queue_size=None)
+        rospy.Subscriber("lockstep_state", RotorState, self.on_lockstep, queue_size=None)
 
     def feed_until(self, index):
         """Feeds the detector every state up to sample index (in order)."""

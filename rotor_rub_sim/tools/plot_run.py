@@ -79,7 +79,7 @@ def main():
                                  "full-spectrum waterfall) as PNGs.")
     ap.add_argument("run", help="a bag the node recorded, or a rotor_rub_run --csv file")
     ap.add_argument("--out", required=True, help="folder for the PNGs (made if missing)")
-    ap.add_argument("--ns", default="", help="the run's namespace in a bag of several, e.g. /switching/rotor_rub_sim")
+    ap.add_argument("--ns", default="", help="the run's namespace in a bag of several, e.g. /switching")
     ap.add_argument("--clearance", type=float, default=None,
                     help="clearance C [m] drawn on the plots; default: the run's own, from its penetration")
     ap.add_argument("--window-s", type=float, default=0.25, help="waterfall window [s] of simulated time")

@@ -99,7 +99,7 @@ class ClosedLoop(unittest.TestCase):
             text = f.read()
         with open(scene, "w") as f:
             f.write(re.sub(r"(?m)^clearance_m:.*$", "clearance_m: 1.0e-3", text))
-        alarms = Collector("/rub_monitor/alarm", RubAlarm)
+        alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
         states = launch(temp_prefix("monitored_1mm") + ".bag", "controller:=false", "scene:=" + scene)
         self.assertGreater(contact_time_s(states), 1.0)
         got = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= 3.9, "the monitor's last verdict")
@@ -108,7 +108,7 @@ class ClosedLoop(unittest.TestCase):
         self.assertLessEqual(delay, MAX_DETECTION_DELAY_S)
 
     def test_monitor_detects_the_rub_within_its_delay(self):
-        alarms = Collector("/rub_monitor/alarm", RubAlarm)
+        alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
         bag = temp_prefix("monitored") + ".bag"
         states = launch(bag, "controller:=false")
         # The alarm is latched: whenever this subscriber connected, it holds the

@@ -33,7 +33,7 @@ class CommandFlood(unittest.TestCase):
         feedback = Collector(NODE + "/speed_command_feedback", SpeedCommandFeedback)
         pub = rospy.Publisher(NODE + "/speed_command", SpeedCommand, queue_size=COMMANDS)
         proc = subprocess.Popen(
-            [find_binary("rotor_rub_sim_node"), "__name:=flood", "_real_time_factor:=1", "_end_action:=continue",
+            [find_binary("rotor_rub_sim_node"), "__name:=flood", "__ns:=/flood", "_real_time_factor:=1", "_end_action:=continue",
              "_output_rate_hz:=%g" % RATE_HZ, "_marker_rate_hz:=0", "_publish_clock:=false"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:

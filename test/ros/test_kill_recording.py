@@ -32,7 +32,7 @@ class KillWhileRecording(unittest.TestCase):
         node = "kill_" + name
         received = Collector("/%s/state" % node, RotorState)
         proc = subprocess.Popen(
-            [find_binary("rotor_rub_sim_node"), "__name:=" + node, "_record_bag:=" + bag_path,
+            [find_binary("rotor_rub_sim_node"), "__name:=" + node, "__ns:=/" + node, "_record_bag:=" + bag_path,
              "_real_time_factor:=1", "_end_action:=continue", "_record_flush_period_s:=%g" % FLUSH_PERIOD_S,
              "_marker_rate_hz:=0", "_publish_clock:=false"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -3,7 +3,7 @@
 exit status of the class, a closed bag holding every state before the failure
 (all finite, contiguous) and the failure in the latched SolverStats; with
 end_action continue the node stays up, /diagnostics goes to ERROR with the
-failure's message, and ~reset starts the scene again."""
+failure's message, and reset starts the scene again."""
 import math
 import subprocess
 import sys
@@ -28,7 +28,7 @@ MODES = [
 
 
 def node_args(name, overrides, extra):
-    args = [find_binary("rotor_rub_sim_node"), "__name:=" + name, "_real_time_factor:=0", "_marker_rate_hz:=0",
+    args = [find_binary("rotor_rub_sim_node"), "__name:=" + name, "__ns:=/" + name, "_real_time_factor:=0", "_marker_rate_hz:=0",
             "_publish_clock:=false"]
     return args + ["_%s:=%s" % kv for kv in list(overrides.items()) + list(extra.items())]
 

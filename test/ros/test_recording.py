@@ -76,12 +76,12 @@ class RecordingTest(unittest.TestCase):
     def test_leftover_parameter_does_not_poison_a_later_launch(self):
         # A typo left on the master by an earlier run (issue 15): the launch
         # files clear the node's parameters at start, so the run goes on.
-        rospy.set_param("/rotor_rub_sim/clearence_m", 0.002)
+        rospy.set_param("/rotor_rub_sim/rotor_rub_sim/clearence_m", 0.002)
         bag = temp_prefix("leftover") + ".bag"
         launch("sim.launch", "record:=true", "bag:=" + bag, "real_time_factor:=0")
         with rosbag.Bag(bag) as b:
             self.assertEqual(b.get_message_count(topic_filters=["/rotor_rub_sim/state"]), N_STATES)
-        self.assertFalse(rospy.has_param("/rotor_rub_sim/clearence_m"))
+        self.assertFalse(rospy.has_param("/rotor_rub_sim/rotor_rub_sim/clearence_m"))
 
     def test_sim_launch_bag_holds_every_message(self):
         with rosbag.Bag(self.sim_bag) as bag:
@@ -102,7 +102,7 @@ class RecordingTest(unittest.TestCase):
         self.assertGreaterEqual(counts["/diagnostics"], int(END_S * 2))
         with rosbag.Bag(self.sim_bag) as bag:
             names = {st.name for _, m, _ in bag.read_messages(topics=["/diagnostics"]) for st in m.status}
-        self.assertIn("rotor_rub_sim: solver", names)
+        self.assertIn("rotor_rub_sim/rotor_rub_sim: solver", names)  # the node's full name: ns/name
         self.assertEqual(stats[-1].status, SolverStats.FINISHED)
         self.assertEqual(stats[-1].states_published, N_STATES)
 
@@ -122,11 +122,11 @@ class RecordingTest(unittest.TestCase):
     def test_compare_methods_launch_records_three_runs(self):
         bag = temp_prefix("compare") + ".bag"
         launch("compare_methods.launch", "record:=true", "bag:=" + bag)
-        rows = compare(bag, "--reference", "/switching/")
+        rows = compare(bag, "--reference", "/switching")
         self.assertEqual(len(rows), 3)
         for name, row in rows.items():
             method = row["method"]
-            self.assertIn("/%s/rotor_rub_sim" % method, name)
+            self.assertTrue(name.endswith(":/%s" % method), name)  # the run's namespace
             self.assertEqual(int(row["samples"]), N_STATES, name)
             self.assertEqual(int(row["lost_samples"]), 0, name)
             self.assertLessEqual(float(row["max_rotor_diff_m"]), METHOD_MAX_ROTOR_DIFF_M[method], name)

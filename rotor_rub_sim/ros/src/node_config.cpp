@@ -103,7 +103,7 @@ const std::vector<Entry>& entries() {
       };
       t.push_back(e);
     }
-    t.push_back(boolean("start_paused", "start paused; ~resume or ~step starts the simulation",
+    t.push_back(boolean("start_paused", "start paused; resume or step starts the simulation",
                         [](NodeConfig& c) -> bool& { return c.start_paused; }));
     t.push_back(real("stats_rate_hz", 0, true, 1e4, "SolverStats rate in simulated time [Hz]",
                      [](NodeConfig& c) -> double& { return c.stats_rate_hz; }));
@@ -153,8 +153,8 @@ const std::vector<Entry>& entries() {
                         "before simulating, wait for this many subscribers on every data topic",
                         [](NodeConfig& c) -> int& { return c.wait_for_subscribers; }));
     t.push_back(integer("wait_for_state_subscribers", 0, 1000,
-                        "before simulating, wait for this many subscribers on ~state (and, in lockstep, one on "
-                        "~lockstep_state)",
+                        "before simulating, wait for this many subscribers on state (and, in lockstep, one on "
+                        "lockstep_state)",
                         [](NodeConfig& c) -> int& { return c.wait_for_state_subscribers; }));
     t.push_back(real("wait_timeout_s", 0, true, 1e6, "wall time to wait for subscribers before failing [s]",
                      [](NodeConfig& c) -> double& { return c.wait_timeout_s; }));

@@ -22,28 +22,30 @@ double next_tick(double t_s, double rate_hz) { return (std::floor(t_s * rate_hz 
 
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup)
     : scene_(setup.scene), config_(setup.config), diagnostics_(nh, private_nh) {
-  // Data topics are private (~state, ...) so that several simulators live in
-  // one graph by node name or namespace; /clock is global by definition.
+  // Topics and services are relative to the node's namespace (as ROS users
+  // expect: `ns` and `remap` place several simulators in one graph, and a
+  // monitor in the same namespace finds "state" without knowing the node's
+  // name); parameters stay private; /clock is global by definition.
   const uint32_t q = static_cast<uint32_t>(config_.publish_queue_size);
-  state_pub_ = private_nh.advertise<rotor_rub_msgs::RotorState>("state", q);
-  event_pub_ = private_nh.advertise<rotor_rub_msgs::ContactEvent>("contact_events", q);
-  stats_pub_ = private_nh.advertise<rotor_rub_msgs::SolverStats>("solver_stats", q, /*latch=*/true);
-  feedback_pub_ = private_nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
+  state_pub_ = nh.advertise<rotor_rub_msgs::RotorState>("state", q);
+  event_pub_ = nh.advertise<rotor_rub_msgs::ContactEvent>("contact_events", q);
+  stats_pub_ = nh.advertise<rotor_rub_msgs::SolverStats>("solver_stats", q, /*latch=*/true);
+  feedback_pub_ = nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", q);
   if (config_.marker_rate_hz > 0.0) {
-    marker_pub_ = private_nh.advertise<visualization_msgs::MarkerArray>("markers", 10);
+    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 10);
     markers_.emplace(scene_.model, config_);
   }
   // Commands are served in arrival order; a deep queue so a burst is judged
   // command by command rather than dropped unseen.
-  command_sub_ = private_nh.subscribe("speed_command", 10000, &SimNode::on_speed_command, this);
+  command_sub_ = nh.subscribe("speed_command", 10000, &SimNode::on_speed_command, this);
   if (config_.lockstep_period_s > 0.0) {
-    lockstep_pub_ = private_nh.advertise<rotor_rub_msgs::RotorState>("lockstep_state", q);
+    lockstep_pub_ = nh.advertise<rotor_rub_msgs::RotorState>("lockstep_state", q);
   }
-  reset_srv_ = private_nh.advertiseService("reset", &SimNode::on_reset, this);
-  pause_srv_ = private_nh.advertiseService("pause", &SimNode::on_pause, this);
-  resume_srv_ = private_nh.advertiseService("resume", &SimNode::on_resume, this);
-  step_srv_ = private_nh.advertiseService("step", &SimNode::on_step, this);
+  reset_srv_ = nh.advertiseService("reset", &SimNode::on_reset, this);
+  pause_srv_ = nh.advertiseService("pause", &SimNode::on_pause, this);
+  resume_srv_ = nh.advertiseService("resume", &SimNode::on_resume, this);
+  step_srv_ = nh.advertiseService("step", &SimNode::on_step, this);
 
   diagnostics_.setHardwareID(std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method));
   diagnostics_.add("solver", this, &SimNode::diagnose_solver);
@@ -165,7 +167,7 @@ bool SimNode::wait_for_subscribers() {
     for (const auto& [p, needed] : needs) {
       if (p->getNumSubscribers() < needed) missing += " " + p->getTopic();
     }
-    // In lockstep the controller must also be heard: a publisher on ~speed_command.
+    // In lockstep the controller must also be heard: a publisher on speed_command.
     if (config_.lockstep_period_s > 0.0 && config_.wait_for_state_subscribers > 0 &&
         command_sub_.getNumPublishers() == 0) {
       missing += " (no publisher on " + command_sub_.getTopic() + ")";
@@ -186,7 +188,7 @@ int SimNode::run() {
   ROS_INFO(
       "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
-      config_.start_paused ? "paused at t = 0 s (call ~resume or ~step) before simulating" : "simulating",
+      config_.start_paused ? "paused at t = 0 s (call the resume or step service) before simulating" : "simulating",
       core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
       scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
@@ -426,7 +428,8 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
   const double accel = msg->acceleration_limit == 0.0 ? scene_.speed.acceleration_rad_per_s2 : msg->acceleration_limit;
   fb.acceleration_limit = accel;
   try {
-    if (status_ == Status::kFailed) throw std::invalid_argument("the simulation has failed; call ~reset first");
+    if (status_ == Status::kFailed)
+      throw std::invalid_argument("the simulation has failed; call the reset service first");
     if (!(msg->acceleration_limit >= 0.0) || std::isinf(msg->acceleration_limit)) {
       std::ostringstream os;
       os << "speed command acceleration_limit ";
@@ -481,8 +484,9 @@ bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   status_ = Status::kPaused;  // counters were restarted: no running time to close
   set_status(keep_running ? Status::kRunning : Status::kPaused);
   res.success = true;
-  res.message = keep_running ? "reset to t = 0 s, running" : "reset to t = 0 s, paused (call ~resume or ~step)";
-  ROS_INFO("~reset: %s", res.message.c_str());
+  res.message =
+      keep_running ? "reset to t = 0 s, running" : "reset to t = 0 s, paused (call the resume or step service)";
+  ROS_INFO("reset: %s", res.message.c_str());
   return true;
 }
 
@@ -490,18 +494,18 @@ bool SimNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   if (status_ == Status::kRunning) set_status(Status::kPaused);
   res.success = status_ == Status::kPaused;
   res.message = res.success ? "paused at t = " + std::to_string(sim_->time()) + " s"
-                            : "not running (finished or failed); call ~reset";
-  ROS_INFO("~pause: %s", res.message.c_str());
+                            : "not running (finished or failed); call the reset service";
+  ROS_INFO("pause: %s", res.message.c_str());
   return true;
 }
 
 bool SimNode::on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   if (status_ == Status::kPaused) set_status(Status::kRunning);
   res.success = status_ == Status::kRunning;
-  res.message = res.success
-                    ? "running from t = " + std::to_string(sim_->time()) + " s"
-                    : "the run has finished or failed at t = " + std::to_string(sim_->time()) + " s; call ~reset";
-  ROS_INFO("~resume: %s", res.message.c_str());
+  res.message = res.success ? "running from t = " + std::to_string(sim_->time()) + " s"
+                            : "the run has finished or failed at t = " + std::to_string(sim_->time()) +
+                                  " s; call the reset service";
+  ROS_INFO("resume: %s", res.message.c_str());
   return true;
 }
 
@@ -511,8 +515,8 @@ bool SimNode::on_step(rotor_rub_msgs::StepSimulation::Request& req, rotor_rub_ms
     res.message = "duration " + std::to_string(req.duration) + " s is out of range; accepted: (0, inf)";
   } else if (status_ != Status::kPaused) {
     res.success = false;
-    res.message = status_ == Status::kRunning ? "step needs a paused simulation; call ~pause first"
-                                              : "the run has finished or failed; call ~reset";
+    res.message = status_ == Status::kRunning ? "step needs a paused simulation; call the pause service first"
+                                              : "the run has finished or failed; call the reset service";
   } else {
     advance_to(sim_->time() + req.duration);
     res.success = !sim_->failure();

@@ -29,7 +29,7 @@ struct NodeConfig {
   // 1 = wall-clock pace, 2 = twice as fast, 0 = as fast as possible.
   double real_time_factor = 1.0;
   EndAction end_action = EndAction::kExit;
-  bool start_paused = false;                 // wait for ~resume or ~step before simulating
+  bool start_paused = false;                 // wait for resume or step before simulating
   double stats_rate_hz = 10.0;               // SolverStats, in simulated time
   double diagnostics_rate_hz = 2.0;          // /diagnostics, in simulated time
   double clock_rate_hz = 1000.0;             // /clock, in simulated time (capped by the state rate)
@@ -42,8 +42,8 @@ struct NodeConfig {
   // Before simulating, wait until every data topic has at least this many
   // subscribers (a recorder, say), so that nothing is published unheard.
   int wait_for_subscribers = 0;
-  // The same for ~state alone (monitoring and control nodes), and, with
-  // lockstep, one subscriber on ~lockstep_state (the controller).
+  // The same for state alone (monitoring and control nodes), and, with
+  // lockstep, one subscriber on lockstep_state (the controller).
   int wait_for_state_subscribers = 0;
   double wait_timeout_s = 30.0;  // wall time; the node exits with an error when it runs out
   // Outgoing queue per subscriber for state, events, stats, feedback. 0 =
@@ -57,7 +57,7 @@ struct NodeConfig {
   // killed with SIGKILL loses at most this much recording (SIGINT loses none).
   double record_flush_period_s = 1.0;
   // Lockstep (closed loop, reproducible at any pace): every lockstep_period_s
-  // of simulated time the node publishes ~lockstep_state and waits until a
+  // of simulated time the node publishes lockstep_state and waits until a
   // speed command stamped at that time (or later) arrives, at most
   // lockstep_timeout_s of wall time. 0 = off.
   double lockstep_period_s = 0.0;

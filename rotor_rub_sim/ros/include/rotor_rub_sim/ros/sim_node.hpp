@@ -76,7 +76,7 @@ class SimNode : public core::SimulationObserver {
   void stop_recording(const std::string& why, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
-  // Lockstep: at a period boundary, publishes ~lockstep_state and serves
+  // Lockstep: at a period boundary, publishes lockstep_state and serves
   // callbacks until the controller's command for this time arrives (or the
   // timeout). Returns false if ROS shut down while waiting.
   bool lockstep_wait();
