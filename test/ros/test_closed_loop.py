@@ -29,8 +29,10 @@ MAX_DETECTION_DELAY_S = 0.020
 
 
 def launch(bag, *args):
-    subprocess.run(["roslaunch", "rotor_rub_sim", "closed_loop.launch", "record:=true", "bag:=" + bag] + list(args),
-                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600)
+    # launch_checked.py: a node that fails fails the test (roslaunch exits 0).
+    subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch", "record:=true",
+                    "bag:=" + bag] + list(args), check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   timeout=600)
     with rosbag.Bag(bag) as b:
         return [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/state"])]
 
