@@ -95,10 +95,11 @@ def rk4_radius(angle):
     return lo
 
 
-def penalty_damping_ratio(restitution):
+def penalty_damping_ratio(restitution, contact_stiffness):
     """contact_law.hpp's inversion of the clamped spring-dashpot's rebound
-    ratio (floor 0.01), by bisection."""
-    e = max(restitution, 0.01)
+    ratio, by bisection, with its floor: 0.01 up to k_c 1e9, then
+    0.01 sqrt(1e9 / k_c)."""
+    e = max(restitution, 0.01 * math.sqrt(min(1.0, 1e9 / contact_stiffness)))
 
     def rebound(z):
         if z < 1:
@@ -108,7 +109,7 @@ def penalty_damping_ratio(restitution):
             return math.exp(-2)
         p = z / math.sqrt(z * z - 1)
         return math.exp(-p * math.log((p + 1) / (p - 1)))
-    lo, hi = 0.0, 100.0
+    lo, hi = 0.0, 1e4
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         (lo, hi) = (mid, hi) if rebound(mid) > e else (lo, mid)
@@ -121,23 +122,24 @@ def penalty(data, out, text, scene):
     violent = [r for r in read_csv(os.path.join(data, "stability_violent.csv")) if r["method"] == "penalty"]
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.6), gridspec_kw={"width_ratios": (1.3, 1, 0.8)})
     xs, ys = class_map(axes[0], rk4, "contact_stiffness_N_per_m", "fixed_step_s",
-                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / (9.51 omega_c); white: refused")
-    # Theory: e = 0 makes the penalty damper overdamped (zeta = 4.81, the
-    # restitution floor 0.01 of contact_law.hpp): real eigenvalues
+                       "fixed-step RK4: class per (k_c, h); line: theory h_max = 2.785 / |lambda_max|; white: refused")
+    # Theory: e = 0 makes the penalty damper overdamped (zeta = 4.81 up to
+    # k_c 1e9, more above: the restitution floor of contact_law.hpp): real eigenvalues
     # -omega_c (zeta +- sqrt(zeta^2 - 1)), omega_c = sqrt(k_c / m_eff); RK4 is
     # stable on [-2.785, 0] of the real axis.
     mr, ms = scene_masses(scene)
     m_eff = 1.0 / (1.0 / mr + 1.0 / ms)
     r = rk4_radius(math.pi)
     kc = np.logspace(math.log10(xs[0]), math.log10(xs[-1]), 200)
-    zeta = penalty_damping_ratio(0.0)
-    h_theory = r / ((zeta + math.sqrt(zeta * zeta - 1.0)) * np.sqrt(kc / m_eff))
+    def fast(k):  # |lambda_max| / omega_c
+        z = penalty_damping_ratio(0.0, k)
+        return z + math.sqrt(z * z - 1.0)
+    h_theory = np.array([r / (fast(k) * math.sqrt(k / m_eff)) for k in kc])
     # Map onto the cell grid (log interpolation between cell centres).
     lx = np.interp(np.log10(kc), np.log10(xs), np.arange(len(xs)))
     ly = np.interp(np.log10(h_theory), np.log10(ys), np.arange(len(ys)), left=-0.5, right=len(ys) - 0.5)
     axes[0].plot(lx, ly, "k-", lw=2)
     measured = []
-    fast = zeta + math.sqrt(zeta * zeta - 1.0)
     for k in xs:
         cells = sorted((value(q, "fixed_step_s"), q["status"]) for q in rk4 if value(q, "contact_stiffness_N_per_m") == k)
         stable = None
@@ -146,7 +148,7 @@ def penalty(data, out, text, scene):
                 break
             stable = h
         first_bad = next(("%s at %.3g" % (st, h) for h, st in cells if st not in COMPLETED), None)
-        measured.append((k, stable, first_bad, r / (fast * math.sqrt(k / m_eff))))
+        measured.append((k, stable, first_bad, r / (fast(k) * math.sqrt(k / m_eff))))
     # Adaptive: cost against k_c.
     for integ, mk in (("dopri5", "o"), ("rosenbrock4", "^")):
         rows = sorted((q for q in adaptive if q["integrator"] == integ), key=lambda q: value(q, "contact_stiffness_N_per_m"))

@@ -43,7 +43,7 @@ core::Scene rk4_scene(double h_s) {
 
 double theoretical_h_max_s(const core::Scene& s) {
   const core::JeffcottModel m(s.model);
-  const double zeta = core::contact_damping_ratio(s.model.restitution);
+  const double zeta = core::contact_damping_ratio(s.model);
   EXPECT_GT(zeta, 1.0);
   const double fast = zeta + std::sqrt(zeta * zeta - 1.0);
   return kRk4RealAxisRadius / (fast * std::sqrt(s.model.contact_stiffness_N_per_m / m.effective_mass_kg()));

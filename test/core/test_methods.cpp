@@ -43,8 +43,7 @@ TEST(MethodPromise, PenaltyPenetrationIsForceOverStiffness) {
     const double damper = core::contact_damping_N_s_per_m(core::JeffcottModel(s.model)) * rate;
     EXPECT_NEAR(smp.penetration_m, (smp.normal_force_N - damper) / kc, kPenaltyLawRoundoff * smp.penetration_m)
         << "t " << smp.t_s;
-    EXPECT_LE(std::abs(damper),
-              kPenaltyDamperSharePerZeta * core::contact_damping_ratio(s.model.restitution) * smp.normal_force_N)
+    EXPECT_LE(std::abs(damper), kPenaltyDamperSharePerZeta * core::contact_damping_ratio(s.model) * smp.normal_force_N)
         << "t " << smp.t_s;
     ++checked;
   }

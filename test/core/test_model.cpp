@@ -157,6 +157,15 @@ TEST(ContactLaw, ClampedDashpotRestitutionClosedForm) {
   }
   EXPECT_EQ(contact_damping_ratio(1.0), 0.0);
   EXPECT_EQ(contact_damping_ratio(0.0), contact_damping_ratio(kPenaltyRestitutionFloor));
+  // The floor: 0.01 up to k_c 1e9, then falling as k_c^-1/2 so that the
+  // penalty method keeps converging as k_c grows.
+  EXPECT_EQ(penalty_restitution_floor(1e8), 0.01);
+  EXPECT_EQ(penalty_restitution_floor(1e9), 0.01);
+  EXPECT_NEAR(penalty_restitution_floor(1e11), 0.001, 1e-15);
+  ModelParameters stiff;
+  stiff.restitution = 0.0;
+  stiff.contact_stiffness_N_per_m = 1e11;
+  EXPECT_NEAR(clamped_dashpot_restitution(contact_damping_ratio(stiff)), 0.001, 1e-12);
 }
 
 TEST(ContactLaw, ClampedDashpotRestitutionAgainstIntegration) {

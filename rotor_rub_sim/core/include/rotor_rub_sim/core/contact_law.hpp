@@ -32,8 +32,9 @@
 //     zeta > 1:  e = exp(-p ln((p + 1)/(p - 1))), p = zeta / sqrt(zeta^2 - 1)
 //   and contact_damping_ratio() inverts it, so penalty impacts rebound with
 //   the scene's e. e -> 0 needs zeta -> infinity (e ~ 1/(4 zeta^2)); below
-//   kPenaltyRestitutionFloor the penalty method uses the floor (documented
-//   in the README with its cost and its error).
+//   penalty_restitution_floor(k_c) (0.01 up to k_c 1e9, lower above) the
+//   penalty method uses the floor (documented in docs/contact_law.md with its
+//   cost and its error).
 // * Tangential: a damper capped at the cone, F_t = -clamp(c_t v_slide,
 //   -f F_n, f F_n) with c_t = 2 sqrt(k_c m_eff), the contact's critical
 //   damping. Its rate c_t / m_eff = 2 omega_c is of the contact's own order
@@ -67,24 +68,38 @@ inline double clamped_dashpot_restitution(double zeta) {
 
 // The penalty method's restitution floor: e -> 0 needs an infinite damper.
 // At 0.01 (zeta = 4.81) the rebound of a 10 mm/s impact is 0.1 mm/s; the
-// damper's rate 2 zeta omega_c sets the explicit step in contact.
+// damper's rate 2 zeta omega_c sets the explicit step in contact. Up to
+// k_c = 1e9 the floor is 0.01; stiffer contacts get a lower one,
+// 0.01 sqrt(1e9 / k_c), so that the floor's rebound keeps shrinking with the
+// compliance and the penalty method keeps converging to the rigid methods as
+// k_c grows (a fixed 0.01 stopped it at ~2e-6 m on the paper scene).
 inline constexpr double kPenaltyRestitutionFloor = 0.01;
+inline constexpr double kPenaltyFloorStiffness_N_per_m = 1e9;
+inline double penalty_restitution_floor(double contact_stiffness_N_per_m) {
+  if (!(contact_stiffness_N_per_m > kPenaltyFloorStiffness_N_per_m)) return kPenaltyRestitutionFloor;
+  return kPenaltyRestitutionFloor * std::sqrt(kPenaltyFloorStiffness_N_per_m / contact_stiffness_N_per_m);
+}
 
 // The damping ratio whose clamped law rebounds with max(e, floor).
-inline double contact_damping_ratio(double restitution) {
-  const double e = std::max(restitution, kPenaltyRestitutionFloor);
+inline double contact_damping_ratio(double restitution, double floor = kPenaltyRestitutionFloor) {
+  const double e = std::max(restitution, floor);
   if (e >= 1.0) return 0.0;
   auto f = [e](double zeta) { return clamped_dashpot_restitution(zeta) - e; };
   std::uintmax_t it = 200;
   auto tol = [](double a, double b) { return std::abs(b - a) <= 1e-14 * std::abs(b); };
-  // e(zeta) falls monotonically from 1 at 0 to ~1/(4 zeta^2): [0, 100] brackets
-  // every e >= 1e-4.
-  const auto br = boost::math::tools::toms748_solve(f, 0.0, 100.0, tol, it);
+  // e(zeta) falls monotonically from 1 at 0 to ~1/(4 zeta^2): [0, 1e4]
+  // brackets every e >= 1e-8.
+  const auto br = boost::math::tools::toms748_solve(f, 0.0, 1e4, tol, it);
   return 0.5 * (br.first + br.second);
 }
 
+// The penalty method's damping ratio for a scene (restitution and k_c).
+inline double contact_damping_ratio(const ModelParameters& p) {
+  return contact_damping_ratio(p.restitution, penalty_restitution_floor(p.contact_stiffness_N_per_m));
+}
+
 inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
-  return 2.0 * contact_damping_ratio(m.parameters().restitution) *
+  return 2.0 * contact_damping_ratio(m.parameters()) *
          std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
 }
 
@@ -96,7 +111,7 @@ inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
 // the clamp keeps the state bounded but the contact chatters: a wrong answer,
 // so validate_scene() refuses such a step.
 inline double rk4_stable_step_s(const JeffcottModel& m) {
-  const double zeta = contact_damping_ratio(m.parameters().restitution);
+  const double zeta = contact_damping_ratio(m.parameters());
   const double omega_c = std::sqrt(m.parameters().contact_stiffness_N_per_m / m.effective_mass_kg());
   double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
   // The friction's tangential damper (below) adds the real eigenvalue
