@@ -2,7 +2,7 @@
 // a CSV of samples and a JSON summary out. See README "Headless runner".
 //
 // Exit status: 0 ok; 2 bad input (usage, scene); 3 stalled; 4 diverged;
-// 5 not converged; 6 output file error.
+// 5 not converged; 6 output file error; 7 timed out; 8 invariant violated.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
