@@ -244,7 +244,10 @@ int main(int argc, char** argv) {
     runs = tools::expand_grid(docs, opt.axes);
     // A typo in a grid key is a bad grid, not a row of invalid runs.
     for (const auto& run : runs) {
-      for (const auto& [key, v] : run.overrides) {
+      for (const auto& override_kv : run.overrides) {
+        // A named reference, not a structured binding: C++17 lambdas cannot
+        // capture structured bindings (clang rejects it; C++20 allows it).
+        const std::string& key = override_kv.first;
         const auto& keys = core::scene_keys();
         const bool known =
             std::any_of(keys.begin(), keys.end(), [&](const core::SceneKeyInfo& k) { return k.key == key; });
