@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <regex>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,6 +24,9 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
 }
+
+// The summary writes a figure the run does not have (NaN) as null.
+double number_or_nan(const nlohmann::json& v) { return v.is_null() ? kNaN : v.get<double>(); }
 
 }  // namespace
 
@@ -190,28 +193,33 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
   }
   std::ifstream js(summary_path);
   if (js) {
-    std::stringstream all;
-    all << js.rdbuf();
-    const std::string text = all.str();
-    static const std::regex method_re(R"re("method": "(\w+)")re");
-    std::smatch m;
-    if (std::regex_search(text, m, method_re)) run.method = m[1];
-    static const std::regex steps_re(R"re("steps": ([0-9]+), "rejected_steps": [0-9]+, "rhs_evals": ([0-9]+))re");
-    if (std::regex_search(text, m, steps_re)) {
-      run.steps = std::stol(m[1]);
-      run.rhs_evals = std::stol(m[2]);
-    }
-    static const std::regex wall_re(R"re("wall_time_s": ([-+0-9.eE]+))re");
-    if (std::regex_search(text, m, wall_re)) run.integration_wall_s = std::strtod(m[1].str().c_str(), nullptr);
-    static const std::regex event_re(R"re(\{"t": ([-+0-9.eE]+), "kind": "(\w+)")re");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), event_re); it != std::sregex_iterator(); ++it) {
-      core::ContactEvent e;
-      e.t_s = std::strtod((*it)[1].str().c_str(), nullptr);
-      const std::string kind = (*it)[2];
-      e.kind = kind == "touchdown" ? core::EventKind::kTouchdown
-               : kind == "liftoff" ? core::EventKind::kLiftoff
-                                   : core::EventKind::kGraze;
-      run.events.push_back(e);
+    // The runner's summary (run_output.cpp writes it with the same library).
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(js);
+      run.method = j.at("method").get<std::string>();
+      const auto& stats = j.at("stats");
+      run.steps = stats.at("steps").get<long>();
+      run.rhs_evals = stats.at("rhs_evals").get<long>();
+      run.integration_wall_s = number_or_nan(stats.at("wall_time_s"));
+      for (const auto& e : j.at("events")) {
+        core::ContactEvent ev;
+        ev.t_s = number_or_nan(e.at("t"));
+        const std::string kind = e.at("kind").get<std::string>();
+        bool known = false;
+        for (const auto& row : core::kEventKindNames) {
+          if (kind == row.name) {
+            ev.kind = row.value;
+            known = true;
+          }
+        }
+        if (!known) throw std::runtime_error("event kind '" + kind + "' is not one of touchdown, liftoff, graze");
+        ev.normal_velocity_m_per_s = number_or_nan(e.at("normal_velocity_m_per_s"));
+        ev.impulse_N_s = number_or_nan(e.at("impulse_N_s"));
+        run.events.push_back(ev);
+      }
+    } catch (const std::exception& e) {
+      throw std::runtime_error("'" + summary_path + "' is not a rotor_rub_run summary: " + e.what());
     }
     run.has_events = true;
   }

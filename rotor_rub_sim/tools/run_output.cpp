@@ -3,30 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 
+#include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 
 namespace rotor_rub::tools {
-namespace {
-
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += (c == '\n') ? ' ' : c;
-  }
-  return out;
-}
-
-}  // namespace
-
 void RunRecorder::on_sample(const core::Sample& s) {
   if (keep_samples_) samples.push_back(s);
   last_sample = s;
@@ -67,45 +49,58 @@ double last_liftoff_s(const std::vector<core::ContactEvent>& events) {
 }
 
 void write_summary_json(std::ostream& os, const SummaryInput& in) {
+  // ordered_json keeps the keys in the order people read them; a NaN (a
+  // figure the run does not have, e.g. no contact) is written as null.
+  using Json = nlohmann::ordered_json;
   const core::Scene& sc = *in.scene;
   const core::RunStats& st = in.stats;
-  os << "{\n  \"scene\": \"" << in.scene_path << "\",\n";
-  os << "  \"method\": \"" << core::to_string(sc.solver.method) << "\",\n";
-  os << "  \"integrator\": \"" << core::to_string(sc.solver.integrator) << "\",\n";
-  os << "  \"rtol\": " << num(sc.solver.rtol) << ",\n  \"atol\": " << num(sc.solver.atol) << ",\n";
+  Json j;
+  j["scene"] = in.scene_path;
+  j["method"] = core::to_string(sc.solver.method);
+  j["integrator"] = core::to_string(sc.solver.integrator);
+  j["rtol"] = sc.solver.rtol;
+  j["atol"] = sc.solver.atol;
+  // Every key of the scene that ran (defaults, file and overrides), as text
+  // that reads back to the same scene: the run can be repeated from this.
+  j["scene_values"] = core::scene_values(sc);
   if (*in.failure) {
-    os << "  \"status\": \"" << core::to_string((*in.failure)->failure_class) << "\",\n";
-    os << "  \"failure\": {\"t\": " << num((*in.failure)->time_s) << ", \"message\": \""
-       << json_escape((*in.failure)->message) << "\"},\n";
+    j["status"] = core::to_string((*in.failure)->failure_class);
+    j["failure"] = {{"t", (*in.failure)->time_s}, {"message", (*in.failure)->message}};
   } else {
-    os << "  \"status\": \"ok\",\n";
+    j["status"] = "ok";
   }
-  const auto sustained = core::longest_contact(in.recorder->events);
-  os << "  \"first_contact_s\": " << num(core::first_contact_s(in.recorder->events)) << ",\n";
-  os << "  \"first_touchdown_s\": " << num(first_touchdown_s(in.recorder->events)) << ",\n";
-  os << "  \"sustained_contact_s\": [" << num(sustained.first) << ", " << num(sustained.second) << "],\n";
-  os << "  \"last_liftoff_s\": " << num(last_liftoff_s(in.recorder->events)) << ",\n";
-  os << "  \"last_contact_end_s\": " << num(core::last_contact_end_s(in.recorder->events)) << ",\n";
-  os << "  \"max_orbit_m\": " << num(in.recorder->max_orbit_m) << ",\n";
-  os << "  \"max_normal_force_N\": " << num(in.recorder->max_normal_force_N) << ",\n";
-  os << "  \"max_penetration_m\": " << num(in.recorder->max_penetration_m) << ",\n";
-  os << "  \"events\": [";
-  for (std::size_t i = 0; i < in.recorder->events.size(); ++i) {
-    const auto& e = in.recorder->events[i];
-    os << (i ? ",\n    " : "\n    ") << "{\"t\": " << num(e.t_s) << ", \"kind\": \"" << core::to_string(e.kind)
-       << "\", \"normal_velocity_m_per_s\": " << num(e.normal_velocity_m_per_s)
-       << ", \"impulse_N_s\": " << num(e.impulse_N_s) << "}";
+  const auto& events = in.recorder->events;
+  const auto sustained = core::longest_contact(events);
+  j["first_contact_s"] = core::first_contact_s(events);
+  j["first_touchdown_s"] = first_touchdown_s(events);
+  j["sustained_contact_s"] = {sustained.first, sustained.second};
+  j["last_liftoff_s"] = last_liftoff_s(events);
+  j["last_contact_end_s"] = core::last_contact_end_s(events);
+  j["max_orbit_m"] = in.recorder->max_orbit_m;
+  j["max_normal_force_N"] = in.recorder->max_normal_force_N;
+  j["max_penetration_m"] = in.recorder->max_penetration_m;
+  j["events"] = Json::array();
+  for (const auto& e : events) {
+    j["events"].push_back({{"t", e.t_s},
+                           {"kind", core::to_string(e.kind)},
+                           {"normal_velocity_m_per_s", e.normal_velocity_m_per_s},
+                           {"impulse_N_s", e.impulse_N_s}});
   }
-  os << (in.recorder->events.empty() ? "],\n" : "\n  ],\n");
-  os << "  \"stats\": {\"steps\": " << st.steps << ", \"rejected_steps\": " << st.rejected_steps
-     << ", \"rhs_evals\": " << st.rhs_evals << ", \"jacobian_evals\": " << st.jacobian_evals
-     << ", \"root_iterations\": " << st.root_iterations << ", \"touchdowns\": " << st.touchdowns
-     << ", \"liftoffs\": " << st.liftoffs << ", \"grazes\": " << st.grazes << ", \"restarts\": " << st.restarts
-     << ", \"friction_transitions\": " << st.friction_transitions << ", \"wall_time_s\": " << num(st.wall_time_s)
-     << ", \"max_constraint_violation_m\": " << num(st.max_constraint_violation_m)
-     << ", \"min_abs_sliding_velocity_m_per_s\": "
-     << num(st.min_abs_sliding_velocity_m_per_s > 1e299 ? std::nan("") : st.min_abs_sliding_velocity_m_per_s)
-     << "}\n}\n";
+  j["stats"] = {{"steps", st.steps},
+                {"rejected_steps", st.rejected_steps},
+                {"rhs_evals", st.rhs_evals},
+                {"jacobian_evals", st.jacobian_evals},
+                {"root_iterations", st.root_iterations},
+                {"touchdowns", st.touchdowns},
+                {"liftoffs", st.liftoffs},
+                {"grazes", st.grazes},
+                {"restarts", st.restarts},
+                {"friction_transitions", st.friction_transitions},
+                {"wall_time_s", st.wall_time_s},
+                {"max_constraint_violation_m", st.max_constraint_violation_m},
+                {"min_abs_sliding_velocity_m_per_s",
+                 st.min_abs_sliding_velocity_m_per_s > 1e299 ? std::nan("") : st.min_abs_sliding_velocity_m_per_s}};
+  os << j.dump(2) << "\n";
 }
 
 }  // namespace rotor_rub::tools

@@ -1,8 +1,10 @@
 #include "sweep_grid.hpp"
 
+#include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
+
+#include "rotor_rub_sim/core/yaml_values.hpp"
 
 namespace rotor_rub::tools {
 namespace {
@@ -32,6 +34,22 @@ std::vector<std::string> split_list(const std::string& text) {
   return out;
 }
 
+// A number the grid itself computes with (atol = rtol * atol_per_rtol).
+double grid_number(const std::string& key, const std::string& text) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(v) || !(v > 0.0)) {
+    throw std::invalid_argument("grid key '" + key + "': value '" + text +
+                                "' is not a positive number; accepted: (0, inf) (atol_per_rtol multiplies rtol)");
+  }
+  return v;
+}
+
 std::string format_double(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -41,42 +59,20 @@ std::string format_double(double v) {
 }  // namespace
 
 std::vector<GridDocument> read_grid_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument("grid file '" + path + "' cannot be read");
-  std::vector<GridDocument> docs(1);
-  int line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line = line.substr(0, hash);
-    line = trim(line);
-    if (line.empty()) continue;
-    if (line == "---") {
-      if (!docs.back().empty()) docs.emplace_back();
-      continue;
-    }
-    const auto colon = line.find(':');
-    const auto where = "grid file '" + path + "' line " + std::to_string(line_no);
-    if (colon == std::string::npos || colon == 0) throw std::invalid_argument(where + ": expected 'key: value'");
-    GridAxis axis{trim(line.substr(0, colon)), {}};
-    std::string value = trim(line.substr(colon + 1));
-    try {
-      if (!value.empty() && value.front() == '[') {
-        if (value.back() != ']') throw std::invalid_argument("unclosed list");
-        axis.values = split_list(value.substr(1, value.size() - 2));
-      } else {
-        if (value.empty()) throw std::invalid_argument("no value");
-        axis.values = {value};
-      }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where + ": " + e.what());
-    }
-    for (const auto& a : docs.back()) {
-      if (a.key == axis.key) throw std::invalid_argument(where + ": key '" + axis.key + "' given twice");
-    }
-    docs.back().push_back(axis);
+  std::vector<core::YamlDocument> yaml;
+  try {
+    yaml = core::read_yaml_documents(path);
+  } catch (const core::YamlError& e) {
+    throw std::invalid_argument(std::string("grid file ") + e.what());
   }
-  if (docs.back().empty() && docs.size() > 1) docs.pop_back();
+  std::vector<GridDocument> docs;
+  for (const auto& y : yaml) {
+    if (y.empty()) continue;  // a document of comments only
+    GridDocument doc;
+    for (const auto& e : y) doc.push_back({e.key, e.values});
+    docs.push_back(std::move(doc));
+  }
+  if (docs.empty()) docs.emplace_back();
   return docs;
 }
 
@@ -112,7 +108,8 @@ std::vector<SweepRun> expand_grid(const std::vector<GridDocument>& docs, const s
         if (rtol == r.overrides.end() || r.overrides.count("atol")) {
           throw std::invalid_argument("grid key 'atol_per_rtol' needs 'rtol' and excludes 'atol'");
         }
-        r.overrides["atol"] = format_double(std::stod(rtol->second) * std::stod(ratio->second));
+        r.overrides["atol"] =
+            format_double(grid_number("rtol", rtol->second) * grid_number("atol_per_rtol", ratio->second));
         r.overrides.erase(ratio);
       }
       const auto speed = r.overrides.find("constant_speed_rad_per_s");

@@ -3,10 +3,12 @@
 // nearest key of either table.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "../core/range_violation.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/yaml_values.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
 
 namespace rotor_rub::ros_node {
@@ -106,21 +108,28 @@ namespace {
 // generated from the key table; this catches a key added without
 // regenerating it) and loads as the node's parameters, giving the defaults.
 TEST(NodeConfig, TemplateListsEveryKeyWithItsDefault) {
-  std::ifstream in(std::string(ROTOR_RUB_SOURCE_DIR) + "/config/node_template.yaml");
-  ASSERT_TRUE(in) << "config/node_template.yaml missing";
+  // Read as rosparam reads it (the project's one YAML reader).
+  const auto docs = core::read_yaml_documents(std::string(ROTOR_RUB_SOURCE_DIR) + "/config/node_template.yaml");
+  ASSERT_EQ(docs.size(), 1u);
   std::map<std::string, std::string> values;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto colon = line.find(": ");
-    ASSERT_NE(colon, std::string::npos) << line;
-    std::string value = line.substr(colon + 2);
-    if (value == "\"\"") value.clear();
-    values[line.substr(0, colon)] = value;
+  for (const auto& e : docs.front()) {
+    ASSERT_FALSE(e.is_list) << e.key;
+    values[e.key] = e.values.front();
   }
   ASSERT_EQ(values.size(), node_keys().size());
   for (const auto& k : node_keys()) {
     ASSERT_EQ(values.count(k.key), 1u) << k.key << " is not in config/node_template.yaml";
-    EXPECT_EQ(values[k.key], k.default_value) << k.key;
+    // The same value: numbers compared as numbers (YAML gives the shortest
+    // text of a float, the table its own), names and booleans as text.
+    char* end_yaml = nullptr;
+    char* end_default = nullptr;
+    const double v_yaml = std::strtod(values[k.key].c_str(), &end_yaml);
+    const double v_default = std::strtod(k.default_value.c_str(), &end_default);
+    if (!values[k.key].empty() && *end_yaml == '\0' && !k.default_value.empty() && *end_default == '\0') {
+      EXPECT_EQ(v_yaml, v_default) << k.key;
+    } else {
+      EXPECT_EQ(values[k.key], k.default_value) << k.key;
+    }
   }
   const NodeConfig loaded = node_setup_from_values(values).config;
   const NodeConfig defaults;

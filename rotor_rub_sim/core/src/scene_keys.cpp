@@ -1,6 +1,7 @@
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -39,7 +40,17 @@ double parse_number(const std::string& key, const std::string& text, const std::
 struct KeyEntry {
   SceneKeyInfo info;
   std::function<void(Scene&, const std::string&)> set;
+  // The text set() reads back to the same value (the scene by value: ref()
+  // hands out a mutable reference).
+  std::function<std::string(Scene)> get;
 };
+
+// The shortest text that reads back as the same double.
+std::string exact_text(double v) {
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
 
 // A real-valued key in [lo, hi] (lo exclusive when lo_open).
 KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string description,
@@ -48,7 +59,7 @@ KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string d
                          (std::isinf(hi) ? std::string("inf)") : format_double(hi) + "]");
   Scene defaults;
   std::string def = format_double(ref(defaults));
-  KeyEntry e{{key, accepted, std::move(description), def}, nullptr};
+  KeyEntry e{{key, accepted, std::move(description), def}, nullptr, [ref](Scene s) { return exact_text(ref(s)); }};
   e.set = [key, lo, lo_open, hi, accepted, ref](Scene& s, const std::string& text) {
     const double v = parse_number(key, text, accepted);
     const bool below = lo_open ? !(v > lo) : !(v >= lo);
@@ -63,7 +74,9 @@ KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string d
 KeyEntry integer(std::string key, long lo, long hi, std::string description, std::function<long&(Scene&)> ref) {
   std::string accepted = "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   Scene defaults;
-  KeyEntry e{{key, accepted, std::move(description), std::to_string(ref(defaults))}, nullptr};
+  KeyEntry e{{key, accepted, std::move(description), std::to_string(ref(defaults))}, nullptr, [ref](Scene s) {
+               return std::to_string(ref(s));
+             }};
   e.set = [key, lo, hi, accepted, ref](Scene& s, const std::string& text) {
     const double v = parse_number(key, text, accepted);
     if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
@@ -79,7 +92,9 @@ KeyEntry choice(std::string key, const Table& table, std::string description, st
   std::string accepted = "one of";
   for (const auto& row : table) accepted += std::string(" ") + row.name;
   Scene defaults;
-  KeyEntry e{{key, accepted, std::move(description), to_string(ref(defaults))}, nullptr};
+  KeyEntry e{{key, accepted, std::move(description), to_string(ref(defaults))}, nullptr, [ref](Scene s) {
+               return std::string(to_string(ref(s)));
+             }};
   e.set = [key, table, accepted, ref](Scene& s, const std::string& text) {
     for (const auto& row : table) {
       if (text == row.name) {
@@ -219,6 +234,12 @@ std::string nearest_scene_key(const std::string& key) {
   std::vector<std::string> names;
   for (const auto& e : entries()) names.push_back(e.info.key);
   return nearest_key(key, names);
+}
+
+std::map<std::string, std::string> scene_values(const Scene& scene) {
+  std::map<std::string, std::string> values;
+  for (const auto& e : entries()) values[e.info.key] = e.get(scene);
+  return values;
 }
 
 void set_scene_value(Scene& scene, const std::string& key, const std::string& value) {

@@ -1,7 +1,6 @@
-// Reads a scene file: a flat YAML mapping of scene keys to scalars, the same
-// file a launch file hands to rosparam. Only the flat subset of YAML is
-// accepted (`key: value`, comments, blank lines), so the file means the same
-// to every reader.
+// Reads a scene file: one YAML mapping of scene keys to scalars, the same file
+// a launch file hands to rosparam, read with the meaning rosparam gives it
+// (yaml_values.hpp: any YAML, flow mappings, anchors and quotes included).
 #pragma once
 
 #include <map>
@@ -11,7 +10,9 @@
 
 namespace rotor_rub::core {
 
-// key -> value text. Throws SceneError naming the file and line.
+// key -> value text, each value already checked against its key's range (so a
+// bad value is an error even where an override replaces it). Throws
+// SceneError naming the file, line and column.
 std::map<std::string, std::string> read_scene_values(const std::string& path);
 
 // Defaults, then the file, then the overrides (key=value); validated.

@@ -33,6 +33,11 @@ const std::vector<SceneKeyInfo>& scene_keys();
 // or a value outside the accepted range.
 void set_scene_value(Scene& scene, const std::string& key, const std::string& value);
 
+// Every key's value in a scene, as text that set_scene_value reads back to
+// the same value (doubles exactly): scene_from_values(scene_values(s)) == s.
+// Two scenes are the same scene when these maps are equal.
+std::map<std::string, std::string> scene_values(const Scene& scene);
+
 // Checks that hold between keys (e.g. rosenbrock4 is for the penalty method).
 void validate_scene(const Scene& scene);
 
