@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
@@ -64,7 +65,12 @@ bool get(std::istream& is, T& v) {
 }
 
 void save(const std::string& path, const std::string& key, const core::ReferenceTrace& t) {
-  std::ofstream os(path + ".tmp", std::ios::binary);
+  // A temporary file of this process's own: shards on several hosts may
+  // write the same reference at once into a shared cache.
+  char host[256] = "host";
+  gethostname(host, sizeof host - 1);
+  const std::string tmp = path + ".tmp." + host + "." + std::to_string(getpid());
+  std::ofstream os(tmp, std::ios::binary);
   put(os, kCacheMagic);
   put<uint64_t>(os, key.size());
   os.write(key.data(), static_cast<std::streamsize>(key.size()));
@@ -92,7 +98,11 @@ void save(const std::string& path, const std::string& key, const core::Reference
   }
   put<uint8_t>(os, t.failed ? 1 : 0);
   os.close();
-  if (os) std::rename((path + ".tmp").c_str(), path.c_str());  // atomic: shards may race
+  if (os) {
+    std::rename(tmp.c_str(), path.c_str());  // atomic: a reader sees the old file or the whole new one
+  } else {
+    std::remove(tmp.c_str());
+  }
 }
 
 // Loads the trace if the file holds this key; rebuilds the windows from it.

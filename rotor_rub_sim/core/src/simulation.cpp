@@ -30,6 +30,8 @@ Simulation::Simulation(const Scene& scene)
       limits_(InvariantLimits::for_scene(scene)) {
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
+  const double two_pi = 2.0 * M_PI;
+  next_mark_angle_rad_ = two_pi * (std::floor(scene.speed.initial_angle_rad / two_pi) + 1.0);
 }
 
 void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2) {
@@ -87,11 +89,29 @@ void Simulation::count_and_deliver(const ContactEvent& e, SimulationObserver& ob
   observer.on_event(e);
 }
 
+void Simulation::deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer) {
+  if (!observer.wants_keyphasor()) return;
+  // An observer that did not want marks before: start from the next one.
+  const double two_pi = 2.0 * M_PI;
+  const double angle_now = profile_.at(time_s_).angle_rad;
+  if (next_mark_angle_rad_ < angle_now) next_mark_angle_rad_ = two_pi * (std::floor(angle_now / two_pi) + 1.0);
+  for (;;) {
+    // Marks are not before time_s_ (the angle never decreases).
+    const double t_mark = profile_.time_at_angle(time_s_, next_mark_angle_rad_);
+    if (inclusive ? t_mark > t_s : t_mark >= t_s) return;
+    const Sample s = method_->sample(t_mark);
+    check_invariants(s, limits_);
+    observer.on_keyphasor(s);
+    next_mark_angle_rad_ += two_pi;
+  }
+}
+
 void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
   const double rate = scene_.output_rate_hz;
   for (;;) {
     const double tk = static_cast<double>(next_sample_) / rate;
     if (tk > t_s) break;
+    deliver_marks_before(tk, false, observer);
     for (auto it = step_events_.begin(); it != step_events_.end();) {
       if (it->t_s < tk) {
         count_and_deliver(*it, observer);
@@ -105,6 +125,7 @@ void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
     observer.on_sample(s);
     ++next_sample_;
   }
+  deliver_marks_before(t_s, true, observer);
   for (auto it = step_events_.begin(); it != step_events_.end();) {
     if (it->t_s <= t_s) {
       count_and_deliver(*it, observer);
@@ -168,6 +189,8 @@ RunResult run_scene(const Scene& scene, SimulationObserver& observer) {
       events.push_back(e);
       inner->on_event(e);
     }
+    bool wants_keyphasor() const override { return inner->wants_keyphasor(); }
+    void on_keyphasor(const Sample& s) override { inner->on_keyphasor(s); }
   } recorder;
   recorder.inner = &observer;
   Simulation sim(scene);

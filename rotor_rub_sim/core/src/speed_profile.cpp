@@ -48,4 +48,24 @@ double SpeedProfile::next_break_after(double t_s) const {
   return std::numeric_limits<double>::infinity();
 }
 
+double SpeedProfile::time_at_angle(double t_s, double angle_rad) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < segments_.size(); ++i) {
+    const SpeedSegment& seg = segments_[i];
+    const double end = i + 1 < segments_.size() ? segments_[i + 1].start_time_s : kInf;
+    if (end < t_s) continue;
+    // phi(start + tau) = angle: 0.5 a tau^2 + w0 tau - delta = 0, delta >= 0.
+    // The root written without cancellation: tau = 2 delta / (w0 + sqrt(w0^2 + 2 a delta)).
+    const double delta = angle_rad - seg.start_angle_rad;
+    const double w0 = seg.start_speed_rad_per_s, a = seg.accel_rad_per_s2;
+    const double disc = w0 * w0 + 2.0 * a * delta;
+    if (delta < 0.0 || disc < 0.0) continue;
+    const double denominator = w0 + std::sqrt(disc);
+    if (!(denominator > 0.0)) continue;  // standing still: never
+    const double t = seg.start_time_s + 2.0 * delta / denominator;
+    if (t <= end && t >= std::max(t_s, seg.start_time_s)) return t;
+  }
+  return kInf;
+}
+
 }  // namespace rotor_rub::core

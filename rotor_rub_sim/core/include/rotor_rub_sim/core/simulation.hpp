@@ -22,6 +22,13 @@ class SimulationObserver {
   virtual ~SimulationObserver() = default;
   virtual void on_sample(const Sample& /*s*/) {}
   virtual void on_event(const ContactEvent& /*e*/) {}
+  // A keyphasor: once per revolution, when the spin angle phi passes a
+  // multiple of 2 pi (the unbalance pointing along +x), the state at that
+  // instant from the method's dense output (not the nearest sample). Called
+  // only when wants_keyphasor(); in time order with the samples. The mark at
+  // the start angle itself (t = 0) is not one.
+  virtual bool wants_keyphasor() const { return false; }
+  virtual void on_keyphasor(const Sample& /*s*/) {}
 };
 
 struct RunFailure {
@@ -58,6 +65,7 @@ class Simulation {
 
  private:
   void deliver_until(double t_s, SimulationObserver& observer);
+  void deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer);
   void count_and_deliver(const ContactEvent& e, SimulationObserver& observer);
 
   Scene scene_;
@@ -66,6 +74,7 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
+  double next_mark_angle_rad_ = 0.0;  // the next keyphasor angle (a multiple of 2 pi)
   double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
   bool break_due_ = false;                 // the last step ended on it
   std::vector<ContactEvent> step_events_;  // found, not yet delivered

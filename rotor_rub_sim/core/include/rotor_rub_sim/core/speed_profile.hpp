@@ -45,6 +45,11 @@ class SpeedProfile {
   const SpeedSegment& segment_at(double t_s) const;
   // The first segment start strictly after t_s (infinity if none).
   double next_break_after(double t_s) const;
+  // The first time at or after t_s at which the spin angle equals angle_rad
+  // (not modulo 2 pi), in closed form on the segments; infinity if the drive
+  // never gets there (it stops short, or stands still). The speed is never
+  // negative, so the angle never decreases.
+  double time_at_angle(double t_s, double angle_rad) const;
   const std::vector<SpeedSegment>& segments() const { return segments_; }
 
  private:
