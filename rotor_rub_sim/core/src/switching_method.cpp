@@ -236,6 +236,19 @@ class SwitchingMethod final : public ContactMethod {
           first_k = k;
         }
       }
+      // Free flight that has not opened the gap since the switch (a graze at
+      // the tangency, where the pressing force just changes sign), yet
+      // penetrates: contact, located where the penetration reaches the
+      // tolerance (the paper's remedy for the stall, located instead of at
+      // the step's end, which could lie far beyond the tolerance).
+      if (first_k < 0 && !armed_[kGap] && regime_ == Regime::kFree && cur.value[kGap] > penetration_tolerance_m_) {
+        const double tol = penetration_tolerance_m_;
+        auto beyond = [this, tol](double t) { return event_value(kGap, t) - tol; };
+        first_t = prev.value[kGap] - tol < 0.0
+                      ? locate_event(beyond, prev_t, prev.value[kGap] - tol, ti, cur.value[kGap] - tol, stats_)
+                      : prev_t;
+        first_k = kGap;
+      }
       if (first_k >= 0) {
         valid_end_ = first_t;
         on_event(static_cast<EventFunction>(first_k), first_t, events);
@@ -249,11 +262,6 @@ class SwitchingMethod final : public ContactMethod {
     }
     valid_end_ = t1;
     values_end_ = prev;
-    // Free flight that never opened the gap after a switch, yet penetrates:
-    // force contact (the paper's remedy for the stall).
-    if (!armed_[kGap] && regime_ == Regime::kFree && prev.value[kGap] > penetration_tolerance_m_) {
-      on_event(kGap, t1, events);
-    }
   }
 
   // The crossing time of function k in [a, b], or +infinity.
