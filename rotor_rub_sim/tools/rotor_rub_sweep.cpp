@@ -356,7 +356,8 @@ int main(int argc, char** argv) {
     tools::write_sweep_row(out, r);
     ok += r.status == "ok";
   }
-  std::fprintf(stderr, "rotor_rub_sweep: %zu runs (shard %zu/%zu of %zu), %zu ok, %zu not ok -> %s\n", runs.size(),
-               opt.shard_index, opt.shard_count, total, ok, runs.size() - ok, opt.out_path.c_str());
+  std::fprintf(stderr, "rotor_rub_sweep: %zu runs (shard %zu/%zu of %zu), %zu ok, %zu not ok -> %s (scene %s)\n",
+               runs.size(), opt.shard_index, opt.shard_count, total, ok, runs.size() - ok, opt.out_path.c_str(),
+               opt.scene_path.c_str());
   return 0;
 }
