@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_options.hpp"
 #include "rotor_rub_msgs/ContactEvent.h"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_msgs/SolverStats.h"
@@ -28,13 +29,6 @@
 namespace {
 
 using rotor_rub::tools::RecordedRun;
-
-const char* kUsage =
-    "usage: rotor_rub_compare [BAG]... [--runner PREFIX]... [--reference NAME] [--csv FILE] [--quiet]\n"
-    "  BAG             a bag recorded from rotor_rub_sim_node (one run per <ns>/state topic)\n"
-    "  --runner PREFIX the headless runner's PREFIX.csv (and PREFIX.json for its events)\n"
-    "  --reference N   the run the others are compared with (default: the first --runner, else the first run)\n"
-    "  --csv FILE      one row per run\n";
 
 [[noreturn]] void bad_input(const std::string& msg) {
   std::cerr << "rotor_rub_compare: " << msg << "\n";
@@ -109,40 +103,42 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<RecordedRun> runs;
+  namespace cli = rotor_rub::tools::cli;
+  std::vector<std::string> bags, runner_prefixes;
   std::string reference, csv_path;
   bool quiet = false;
-  std::size_t runner_runs = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) bad_input(a + " needs a value\n" + kUsage);
-      return argv[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (a == "--runner") {
-      const std::string prefix = value();
-      try {
-        runs.insert(runs.begin() + static_cast<long>(runner_runs++),
-                    rotor_rub::tools::read_runner_csv(prefix + ".csv", prefix + ".json"));
-      } catch (const std::exception& e) {
-        bad_input(e.what());
-      }
-    } else if (a == "--reference") {
-      reference = value();
-    } else if (a == "--csv") {
-      csv_path = value();
-    } else if (a == "--quiet") {
-      quiet = true;
-    } else if (!a.empty() && a[0] == '-') {
-      bad_input("unknown option " + a + "\n" + kUsage);
-    } else {
-      for (auto& r : read_bag(a)) runs.push_back(std::move(r));
+  CLI::App app(
+      "Compares recorded runs offline: the node's bags and the headless runner's output. Prints a table and writes "
+      "a CSV: touchdown and lift-off times, max and RMS differences of the rotor and stator positions against a "
+      "reference run, contact force figures, lost messages and solver cost.",
+      "rotor_rub_compare");
+  app.add_option("BAG", bags, "a bag recorded from rotor_rub_sim_node (one run per <ns>/state topic)")
+      ->type_name("BAG");
+  app.add_option("--runner", runner_prefixes,
+                 "the headless runner's PREFIX.csv (and PREFIX.json for its events); repeatable")
+      ->type_name("PREFIX")
+      ->allow_extra_args(false);
+  app.add_option("--reference", reference,
+                 "the run the others are compared with, by name or part of it (default: the first --runner, "
+                 "else the first run)")
+      ->type_name("NAME");
+  app.add_option("--csv", csv_path, "write one row per run to this CSV file")->type_name("FILE");
+  app.add_flag("--quiet", quiet, "no table on stdout");
+  app.footer("Exit status: 0 ok; 2 bad input (usage, a missing, truncated or foreign bag).");
+  cli::parse_or_exit(app, argc, argv);
+  // The runner's runs first (in their order), then the bags'.
+  std::vector<RecordedRun> runs;
+  for (const auto& prefix : runner_prefixes) {
+    try {
+      runs.push_back(rotor_rub::tools::read_runner_csv(prefix + ".csv", prefix + ".json"));
+    } catch (const std::exception& e) {
+      bad_input(e.what());
     }
   }
-  if (runs.empty()) bad_input(std::string("no runs given\n") + kUsage);
+  for (const auto& bag : bags) {
+    for (auto& r : read_bag(bag)) runs.push_back(std::move(r));
+  }
+  if (runs.empty()) cli::usage_error(app, "no runs given: name a BAG or --runner PREFIX");
   std::size_t ref = 0;
   if (!reference.empty()) {
     auto it = std::find_if(runs.begin(), runs.end(), [&](const RecordedRun& r) {

@@ -10,7 +10,9 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <vector>
 
+#include "cli_options.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
@@ -20,67 +22,86 @@
 namespace {
 
 using namespace rotor_rub;
+namespace cli = rotor_rub::tools::cli;
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitOutput = 6;
-
-const char* kUsage =
-    "usage: rotor_rub_run --scene FILE [--method penalty|switching|iteration] [--rtol R] [--atol A]\n"
-    "                     [--set key=value]... [--rate HZ] [--csv FILE] [--summary FILE] [--quiet]\n"
-    "       rotor_rub_run --list-keys\n";
 
 [[noreturn]] void bad_input(const std::string& msg) {
   std::cerr << "rotor_rub_run: " << msg << "\n";
   std::exit(kExitBadInput);
 }
 
+// --set key=value: the key and value as the scene key table takes them.
+CLI::Validator key_value() {
+  return CLI::Validator(
+      [](std::string& kv) -> std::string {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0) return "value '" + kv + "' is not accepted; accepted: key=value";
+        core::Scene scratch;
+        try {
+          core::set_scene_value(scratch, kv.substr(0, eq), kv.substr(eq + 1));
+        } catch (const core::SceneError& e) {
+          return e.what();
+        }
+        return std::string();
+      },
+      "", "key_value");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path, csv_path, summary_path;
-  std::map<std::string, std::string> overrides;
-  bool quiet = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&](const char* flag) -> std::string {
-      if (i + 1 >= argc) bad_input(std::string(flag) + " needs a value\n" + kUsage);
-      return argv[++i];
-    };
-    if (a == "--scene")
-      scene_path = value("--scene");
-    else if (a == "--method")
-      overrides["method"] = value("--method");
-    else if (a == "--rtol")
-      overrides["rtol"] = value("--rtol");
-    else if (a == "--atol")
-      overrides["atol"] = value("--atol");
-    else if (a == "--rate")
-      overrides["output_rate_hz"] = value("--rate");
-    else if (a == "--csv")
-      csv_path = value("--csv");
-    else if (a == "--summary")
-      summary_path = value("--summary");
-    else if (a == "--quiet")
-      quiet = true;
-    else if (a == "--set") {
-      const std::string kv = value("--set");
-      const auto eq = kv.find('=');
-      if (eq == std::string::npos || eq == 0) bad_input("--set expects key=value, got '" + kv + "'");
-      overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
-    } else if (a == "--list-keys") {
-      for (const auto& k : core::scene_keys()) {
-        std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(), k.default_value.c_str(),
-                    k.accepted.c_str(), k.description.c_str());
-      }
-      return 0;
-    } else if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else {
-      bad_input("unknown option '" + a + "'\n" + kUsage);
+  std::string scene_path, csv_path, summary_path, method, rtol, atol, rate;
+  std::vector<std::string> sets;
+  bool quiet = false, list_keys = false;
+  CLI::App app(
+      "The headless runner: runs a scene on the core (no master, no ROS) and writes its samples (CSV) "
+      "and a summary (JSON).",
+      "rotor_rub_run");
+  app.add_option("--scene", scene_path, "the scene file: flat YAML of scene keys (see --list-keys); required")
+      ->type_name("FILE")
+      ->check(cli::existing_file());
+  app.add_option("--method", method, cli::scene_key_description("method"))
+      ->type_name("NAME")
+      ->check(cli::scene_key("method"));
+  app.add_option("--rtol", rtol, cli::scene_key_description("rtol"))->type_name("R")->check(cli::scene_key("rtol"));
+  app.add_option("--atol", atol, cli::scene_key_description("atol"))->type_name("A")->check(cli::scene_key("atol"));
+  app.add_option("--rate", rate, cli::scene_key_description("output_rate_hz"))
+      ->type_name("HZ")
+      ->check(cli::scene_key("output_rate_hz"));
+  app.add_option("--set", sets,
+                 "sets any scene key, repeatable; --method, --rtol, --atol and --rate win over --set of the same key")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false)
+      ->check(key_value());
+  app.add_option("--csv", csv_path, "write the samples to this CSV file (one row per sample at t = k / rate)")
+      ->type_name("FILE");
+  app.add_option("--summary", summary_path, "write the JSON summary (status, events, stats) to this file")
+      ->type_name("FILE");
+  app.add_flag("--quiet", quiet, "no summary line on stdout");
+  app.add_flag("--list-keys", list_keys, "print every scene key with its default, accepted range and meaning; exit");
+  app.footer(
+      "Exit status: 0 ok; 2 bad input (usage, scene); 3 stalled; 4 diverged; 5 not converged; 6 output file error;\n"
+      "7 timed out; 8 invariant violated. See README \"Headless runner\".");
+  cli::parse_or_exit(app, argc, argv);
+  if (list_keys) {
+    for (const auto& k : core::scene_keys()) {
+      std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(), k.default_value.c_str(),
+                  k.accepted.c_str(), k.description.c_str());
     }
+    return 0;
   }
-  if (scene_path.empty()) bad_input(std::string("--scene is required\n") + kUsage);
+  if (scene_path.empty()) cli::usage_error(app, "--scene is required");
+  std::map<std::string, std::string> overrides;
+  for (const auto& kv : sets) {
+    const auto eq = kv.find('=');
+    overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  if (!method.empty()) overrides["method"] = method;
+  if (!rtol.empty()) overrides["rtol"] = rtol;
+  if (!atol.empty()) overrides["atol"] = atol;
+  if (!rate.empty()) overrides["output_rate_hz"] = rate;
 
   core::Scene scene;
   try {

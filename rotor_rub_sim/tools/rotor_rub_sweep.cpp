@@ -14,6 +14,8 @@
 #include <mutex>
 #include <thread>
 
+#include "cli_options.hpp"
+#include "package_paths.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "sweep_csv.hpp"
@@ -24,21 +26,7 @@ namespace {
 using namespace rotor_rub;
 using tools::SweepResult;
 using tools::Values;
-
-const char* const kUsage =
-    "usage: rotor_rub_sweep [--scene FILE] [--grid FILE] [--set key=v1,v2,...]... --out FILE.csv\n"
-    "                       [--repeats N] [--jobs N] [--shard I/N] [--profile] [--cache DIR]\n"
-    "                       [--error-rate HZ] [--window-ms MS] [--reference-rtol R] [--reference-atol A]\n"
-    "                       [--inaccurate-above M] [--no-progress]\n"
-    "       rotor_rub_sweep --merge OUT.csv SHARD.csv...\n"
-    "  --grid: YAML documents of scene keys to value lists (see config/sweeps/); --set adds an axis\n"
-    "  --shard I/N: only runs with id % N == I (0-based); merge the shards' CSVs with --merge\n"
-    "  --repeats: timed runs per grid point, wall time is their median (default 3)\n"
-    "  --jobs: runs in parallel (default: all cores); wall times are measured under that load\n"
-    "  --profile: one more run per point for the shares of time in derivatives and iteration\n"
-    "  --cache DIR: keep reference runs on disk, keyed by their scene and the core's build\n"
-    "  --inaccurate-above M: status 'inaccurate' when max |r_r - r_r,ref| > M metres (default 1e-4)\n"
-    "exit status: 0 done (failed runs are rows, not errors), 2 bad input\n";
+namespace cli = rotor_rub::tools::cli;
 
 [[noreturn]] void bad_input(const std::string& what) {
   std::cerr << "rotor_rub_sweep: " << what << "\n";
@@ -51,7 +39,7 @@ double median(std::vector<double> v) {
 }
 
 struct Options {
-  std::string scene_path = "config/paper_runup.yaml";
+  std::string scene_path;  // default: the package's config/paper_runup.yaml
   std::string grid_path, out_path, cache_dir;
   std::vector<tools::GridAxis> axes;
   int repeats = 3;
@@ -149,92 +137,159 @@ class Progress {
   std::mutex mutex_;
 };
 
-Options parse(int argc, char** argv) {
-  Options o;
-  auto value = [&](int& i, const std::string& name) -> std::string {
-    if (i + 1 >= argc) bad_input(name + " needs a value\n" + kUsage);
-    return argv[++i];
-  };
-  auto number = [&](int& i, const std::string& name, double lo, double hi) {
-    const std::string text = value(i, name);
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
-      bad_input(name + ": '" + text + "' is not accepted; accepted: a number in [" + std::to_string(lo) + ", " +
-                std::to_string(hi) + "]");
+// I/N with 0 <= I < N.
+CLI::Validator shard_spec() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        unsigned si = 0, sn = 0;
+        char extra = 0;
+        if (std::sscanf(s.c_str(), "%u/%u%c", &si, &sn, &extra) != 2 || sn == 0 || si >= sn) {
+          return "value '" + s + "' is not accepted; accepted: I/N with 0 <= I < N";
+        }
+        return std::string();
+      },
+      "", "shard");
+}
+
+// key=v1,v2,...: one axis of the grid.
+CLI::Validator axis_spec() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        try {
+          tools::parse_axis(s);
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+        return std::string();
+      },
+      "", "axis");
+}
+
+struct Parsed {
+  Options options;
+  std::vector<std::string> merge;  // OUT.csv SHARD.csv...: merge, run nothing
+};
+
+Parsed parse(int argc, char** argv) {
+  Parsed p;
+  Options& o = p.options;
+  std::vector<std::string> axes;
+  std::string shard;
+  double window_ms = o.reference.window_s * 1e3;
+  CLI::App app(
+      "A grid of independent, deterministic runs of the core on all cores, each measured for cost and for error "
+      "against a reference run (switching at --reference-rtol, once per distinct physics). One CSV row per run.",
+      "rotor_rub_sweep");
+  std::vector<CLI::Option*> run_options;
+  run_options.push_back(app.add_option("--scene", o.scene_path,
+                                       "the base scene file (default: the package's config/paper_runup.yaml, "
+                                       "found from any directory)")
+                            ->type_name("FILE")
+                            ->check(cli::existing_file()));
+  run_options.push_back(
+      app.add_option("--grid", o.grid_path, "YAML documents of scene keys to value lists (see config/sweeps/)")
+          ->type_name("FILE")
+          ->check(cli::existing_file()));
+  run_options.push_back(app.add_option("--set", axes, "adds an axis of scene key values to the grid; repeatable")
+                            ->type_name("KEY=V1,V2,...")
+                            ->allow_extra_args(false)
+                            ->check(axis_spec()));
+  run_options.push_back(
+      app.add_option("--out", o.out_path, "the CSV to write, one row per run; required")->type_name("FILE.csv"));
+  run_options.push_back(
+      app.add_option("--repeats", o.repeats, "timed runs per grid point; wall time is their median [runs]")
+          ->type_name("N")
+          ->check(cli::integer_in(1, 1000))
+          ->capture_default_str());
+  run_options.push_back(app.add_option("--jobs", o.jobs,
+                                       "runs in parallel (default: all cores, " + std::to_string(o.jobs) +
+                                           " here); wall times are measured under that load [runs]")
+                            ->type_name("N")
+                            ->check(cli::integer_in(1, 1024)));
+  run_options.push_back(
+      app.add_option("--shard", shard, "only runs with id % N == I (0-based); merge the shards' CSVs with --merge")
+          ->type_name("I/N")
+          ->check(shard_spec()));
+  run_options.push_back(app.add_flag("--profile", o.profile,
+                                     "one more run per point for the shares of time in derivatives and iteration"));
+  run_options.push_back(app.add_option("--cache", o.cache_dir,
+                                       "keep reference runs on disk in DIR, keyed by their scene and the core's build")
+                            ->type_name("DIR"));
+  run_options.push_back(app.add_option("--error-rate", o.reference.sample_rate_hz,
+                                       "the grid the errors are measured on, in simulated time [Hz]")
+                            ->type_name("HZ")
+                            ->check(cli::number_in(1, 1e7))
+                            ->capture_default_str());
+  run_options.push_back(app.add_option("--window-ms", window_ms, "the windows the contact impulse is compared in [ms]")
+                            ->type_name("MS")
+                            ->check(cli::number_in(1e-3, 1e3))
+                            ->capture_default_str());
+  run_options.push_back(app.add_option("--reference-rtol", o.reference.rtol, "the reference's rtol [-]")
+                            ->type_name("R")
+                            ->check(cli::number_in(1e-14, 1e-6))
+                            ->capture_default_str());
+  run_options.push_back(app.add_option("--reference-atol", o.reference.atol, "the reference's atol [m, m/s]")
+                            ->type_name("A")
+                            ->check(cli::number_in(1e-16, 1e-6))
+                            ->capture_default_str());
+  run_options.push_back(app.add_option("--inaccurate-above", o.inaccurate_above_m,
+                                       "status 'inaccurate' when max |r_r - r_r,ref| is above this [m]")
+                            ->type_name("M")
+                            ->check(cli::number_in(0, 1))
+                            ->capture_default_str());
+  bool no_progress = false;
+  run_options.push_back(
+      app.add_flag("--no-progress", no_progress, "no progress bar (there is one on a terminal only)"));
+  CLI::Option* merge = app.add_option("--merge", p.merge,
+                                      "merge shards: writes OUT.csv with the rows of the SHARD.csv files in run "
+                                      "order (a missing run is an error); runs nothing")
+                           ->type_name("OUT.csv SHARD.csv")
+                           ->expected(2, -1);
+  app.footer("Exit status: 0 done (failed runs are rows, not errors); 1 a run threw (a bug); 2 bad input.");
+  cli::parse_or_exit(app, argc, argv);
+  if (merge->count() > 0) {
+    // Checked here, not with CLI11's excludes(): that lists --merge on every option of the help.
+    for (const CLI::Option* opt : run_options) {
+      if (opt->count() > 0) cli::usage_error(app, opt->get_name() + " excludes --merge (a merge runs nothing)");
     }
-    return v;
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--scene") {
-      o.scene_path = value(i, a);
-    } else if (a == "--grid") {
-      o.grid_path = value(i, a);
-    } else if (a == "--set") {
-      try {
-        o.axes.push_back(tools::parse_axis(value(i, a)));
-      } catch (const std::invalid_argument& e) {
-        bad_input(e.what());
-      }
-    } else if (a == "--out") {
-      o.out_path = value(i, a);
-    } else if (a == "--cache") {
-      o.cache_dir = value(i, a);
-    } else if (a == "--repeats") {
-      o.repeats = static_cast<int>(number(i, a, 1, 1000));
-    } else if (a == "--jobs") {
-      o.jobs = static_cast<unsigned>(number(i, a, 1, 1024));
-    } else if (a == "--shard") {
-      const std::string s = value(i, a);
-      unsigned si = 0, sn = 0;
-      char extra = 0;
-      if (std::sscanf(s.c_str(), "%u/%u%c", &si, &sn, &extra) != 2 || sn == 0 || si >= sn) {
-        bad_input("--shard: '" + s + "' is not accepted; accepted: I/N with 0 <= I < N");
-      }
-      o.shard_index = si;
-      o.shard_count = sn;
-    } else if (a == "--inaccurate-above") {
-      o.inaccurate_above_m = number(i, a, 0, 1);
-    } else if (a == "--profile") {
-      o.profile = true;
-    } else if (a == "--no-progress") {
-      o.progress = false;
-    } else if (a == "--error-rate") {
-      o.reference.sample_rate_hz = number(i, a, 1, 1e7);
-    } else if (a == "--window-ms") {
-      o.reference.window_s = number(i, a, 1e-3, 1e3) * 1e-3;
-    } else if (a == "--reference-rtol") {
-      o.reference.rtol = number(i, a, 1e-14, 1e-6);
-    } else if (a == "--reference-atol") {
-      o.reference.atol = number(i, a, 1e-16, 1e-6);
-    } else if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      std::exit(0);
-    } else {
-      bad_input("unknown option '" + a + "'\n" + kUsage);
+    return p;
+  }
+  if (o.out_path.empty()) cli::usage_error(app, "--out FILE.csv is required");
+  for (const auto& a : axes) o.axes.push_back(tools::parse_axis(a));
+  if (!shard.empty()) {
+    unsigned si = 0, sn = 0;
+    std::sscanf(shard.c_str(), "%u/%u", &si, &sn);
+    o.shard_index = si;
+    o.shard_count = sn;
+  }
+  o.reference.window_s = window_ms * 1e-3;
+  o.progress = !no_progress;
+  if (o.scene_path.empty()) {
+    try {
+      o.scene_path = tools::find_package_file("config/paper_runup.yaml");
+    } catch (const std::exception& e) {
+      bad_input(std::string("no default scene: ") + e.what() + "; give --scene FILE");
     }
   }
-  if (o.out_path.empty()) bad_input(std::string("--out FILE.csv is required\n") + kUsage);
-  return o;
+  return p;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc >= 2 && std::string(argv[1]) == "--merge") {
-    if (argc < 4) bad_input(std::string("--merge needs OUT.csv and at least one shard\n") + kUsage);
-    std::vector<std::string> parts(argv + 3, argv + argc);
+  const Parsed parsed = parse(argc, argv);
+  if (!parsed.merge.empty()) {
+    const std::vector<std::string> parts(parsed.merge.begin() + 1, parsed.merge.end());
     try {
-      std::ofstream out(argv[2]);
-      if (!out) bad_input(std::string("cannot write '") + argv[2] + "'");
+      std::ofstream out(parsed.merge[0]);
+      if (!out) bad_input("cannot write '" + parsed.merge[0] + "'");
       tools::merge_sweep_csvs(parts, out);
     } catch (const std::exception& e) {
       bad_input(e.what());
     }
     return 0;
   }
-  const Options opt = parse(argc, argv);
+  const Options& opt = parsed.options;
   Values base;
   std::vector<tools::SweepRun> runs;
   try {
@@ -301,7 +356,8 @@ int main(int argc, char** argv) {
     tools::write_sweep_row(out, r);
     ok += r.status == "ok";
   }
-  std::fprintf(stderr, "rotor_rub_sweep: %zu runs (shard %zu/%zu of %zu), %zu ok, %zu not ok -> %s\n", runs.size(),
-               opt.shard_index, opt.shard_count, total, ok, runs.size() - ok, opt.out_path.c_str());
+  std::fprintf(stderr, "rotor_rub_sweep: %zu runs (shard %zu/%zu of %zu), %zu ok, %zu not ok -> %s (scene %s)\n",
+               runs.size(), opt.shard_index, opt.shard_count, total, ok, runs.size() - ok, opt.out_path.c_str(),
+               opt.scene_path.c_str());
   return 0;
 }

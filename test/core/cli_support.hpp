@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 
@@ -18,9 +19,10 @@ struct CliResult {
   std::string out;
 };
 
-inline CliResult run_cli(const std::string& binary, const std::string& args) {
+// `prefix` goes before the command in the shell: "cd /tmp &&", "env -u VAR".
+inline CliResult run_cli(const std::string& binary, const std::string& args, const std::string& prefix = "") {
   const std::string base = "/tmp/rotor_rub_cli." + std::to_string(::getpid());
-  const int rc = std::system((binary + " " + args + " > " + base + ".out 2> " + base + ".err").c_str());
+  const int rc = std::system((prefix + " " + binary + " " + args + " > " + base + ".out 2> " + base + ".err").c_str());
   auto slurp = [](const std::string& path) {
     std::ifstream f(path);
     std::stringstream ss;
@@ -28,6 +30,15 @@ inline CliResult run_cli(const std::string& binary, const std::string& args) {
     return ss.str();
   };
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(base + ".err"), slurp(base + ".out")};
+}
+
+// Whether every option is named in a tool's --help.
+inline std::string missing_options(const std::string& help, std::initializer_list<const char*> options) {
+  std::string missing;
+  for (const char* o : options) {
+    if (help.find(o) == std::string::npos) missing += std::string(" ") + o;
+  }
+  return missing;
 }
 
 }  // namespace rotor_rub::test

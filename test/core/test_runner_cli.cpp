@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 
@@ -73,4 +74,36 @@ TEST(RunnerCli, FailedRunExitsWithItsClassAndKeepsTheSamples) {
   EXPECT_NE(r.err.find("stalled"), std::string::npos) << r.err;
   const std::string csv = read("/tmp/rr_fail.csv");
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 10);
+}
+
+TEST(RunnerCli, HelpDescribesEveryOption) {
+  const Result r = run("--help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(rotor_rub::test::missing_options(r.out, {"--scene", "--method", "--rtol", "--atol", "--set", "--rate",
+                                                     "--csv", "--summary", "--quiet", "--list-keys", "--help"}),
+            "")
+      << r.out;
+  EXPECT_NE(r.out.find("[Hz]"), std::string::npos) << r.out;  // units where an option has one
+  EXPECT_NE(r.out.find("Exit status"), std::string::npos) << r.out;
+  EXPECT_EQ(run("-h").status, 0);
+}
+
+TEST(RunnerCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
+  auto expect_usage = [](const Result& r, std::initializer_list<const char*> parts) {
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;  // one line
+    for (const char* p : parts) EXPECT_NE(r.err.find(p), std::string::npos) << p << " in " << r.err;
+  };
+  expect_usage(run("--scene " + kScene + " --rate abc"), {"--rate", "'abc'", "not a number", "accepted: (0, "});
+  expect_usage(run("--scene " + kScene + " --rate -5"), {"--rate", "-5", "out of range", "accepted: (0, "});
+  expect_usage(run("--scene " + kScene + " --rtol 2"), {"--rtol", "2", "out of range", "accepted: [1e-14, 1]"});
+  expect_usage(run("--scene " + kScene + " --atol x1"), {"--atol", "'x1'", "not a number"});
+  expect_usage(run("--scene " + kScene + " --set rtol"), {"--set", "'rtol'", "key=value"});
+  expect_usage(run("--scene " + kScene + " --set rtol=abc"), {"--set", "'abc'", "rtol", "accepted"});
+  // A bad --set is an error even where a flag overrides the same key.
+  expect_usage(run("--scene " + kScene + " --set rtol=abc --rtol 1e-6"), {"--set", "'abc'"});
+  expect_usage(run("--scene " + kScene + " --rate"), {"--rate"});
+  expect_usage(run("--scene " + kScene + " --bogus"), {"unknown option '--bogus'"});
+  expect_usage(run("--scene /nonexistent.yaml"), {"--scene", "/nonexistent.yaml"});
+  expect_usage(run("--rtol 1e-6"), {"--scene is required"});
 }

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 #include <string>
@@ -18,7 +20,9 @@ namespace {
 
 using Result = rotor_rub::test::CliResult;
 
-Result sweep(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_SWEEP, args); }
+Result sweep(const std::string& args, const std::string& prefix = "") {
+  return rotor_rub::test::run_cli(ROTOR_RUB_SWEEP, args, prefix);
+}
 
 using Row = std::map<std::string, std::string>;
 
@@ -179,4 +183,56 @@ TEST(SweepCli, BadInputNamesTheProblem) {
   r = sweep("--scene " + kScene + " --set rtol=1e-3");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+}
+
+TEST(SweepCli, HelpDescribesEveryOption) {
+  const Result r = sweep("--help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(rotor_rub::test::missing_options(
+                r.out, {"--scene", "--grid", "--set", "--out", "--repeats", "--jobs", "--shard", "--profile", "--cache",
+                        "--error-rate", "--window-ms", "--reference-rtol", "--reference-atol", "--inaccurate-above",
+                        "--no-progress", "--merge", "--help"}),
+            "")
+      << r.out;
+  for (const char* unit : {"[Hz]", "[ms]", "[m]"}) EXPECT_NE(r.out.find(unit), std::string::npos) << unit;
+}
+
+TEST(SweepCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
+  auto expect_usage = [](const std::string& args, std::initializer_list<const char*> parts) {
+    const Result r = sweep("--scene " + kScene + " --set rtol=1e-3 --out /tmp/sweep_usage.csv " + args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;  // one line
+    for (const char* p : parts) EXPECT_NE(r.err.find(p), std::string::npos) << p << " in " << r.err;
+  };
+  expect_usage("--repeats abc", {"--repeats", "'abc'", "not an integer", "accepted: integer in [1, 1000]"});
+  expect_usage("--repeats 2.5", {"--repeats", "'2.5'", "not an integer"});
+  expect_usage("--jobs 0", {"--jobs", "value 0", "out of range", "accepted: integer in [1, 1024]"});
+  expect_usage("--error-rate fast", {"--error-rate", "'fast'", "not a number", "accepted: [1, 10000000]"});
+  expect_usage("--window-ms 1e9", {"--window-ms", "1e9", "out of range", "accepted: [0.001, 1000]"});
+  expect_usage("--reference-rtol 1e-3", {"--reference-rtol", "1e-3", "out of range", "accepted: [1e-14, 1e-06]"});
+  expect_usage("--reference-atol nan", {"--reference-atol", "'nan'", "not a finite number"});
+  expect_usage("--inaccurate-above -1", {"--inaccurate-above", "-1", "out of range"});
+  expect_usage("--set rtol", {"--set", "'rtol'"});
+  expect_usage("--grid /nonexistent_grid.yaml", {"--grid", "/nonexistent_grid.yaml"});
+  expect_usage("--bogus", {"unknown option '--bogus'"});
+  expect_usage("--merge /tmp/a.csv /tmp/b.csv", {"excludes --merge"});
+  const Result m = sweep("--merge /tmp/only_out.csv");
+  EXPECT_EQ(m.status, 2);
+  EXPECT_NE(m.err.find("--merge"), std::string::npos) << m.err;
+}
+
+// The default scene is the package's, found from any directory (here /tmp,
+// and without ROS_PACKAGE_PATH: then beside the sources it was built from).
+TEST(SweepCli, DefaultSceneFromAnyDirectory) {
+  for (const char* prefix : {"cd /tmp &&", "cd / && env -u ROS_PACKAGE_PATH"}) {
+    const Result r = sweep(
+        "--set end_time_s=0.2 --set method=switching --repeats 1 --jobs 1 --no-progress "
+        "--out /tmp/sweep_default_scene.csv",
+        prefix);
+    ASSERT_EQ(r.status, 0) << prefix << ": " << r.err;
+    const auto rows = read_rows("/tmp/sweep_default_scene.csv");
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].at("status"), "ok") << rows[0].at("message");
+    EXPECT_NE(r.err.find("/config/paper_runup.yaml)"), std::string::npos) << r.err;  // the scene it used
+  }
 }

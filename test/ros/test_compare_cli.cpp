@@ -80,3 +80,24 @@ TEST(CompareCli, BagWithoutRotorStates) {
   }
   expect_clear_error(compare("/tmp/rotor_rub_other.bag"), "holds no rotor_rub_msgs/RotorState topic");
 }
+
+TEST(CompareCli, HelpDescribesEveryOption) {
+  const Result r = compare("--help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(rotor_rub::test::missing_options(r.out, {"BAG", "--runner", "--reference", "--csv", "--quiet", "--help"}),
+            "")
+      << r.out;
+}
+
+// The tool has no numeric option: its usage errors are an unknown option, a
+// missing value, nothing to compare and a reference that names no run.
+TEST(CompareCli, UsageErrors) {
+  expect_clear_error(compare("--bogus"), "unknown option '--bogus'");
+  expect_clear_error(compare("--runner"), "--runner");
+  expect_clear_error(compare("--quiet"), "no runs given");
+  write_states("/tmp/rotor_rub_usage.bag");
+  expect_clear_error(compare("/tmp/rotor_rub_usage.bag --reference nosuchrun"), "no run named 'nosuchrun'");
+  // Bags and --runner in any order: the options take one value each.
+  const Result r = compare("--quiet /tmp/rotor_rub_usage.bag --csv /tmp/rotor_rub_usage.csv");
+  EXPECT_EQ(r.status, 0) << r.err;
+}

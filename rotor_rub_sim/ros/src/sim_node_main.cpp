@@ -5,15 +5,40 @@
 
 #include <cstdio>
 #include <cstring>
+#include <string>
+#include <vector>
 
+#include "cli_options.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
 #include "rotor_rub_sim/ros/sim_node.hpp"
 
 int main(int argc, char** argv) {
+  namespace cli = rotor_rub::tools::cli;
+  // ROS's own arguments (__name:=x, __ns:=/y, _param:=value, topic:=other)
+  // are ros::init's; CLI11 sees the rest, so an unknown --flag is an error.
+  // Neither --help nor --list-keys needs a master.
+  std::vector<std::string> own_args;
+  ros::removeROSArgs(argc, argv, own_args);
+  std::vector<const char*> own_argv;
+  for (const auto& a : own_args) own_argv.push_back(a.c_str());
+  bool list_keys = false;
+  CLI::App app(
+      "The rotor-to-stator rub simulator as a ROS node. Its private parameters are the scene keys "
+      "(rotor_rub_run --list-keys, config/scene_template.yaml) and the node keys (--list-keys, "
+      "config/node_template.yaml); a bad one ends the node with exit status 2. ROS arguments (__name:=NAME, "
+      "__ns:=NS, _key:=value, topic:=other) pass through to ros::init.",
+      "rotor_rub_sim_node");
   // --list-keys: the node's own keys, in rotor_rub_run --list-keys' format
   // (scripts/gen_scene_template.py makes config/node_template.yaml of it).
-  if (argc == 2 && std::strcmp(argv[1], "--list-keys") == 0) {
+  app.add_flag("--list-keys", list_keys,
+               "print the node's own keys (not the scene's) with default, accepted range and meaning; exit");
+  app.footer(
+      "Exit status: 0 ended or shut down; 1 subscribers missing after wait_timeout_s; 2 bad input (usage, a "
+      "parameter, setup); a failed run ends with its class's status, as in rotor_rub_run (3 stalled, 4 diverged, "
+      "5 not converged, 7 timed out, 8 invariant violated).");
+  cli::parse_or_exit(app, static_cast<int>(own_argv.size()), own_argv.data());
+  if (list_keys) {
     for (const auto& k : rotor_rub::ros_node::node_keys()) {
       std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(),
                   k.default_value.empty() ? "\"\"" : k.default_value.c_str(), k.accepted.c_str(),
