@@ -51,11 +51,12 @@ struct Options {
   double speed_from = 10.0, speed_to = 800.0;  // rad/s
   int speeds = 200;
   double settle_s = 10.0;
-  int revolutions = 128;
+  int revolutions = 512;
   double ramp_accel = 2.0;  // rad/s^2
   bool constant = true, up = true, down = true;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   std::size_t shard_index = 0, shard_count = 1;
+  int points_per_bin = 0;  // 0: every Poincare point
   bool count_runs = false;
   std::vector<std::string> merge;
 };
@@ -111,8 +112,8 @@ void write_row(std::ostream& os, const Row& r) {
      << (classified ? core::to_string(r.c.contact) : "") << ',' << (classified ? core::to_string(r.c.motion) : "")
      << ',' << r.c.period << ',' << num(r.c.k01) << ',' << r.c.distinct_points << ','
      << (classified ? core::to_string(r.c.whirl) : "") << ',' << num(r.c.contact_fraction) << ','
-     << num(r.c.mean_normal_force_N) << ',' << num(r.max_relative_m) << ',' << num(r.min_relative_m) << ','
-     << r.points << ',' << r.status << ',' << quoted(r.message) << ',' << quoted(r.overrides) << '\n';
+     << num(r.c.mean_normal_force_N) << ',' << num(r.max_relative_m) << ',' << num(r.min_relative_m) << ',' << r.points
+     << ',' << r.status << ',' << quoted(r.message) << ',' << quoted(r.overrides) << '\n';
 }
 
 // Collects samples and Poincare points after the settling time into speed
@@ -121,6 +122,7 @@ class BinnedRecorder : public core::SimulationObserver {
  public:
   BinnedRecorder(double settle_s, std::vector<double> bin_edges) : settle_s_(settle_s), edges_(std::move(bin_edges)) {
     windows.resize(edges_.size() - 1);
+    for (auto& w : windows) w.drifting = edges_.size() > 2;  // a ramp's bins
   }
   bool wants_keyphasor() const override { return true; }
   void on_sample(const core::Sample& s) override {
@@ -230,7 +232,9 @@ std::vector<Row> run_one(const Run& run, std::size_t total, const Values& base, 
     r.max_relative_m = w.max_relative_m;
     r.min_relative_m = w.samples ? w.min_relative_m : std::nan("");
     r.points = w.points.size();
-    for (const auto& p : w.points) points_out.push_back(p);
+    const std::size_t keep =
+        o.points_per_bin > 0 ? std::min(w.points.size(), static_cast<std::size_t>(o.points_per_bin)) : w.points.size();
+    points_out.insert(points_out.end(), w.points.end() - static_cast<long>(keep), w.points.end());
     rows.push_back(r);
   }
   if (rows.empty()) {  // a run that failed before any bin: one row says so
@@ -302,31 +306,36 @@ Options parse(int argc, char** argv) {
                             ->type_name("N")
                             ->check(cli::integer_in(1, 100000))
                             ->capture_default_str());
-  run_options.push_back(app.add_option("--settle-s", o.settle_s,
-                                       "simulated time before anything is recorded: the transient's decay [s]")
-                            ->type_name("S")
-                            ->check(cli::number_in(0, 1e5))
-                            ->capture_default_str());
-  run_options.push_back(app.add_option("--revolutions", o.revolutions,
-                                       "revolutions recorded after settling in a constant-speed run [-]")
-                            ->type_name("N")
-                            ->check(cli::integer_in(1, 1000000))
-                            ->capture_default_str());
+  run_options.push_back(
+      app.add_option("--settle-s", o.settle_s, "simulated time before anything is recorded: the transient's decay [s]")
+          ->type_name("S")
+          ->check(cli::number_in(0, 1e5))
+          ->capture_default_str());
+  run_options.push_back(
+      app.add_option("--revolutions", o.revolutions, "revolutions recorded after settling in a constant-speed run [-]")
+          ->type_name("N")
+          ->check(cli::integer_in(1, 1000000))
+          ->capture_default_str());
   run_options.push_back(app.add_option("--ramp-accel", o.ramp_accel, "the ramps' angular acceleration [rad/s^2]")
                             ->type_name("A")
                             ->check(cli::number_in(0, 1e5, true))
                             ->capture_default_str());
-  run_options.push_back(app.add_option("--directions", directions,
-                                       "which runs: any of constant, up, down, comma-separated")
-                            ->type_name("LIST")
+  run_options.push_back(
+      app.add_option("--directions", directions, "which runs: any of constant, up, down, comma-separated")
+          ->type_name("LIST")
+          ->capture_default_str());
+  run_options.push_back(app.add_option("--points-per-bin", o.points_per_bin,
+                                       "write only the last N Poincare points of each (run, speed) to "
+                                       "OUT.points.csv; 0: all (the classes always use all) [-]")
+                            ->type_name("N")
+                            ->check(cli::integer_in(0, 1000000))
                             ->capture_default_str());
   run_options.push_back(app.add_option("--jobs", o.jobs, "runs in parallel (default: all cores) [runs]")
                             ->type_name("N")
                             ->check(cli::integer_in(1, 1024)));
-  run_options.push_back(
-      app.add_option("--shard", shard, "only runs with id % N == I (0-based); merge with --merge")
-          ->type_name("I/N")
-          ->check(shard_spec()));
+  run_options.push_back(app.add_option("--shard", shard, "only runs with id % N == I (0-based); merge with --merge")
+                            ->type_name("I/N")
+                            ->check(shard_spec()));
   bool no_progress = false;
   run_options.push_back(app.add_flag("--no-progress", no_progress, "accepted for the sweep's interface; no bar here"));
   app.add_flag("--count-runs", o.count_runs, "print the number of runs the grid makes and exit");
@@ -345,8 +354,8 @@ Options parse(int argc, char** argv) {
   }
   if (o.out_path.empty() && !o.count_runs) cli::usage_error(app, "--out FILE.csv is required");
   if (!(o.speed_to > o.speed_from)) {
-    cli::usage_error(app, "--speed-to " + num(o.speed_to) + " is out of range; accepted: above --speed-from " +
-                              num(o.speed_from));
+    cli::usage_error(
+        app, "--speed-to " + num(o.speed_to) + " is out of range; accepted: above --speed-from " + num(o.speed_from));
   }
   o.constant = o.up = o.down = false;
   std::stringstream ss(directions);

@@ -111,7 +111,30 @@ TEST(ResponseClass, WhirlDirectionFromTheFullSpectrum) {
 }
 
 TEST(ResponseClass, EveryEnumHasAName) {
-  for (const auto& r : core::kResponseClassNames) EXPECT_STRNE(core::to_string(r.value), "?");
+  // Every enumerator, not only the table's rows (the last one of each enum
+  // bounds the loop).
+  for (int v = 0; v <= static_cast<int>(core::ResponseClass::kBackwardWhirl); ++v) {
+    EXPECT_STRNE(core::to_string(static_cast<core::ResponseClass>(v)), "?") << v;
+  }
+  for (int v = 0; v <= static_cast<int>(core::Motion::kTooShort); ++v) {
+    EXPECT_STRNE(core::to_string(static_cast<core::Motion>(v)), "?") << v;
+  }
   EXPECT_STREQ(core::to_string(core::ResponseClass::kBackwardWhirl), "backward_whirl");
   EXPECT_STREQ(core::to_string(core::Motion::kQuasiPeriodic), "quasi_periodic");
+}
+
+// Too few points for the 0-1 test: not periodic is all that is said.
+TEST(ResponseClass, ShortAperiodicSeriesIsNotJudged) {
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  std::vector<Vec2> pts;
+  for (int j = 0; j < core::kMinPointsZeroOne - 1; ++j) {
+    const double a = 2 * M_PI * golden * j;
+    pts.push_back(1e-3 * Vec2(std::cos(a), std::sin(a)));
+  }
+  core::ResponseWindow w = window_of(pts, 1.0, true);
+  w.contact_events = 2;
+  const auto c = core::classify_response(w, kClearance_m);
+  EXPECT_EQ(c.motion, core::Motion::kAperiodic);
+  EXPECT_TRUE(std::isnan(c.k01));
+  EXPECT_EQ(c.response, core::ResponseClass::kAperiodicRub);
 }

@@ -120,7 +120,11 @@ ResponseClassification classify_response(const ResponseWindow& w, double clearan
   if (m >= kMinPoints) {
     for (int n = 1; n <= kMaxPeriod && c.period == 0; ++n) {
       bool repeats = true;
-      for (int j = 0; j + n < m && repeats; ++j) repeats = (p[j + n].relative_m - p[j].relative_m).norm() <= tol;
+      for (int j = 0; j + (w.drifting ? 2 : 1) * n < m && repeats; ++j) {
+        const Vec2 d = w.drifting ? Vec2(p[j + 2 * n].relative_m - 2.0 * p[j + n].relative_m + p[j].relative_m)
+                                  : Vec2(p[j + n].relative_m - p[j].relative_m);
+        repeats = d.norm() <= tol;
+      }
       if (repeats) c.period = n;
     }
     if (c.period > 0) {
@@ -128,8 +132,22 @@ ResponseClassification classify_response(const ResponseWindow& w, double clearan
     } else {
       std::vector<double> phi;
       for (const auto& x : p) phi.push_back(x.relative_m.norm());
-      c.k01 = zero_one_test_k(phi);
-      c.motion = c.k01 >= kChaosK ? Motion::kChaotic : Motion::kQuasiPeriodic;
+      if (w.drifting) {  // less the least-squares line through (j, phi_j)
+        const double n = static_cast<double>(m), mean_j = 0.5 * (n - 1.0);
+        double mean_phi = 0.0, sjj = 0.0, sjp = 0.0;
+        for (int j = 0; j < m; ++j) mean_phi += phi[j] / n;
+        for (int j = 0; j < m; ++j) {
+          sjj += (j - mean_j) * (j - mean_j);
+          sjp += (j - mean_j) * (phi[j] - mean_phi);
+        }
+        for (int j = 0; j < m; ++j) phi[j] -= mean_phi + sjp / sjj * (j - mean_j);
+      }
+      if (m >= kMinPointsZeroOne) {
+        c.k01 = zero_one_test_k(phi);
+        c.motion = c.k01 >= kChaosK ? Motion::kChaotic : Motion::kQuasiPeriodic;
+      } else {
+        c.motion = Motion::kAperiodic;
+      }
     }
   }
   if (c.contact == ContactKind::kNone) {
@@ -142,6 +160,8 @@ ResponseClassification classify_response(const ResponseWindow& w, double clearan
     c.response = ResponseClass::kChaotic;
   } else if (c.motion == Motion::kQuasiPeriodic) {
     c.response = ResponseClass::kQuasiPeriodic;
+  } else if (c.motion == Motion::kAperiodic) {
+    c.response = ResponseClass::kAperiodicRub;
   } else {
     c.response = ResponseClass::kPartialRub;
   }

@@ -11,14 +11,19 @@
 //   kPeriodTolerance (of the clearance) for every j, n <= kMaxPeriod;
 //   otherwise the 0-1 test for chaos (Gottwald & Melbourne 2009, correlation
 //   form, median over 32 frequencies c in (pi/5, 4 pi/5) from a fixed seed)
-//   on the series |p_j|: K >= kChaosK chaotic, else quasi-periodic.
+//   on the series |p_j|: K >= kChaosK chaotic, else quasi-periodic (with at
+//   least kMinPointsZeroOne points; fewer: aperiodic, not judged).
+//   On a slow ramp (a drifting window) the period-n points move with the
+//   speed: the test is then on the second differences
+//   p_{j+2n} - 2 p_{j+n} + p_j (zero for a smooth drift, of the orbit's size
+//   otherwise), and the 0-1 test runs on |p_j| less its linear trend.
 // * whirl: the sign of the time mean of x y' - y x' over the samples of the
 //   rotor's orbit. For z = x + i y = sum_k Z_k e^{i w_k t} that mean is
 //   sum_k w_k |Z_k|^2 (Parseval): the sign of the full spectrum's
 //   power-weighted frequency, + forward (with the spin), - backward.
 // * class, for charts: no_contact; backward_whirl (in contact and whirling
 //   backward: dry whirl/whip); full_rub (annular, forward); partial_rub
-//   (periodic); quasi_periodic and chaotic (in contact).
+//   (periodic); quasi_periodic, chaotic and aperiodic_rub (in contact).
 #pragma once
 
 #include <string>
@@ -29,9 +34,9 @@
 namespace rotor_rub::core {
 
 enum class ContactKind { kNone, kPartial, kFull };
-enum class Motion { kPeriodic, kQuasiPeriodic, kChaotic, kTooShort };
+enum class Motion { kPeriodic, kQuasiPeriodic, kChaotic, kAperiodic, kTooShort };
 enum class Whirl { kForward, kBackward };
-enum class ResponseClass { kNoContact, kFullRub, kPartialRub, kQuasiPeriodic, kChaotic, kBackwardWhirl };
+enum class ResponseClass { kNoContact, kFullRub, kPartialRub, kQuasiPeriodic, kChaotic, kAperiodicRub, kBackwardWhirl };
 
 struct ContactKindName {
   ContactKind value;
@@ -46,6 +51,7 @@ struct MotionName {
 inline constexpr MotionName kMotionNames[] = {{Motion::kPeriodic, "periodic"},
                                               {Motion::kQuasiPeriodic, "quasi_periodic"},
                                               {Motion::kChaotic, "chaotic"},
+                                              {Motion::kAperiodic, "aperiodic"},
                                               {Motion::kTooShort, "too_short"}};
 struct WhirlName {
   Whirl value;
@@ -56,10 +62,13 @@ struct ResponseClassName {
   ResponseClass value;
   const char* name;
 };
-inline constexpr ResponseClassName kResponseClassNames[] = {
-    {ResponseClass::kNoContact, "no_contact"},   {ResponseClass::kFullRub, "full_rub"},
-    {ResponseClass::kPartialRub, "partial_rub"}, {ResponseClass::kQuasiPeriodic, "quasi_periodic"},
-    {ResponseClass::kChaotic, "chaotic"},        {ResponseClass::kBackwardWhirl, "backward_whirl"}};
+inline constexpr ResponseClassName kResponseClassNames[] = {{ResponseClass::kNoContact, "no_contact"},
+                                                            {ResponseClass::kFullRub, "full_rub"},
+                                                            {ResponseClass::kPartialRub, "partial_rub"},
+                                                            {ResponseClass::kQuasiPeriodic, "quasi_periodic"},
+                                                            {ResponseClass::kChaotic, "chaotic"},
+                                                            {ResponseClass::kAperiodicRub, "aperiodic_rub"},
+                                                            {ResponseClass::kBackwardWhirl, "backward_whirl"}};
 const char* to_string(ContactKind v);
 const char* to_string(Motion v);
 const char* to_string(Whirl v);
@@ -72,6 +81,11 @@ inline constexpr int kMaxPeriod = 8;
 // 16 to be seen twice; the 0-1 test needs many more to be meaningful).
 inline constexpr int kMinPoints = 16;
 inline constexpr double kChaosK = 0.5;
+// The 0-1 test needs a long series: on 128 Poincare points of the paper
+// rotor's quasi-periodic partial rub it gave K 0.5-0.95 ("chaotic"), on 512
+// points of the same runs K < 0.21. Below this many points a motion that is
+// not periodic is "aperiodic" (not judged).
+inline constexpr int kMinPointsZeroOne = 400;
 
 struct PoincarePoint {
   double t_s = 0.0;
@@ -88,6 +102,7 @@ struct ResponseWindow {
   double whirl_moment_sum = 0.0;                        // sum of x y' - y x' of the rotor [m^2/s]
   double max_relative_m = 0.0, min_relative_m = 1e300;  // |r_r - r_s| over the samples
   double normal_force_sum_N = 0.0;
+  bool drifting = false;  // recorded on a speed ramp (see the period test)
 
   void add_sample(const Sample& s);
   void add_point(const Sample& s);

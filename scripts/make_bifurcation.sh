@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# The bifurcation study (issue 16): the paper rotor from 5 to 800 rad/s
+# (10.4 x its 77.2 rad/s critical speed), 200 speeds, four friction
+# coefficients (config/sweeps/bifurcation.yaml): constant-speed runs and slow
+# run-up / run-down ramps, classified, then drawn into docs/.
+#
+#   scripts/make_bifurcation.sh [OUT_DIR]      # default: docs/ (data in docs/data/)
+#   scripts/make_bifurcation.sh --plot-only    # redraw from docs/data/
+# Set BIFURCATION_ARGS to pass more options to rotor_rub_bifurcation.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+source "$ROOT/scripts/workspace.sh"
+plot_only=0
+if [ "${1:-}" = "--plot-only" ]; then plot_only=1; shift; fi
+OUT="${1:-$ROOT/docs}"
+DATA="$OUT/data"
+mkdir -p "$DATA"
+BIN="$WS/devel/lib/rotor_rub_sim/rotor_rub_bifurcation"
+if [ "$plot_only" -eq 0 ]; then
+  read -r -a extra <<< "${BIFURCATION_ARGS:-}"
+  start=$(date +%s.%N)
+  "$BIN" --scene "$ROOT/config/paper_runup.yaml" --grid "$ROOT/config/sweeps/bifurcation.yaml" \
+    --speed-from 5 --speed-to 800 --speeds 200 --settle-s 10 --revolutions 512 --ramp-accel 2 \
+    --points-per-bin 16 --out "$DATA/bifurcation.csv" "${extra[@]}"
+  end=$(date +%s.%N)
+  echo "bifurcation: wall time $(/usr/bin/python3 -c "print(f'{$end - $start:.1f}')") s on $(nproc) cores"
+fi
+STAMP="scene config/paper_runup.yaml; $(nproc) cores; $(date -u +%Y-%m-%d); made by scripts/make_bifurcation.sh"
+/usr/bin/python3 "$ROOT/scripts/plot_bifurcation.py" --classes "$DATA/bifurcation.csv" \
+  --points "$DATA/bifurcation.csv.points.csv" --out "$OUT" --stamp "$STAMP"
