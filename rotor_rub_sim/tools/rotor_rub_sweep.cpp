@@ -168,6 +168,7 @@ CLI::Validator axis_spec() {
 struct Parsed {
   Options options;
   std::vector<std::string> merge;  // OUT.csv SHARD.csv...: merge, run nothing
+  bool count_runs = false;         // print the grid's number of runs, run nothing
 };
 
 Parsed parse(int argc, char** argv) {
@@ -240,6 +241,9 @@ Parsed parse(int argc, char** argv) {
   bool no_progress = false;
   run_options.push_back(
       app.add_flag("--no-progress", no_progress, "no progress bar (there is one on a terminal only)"));
+  app.add_flag("--count-runs", p.count_runs,
+               "print the number of runs the grid makes (all shards) and exit; scripts/slurm_sweep.sh sizes its "
+               "shards with it");
   CLI::Option* merge = app.add_option("--merge", p.merge,
                                       "merge shards: writes OUT.csv with the rows of the SHARD.csv files in run "
                                       "order (a missing run is an error); runs nothing")
@@ -254,7 +258,7 @@ Parsed parse(int argc, char** argv) {
     }
     return p;
   }
-  if (o.out_path.empty()) cli::usage_error(app, "--out FILE.csv is required");
+  if (o.out_path.empty() && !p.count_runs) cli::usage_error(app, "--out FILE.csv is required");
   for (const auto& a : axes) o.axes.push_back(tools::parse_axis(a));
   if (!shard.empty()) {
     unsigned si = 0, sn = 0;
@@ -316,6 +320,10 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     bad_input(e.what());
+  }
+  if (parsed.count_runs) {
+    std::cout << runs.size() << "\n";
+    return 0;
   }
   const std::size_t total = runs.size();
   runs = tools::select_shard(runs, opt.shard_index, opt.shard_count);
