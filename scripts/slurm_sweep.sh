@@ -57,6 +57,7 @@ if [ "$resubmit" -eq 0 ]; then
     echo "slurm_sweep: SWEEP_SHARDS=$shards is out of range; accepted: 1 to 1000" >&2; exit 2; }
   [ "$shards" -le "$runs" ] || shards="$runs"
   rm -rf "$work"
+  rm -f "$out" "$out.points.csv"  # an earlier result must not pass for this one
   mkdir -p "$work/logs"
   {
     printf 'sweep=%q\n' "$sweep"
@@ -139,16 +140,16 @@ while [ "$(jobs_left "$all_jobs")" -gt 0 ]; do
   sleep 1
 done
 
-failed=0
+n_failed=0
 for ((i = 0; i < shards; i++)); do
   status="$(cat "$work/part_$i.status" 2>/dev/null || echo "none (killed or never ran)")"
   if [ "$status" != "0" ]; then
     echo "slurm_sweep: shard $i/$shards failed: exit status $status; log $work/logs/task_$i.log" >&2
-    failed=$((failed + 1))
+    n_failed=$((n_failed + 1))
   fi
 done
-if [ "$failed" -gt 0 ]; then
-  echo "slurm_sweep: $failed of $shards shards failed; nothing merged. Resubmit only those:" \
+if [ "$n_failed" -gt 0 ]; then
+  echo "slurm_sweep: $n_failed of $shards shards failed; nothing merged. Resubmit only those:" \
     "scripts/slurm_sweep.sh --resubmit $out ${sbatch_opts[*]}" >&2
   exit 1
 fi
