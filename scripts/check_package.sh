@@ -25,7 +25,7 @@ LOG="$WS/check_$STEP.log"
 : > "$LOG"
 
 # A command in a clean environment: no ROS variables of the caller.
-clean() { env -i HOME="$HOME" PATH=/usr/bin:/bin LANG=C.UTF-8 "$@"; }
+clean() { env -i HOME="${HOME:-$WS}" PATH=/usr/bin:/bin LANG=C.UTF-8 "$@"; }
 # A command in a clean environment with the install space sourced.
 installed() {
   # (setup.bash reads the positional parameters as its own options: none given)
