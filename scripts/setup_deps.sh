@@ -68,7 +68,7 @@ PKGS=(); unresolved=()
 for k in "${KEYS[@]}"; do
   pkgs="$(printf '%s\n' "$resolved" | awk -v k="#ROSDEP[$k]" '$0 == k {f = 1; next} /^#ROSDEP/ {f = 0} f && !/^#/')"
   if [ -z "$pkgs" ]; then unresolved+=("$k"); continue; fi
-  [ "${1:-}" = "--list" ] && printf '%-22s %s\n' "$k" "$(echo $pkgs)"
+  [ "${1:-}" = "--list" ] && printf '%-22s %s\n' "$k" "${pkgs//$'\n'/ }"
   # shellcheck disable=SC2206
   PKGS+=($pkgs)
 done
