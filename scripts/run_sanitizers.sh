@@ -14,7 +14,7 @@ mkdir -p "$RESULTS"
 cd "$WS"
 TESTS=(test_core test_runner_cli test_sweep_cli)
 # Build the tests and the tools they run, sanitized, with debug info for the reports.
-if ! catkin_make --build build_sanitize -DCATKIN_DEVEL_PREFIX="$WS/devel_sanitize" -DROTOR_RUB_SANITIZE=ON \
+if ! catkin_make --build build_sanitize -DCATKIN_DEVEL_PREFIX="$WS/devel_sanitize" -Drotor_rub_sim_SANITIZE=ON \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
     "${TESTS[@]}" rotor_rub_run rotor_rub_sweep > "$WS/sanitize_build.log" 2>&1; then
   tail -n 30 "$WS/sanitize_build.log"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the core's gtests, the runner's and
 # sweep's CLI tests, the node's gtests and rostests, the core's tests again
-# under ASan/UBSan, the chart command on a small grid, and checks that every
-# ROS tool sees both packages. Ends with the line
+# under ASan/UBSan, the chart command on a small grid, checks that every
+# ROS tool sees both packages, catkin_lint, a clang++ build, and the install
+# space with a downstream package built against it. Ends with the line
 # "N passed, N failed" counted from the test results; exits non-zero on any
 # failure (catkin_make run_tests alone exits 0 even then).
 set -uo pipefail
@@ -54,6 +55,21 @@ rm -rf "$CHARTS"
 check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
   && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
   && test -s '$CHARTS/table2.md' && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
+
+# The package as others consume it (scripts/check_package.sh): catkin_lint; the
+# C++ built again with clang++, and `catkin_make install` of that build into a
+# fresh prefix; a downstream package built against the install space; the ROS
+# tools on it. A failed step shows the end of its log.
+check_pkg() {
+  local step="$1" name="$2" before=$tool_fail
+  check "$name" "$ROOT/scripts/check_package.sh" "$step"
+  [ "$tool_fail" -eq "$before" ] || tail -n 15 "$WS/check_$step.log"
+}
+check_pkg lint "catkin_lint -W2 --strict: rotor_rub_sim and rotor_rub_msgs"
+check_pkg clang "clang++ -std=c++17: every C++ target, tests included; catkin_make install"
+check_pkg layout "install: core headers and library, programs, tools and examples, config, launch"
+check_pkg downstream "install: a downstream package (find_package rotor_rub_sim) builds and runs a scene"
+check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
 
 read -r passed failed < <(/usr/bin/python3 - "$WS/build/test_results" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET

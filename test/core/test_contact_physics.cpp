@@ -151,12 +151,14 @@ TEST_P(ElasticImpacts, EnergyIsConserved) {
   const test::Run r = test::run(s);
   ASSERT_FALSE(r.result.failure) << r.result.failure->message;
   const core::ModelParameters& p = s.model;
+  // A structured binding cannot be captured by a lambda before C++20 (clang++ -std=c++17 rejects it).
+  const bool elastic = stator == core::StatorModel::kElastic;
   auto energy = [&](const core::Sample& x) {
     const auto& k = x.kin;
     double en = 0.5 * p.rotor_mass_kg * k.rotor_vel.squaredNorm() +
                 0.5 * p.rotor_stiffness_N_per_m * k.rotor_pos.squaredNorm() +
                 p.rotor_mass_kg * p.gravity_m_per_s2 * k.rotor_pos.y();
-    if (stator == core::StatorModel::kElastic) {
+    if (elastic) {
       en += 0.5 * p.stator_mass_kg * k.stator_vel.squaredNorm() +
             0.5 * p.stator_stiffness_N_per_m * k.stator_pos.squaredNorm() +
             p.stator_mass_kg * p.gravity_m_per_s2 * k.stator_pos.y();

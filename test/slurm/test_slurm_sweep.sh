@@ -103,5 +103,15 @@ if [ $rc -eq 0 ]; then
   out="classes or points differ"
 fi
 record "the bifurcation tool's shards through slurm_sweep.sh: identical CSVs" $rc "$out"
+# 4. Slurm's own cost per task (printed, for the README's projection): an
+# array of 16 empty tasks on this node's cores.
+t0=$(date +%s.%N)
+job="$(sbatch --parsable --array=0-15 --output=/dev/null --wrap true 2>&1)"
+rc=$?
+while [ $rc -eq 0 ] && [ -n "$(squeue -h -j "${job%%;*}" -o %i 2>/dev/null)" ]; do sleep 0.2; done
+t1=$(date +%s.%N)
+record "an array of 16 empty tasks completes" $rc "$job"
+echo "slurm: 16 empty tasks in $(/usr/bin/python3 -c "print(f'{$t1 - $t0:.1f}')") s on $(nproc) cores:" \
+  "$(/usr/bin/python3 -c "print(f'{($t1 - $t0) * $(nproc) / 16:.2f}')") core-seconds of scheduling per task"
 end=$(date +%s.%N)
 echo "slurm: the whole cycle took $(/usr/bin/python3 -c "print(f'{$end - $start:.1f}')") s"
