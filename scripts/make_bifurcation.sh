@@ -6,12 +6,21 @@
 #
 #   scripts/make_bifurcation.sh [OUT_DIR]      # default: docs/ (data in docs/data/)
 #   scripts/make_bifurcation.sh --plot-only    # redraw from docs/data/
+#   scripts/make_bifurcation.sh --quick DIR    # a small grid into DIR (what CI runs)
 # Set BIFURCATION_ARGS to pass more options to rotor_rub_bifurcation.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
 plot_only=0
+GRID_ARGS=(--grid "$ROOT/config/sweeps/bifurcation.yaml" --speed-from 5 --speed-to 800 --speeds 200 --settle-s 10
+  --revolutions 512 --ramp-accel 2 --points-per-bin 16)
 if [ "${1:-}" = "--plot-only" ]; then plot_only=1; shift; fi
+if [ "${1:-}" = "--quick" ]; then
+  shift
+  [ -n "${1:-}" ] || { echo "usage: $0 --quick DIR" >&2; exit 2; }
+  GRID_ARGS=(--set "friction_coefficient=0.1,0.3" --speed-from 40 --speed-to 200 --speeds 21 --settle-s 3
+    --revolutions 64 --ramp-accel 20 --points-per-bin 16)
+fi
 OUT="${1:-$ROOT/docs}"
 DATA="$OUT/data"
 mkdir -p "$DATA"
@@ -19,9 +28,7 @@ BIN="$WS/devel/lib/rotor_rub_sim/rotor_rub_bifurcation"
 if [ "$plot_only" -eq 0 ]; then
   read -r -a extra <<< "${BIFURCATION_ARGS:-}"
   start=$(date +%s.%N)
-  "$BIN" --scene "$ROOT/config/paper_runup.yaml" --grid "$ROOT/config/sweeps/bifurcation.yaml" \
-    --speed-from 5 --speed-to 800 --speeds 200 --settle-s 10 --revolutions 512 --ramp-accel 2 \
-    --points-per-bin 16 --out "$DATA/bifurcation.csv" "${extra[@]}"
+  "$BIN" --scene "$ROOT/config/paper_runup.yaml" "${GRID_ARGS[@]}" --out "$DATA/bifurcation.csv" "${extra[@]}"
   end=$(date +%s.%N)
   echo "bifurcation: wall time $(/usr/bin/python3 -c "print(f'{$end - $start:.1f}')") s on $(nproc) cores"
 fi

@@ -11,7 +11,7 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
 source "$ROOT/scripts/workspace.sh"
 export PATH="/usr/bin:$PATH"
-cd "$WS"
+cd "$WS" || exit 1
 # The rostests' Python test nodes import the generated rotor_rub_msgs: they
 # need the workspace environment (PYTHONPATH) of the built devel space.
 # shellcheck disable=SC1091
@@ -70,6 +70,15 @@ check_pkg clang "clang++ -std=c++17: every C++ target, tests included; catkin_ma
 check_pkg layout "install: core headers and library, programs, tools and examples, config, launch"
 check_pkg downstream "install: a downstream package (find_package rotor_rub_sim) builds and runs a scene"
 check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
+
+# The bifurcation chart command end to end on a small grid (every picture drawn).
+BIF="$WS/bifurcation_check"
+rm -rf "$BIF"
+check "bifurcation: make_bifurcation.sh --quick" bash -c "'$ROOT/scripts/make_bifurcation.sh' --quick '$BIF' \
+  > '$WS/bifurcation_check.log' 2>&1 && for f in bifurcation bifurcation_map poincare_sections; do \
+  test -s '$BIF/'\$f.png || exit 1; done && grep -q ',up,' '$BIF/data/bifurcation.csv'"
+# Sweeps on a real, throwaway single-node Slurm cluster (its cases join the results).
+"$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
 
 read -r passed failed < <(/usr/bin/python3 - "$WS/build/test_results" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET

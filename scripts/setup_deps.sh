@@ -18,8 +18,9 @@ export PATH="/usr/bin:$PATH"
 
 # Not dependencies of the packages, so in no package.xml: the compiler and
 # CMake (every catkin package assumes them), rosdep itself (the bootstrap), and
-# the checkers scripts/run_tests.sh runs (catkin_lint, the clang++ build).
-TOOLS=(build-essential cmake python3-rosdep2 catkin-lint clang)
+# the checkers scripts/run_tests.sh runs (catkin_lint, the clang++ build), and
+# the Slurm test's throwaway cluster (slurm-wlm, munge: test/slurm/).
+TOOLS=(build-essential cmake python3-rosdep2 catkin-lint clang slurm-wlm munge)
 
 SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO="sudo"

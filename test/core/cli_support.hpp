@@ -8,8 +8,11 @@
 #include <cstdlib>
 #include <fstream>
 #include <initializer_list>
+#include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rotor_rub::test {
 
@@ -39,6 +42,55 @@ inline std::string missing_options(const std::string& help, std::initializer_lis
     if (help.find(o) == std::string::npos) missing += std::string(" ") + o;
   }
   return missing;
+}
+
+using Row = std::map<std::string, std::string>;
+
+// A CSV reader for this table: quoted fields hold no newlines.
+inline std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool q = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (q) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        q = false;
+      } else {
+        cur += c;
+      }
+    } else if (c == '"') {
+      q = true;
+    } else if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+inline std::vector<Row> read_rows(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  const auto header = split(line);
+  std::vector<Row> rows;
+  while (std::getline(f, line)) {
+    const auto cells = split(line);
+    if (cells.size() != header.size())
+      throw std::runtime_error("'" + path + "': a row of " + std::to_string(cells.size()) + " cells under " +
+                               std::to_string(header.size()) + " columns: " + line);
+    Row r;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) r[header[i]] = cells[i];
+    rows.push_back(r);
+  }
+  return rows;
 }
 
 }  // namespace rotor_rub::test

@@ -24,52 +24,9 @@ Result sweep(const std::string& args, const std::string& prefix = "") {
   return rotor_rub::test::run_cli(ROTOR_RUB_SWEEP, args, prefix);
 }
 
-using Row = std::map<std::string, std::string>;
-
-// A CSV reader for this table: quoted fields hold no newlines.
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool q = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (q) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cur += '"';
-        ++i;
-      } else if (c == '"') {
-        q = false;
-      } else {
-        cur += c;
-      }
-    } else if (c == '"') {
-      q = true;
-    } else if (c == ',') {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
-
-std::vector<Row> read_rows(const std::string& path) {
-  std::ifstream f(path);
-  std::string line;
-  std::getline(f, line);
-  const auto header = split(line);
-  std::vector<Row> rows;
-  while (std::getline(f, line)) {
-    const auto cells = split(line);
-    EXPECT_EQ(cells.size(), header.size()) << line;
-    Row r;
-    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) r[header[i]] = cells[i];
-    rows.push_back(r);
-  }
-  return rows;
-}
+using rotor_rub::test::read_rows;
+using rotor_rub::test::Row;
+using rotor_rub::test::split;
 
 const std::string kScene = std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_runup.yaml";
 
