@@ -65,6 +65,18 @@ TEST(RunnerCli, BadInputExitsNonZeroWithOneLineReason) {
   EXPECT_EQ(r.status, 2);
   r = run("--scene " + kScene + " --bogus");
   EXPECT_EQ(r.status, 2);
+  // A bad value in the file is an error even where a flag overrides its key
+  // (the case: output_rate_hz: abc with --rate 1000 used to run).
+  std::ofstream("/tmp/rr_bad_rate.yaml") << "output_rate_hz: abc\n";
+  r = run("--scene /tmp/rr_bad_rate.yaml --rate 1000 --set end_time_s=0.1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("output_rate_hz"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("/tmp/rr_bad_rate.yaml:1:17"), std::string::npos) << r.err;
+  // `rtol:1.0e-4` (no space) is no key to YAML or rosparam: an error, not rtol.
+  std::ofstream("/tmp/rr_nospace.yaml") << "method: switching\nrtol:1.0e-4\n";
+  r = run("--scene /tmp/rr_nospace.yaml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("rr_nospace.yaml:"), std::string::npos) << r.err;
 }
 
 TEST(RunnerCli, FailedRunExitsWithItsClassAndKeepsTheSamples) {
