@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
     }
     const long grid = std::lround(scene.end_time_s * scene.output_rate_hz);
     if (count.samples < grid || std::abs(count.last_t_s - scene.end_time_s) > 1e-12 || r.stats.steps <= 0) {
-      std::fprintf(stderr, "rub_downstream: %ld samples up to t = %g s in %ld steps (expected %ld samples up to %g s)\n",
+      std::fprintf(stderr,
+                   "rub_downstream: %ld samples up to t = %g s in %ld steps (expected %ld samples up to %g s)\n",
                    count.samples, count.last_t_s, r.stats.steps, grid, scene.end_time_s);
       return 1;
     }

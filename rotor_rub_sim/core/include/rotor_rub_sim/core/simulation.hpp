@@ -74,7 +74,7 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double next_mark_angle_rad_ = 0.0;  // the next keyphasor angle (a multiple of 2 pi)
+  double next_mark_angle_rad_ = 0.0;       // the next keyphasor angle (a multiple of 2 pi)
   double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
   bool break_due_ = false;                 // the last step ended on it
   std::vector<ContactEvent> step_events_;  // found, not yet delivered
