@@ -64,7 +64,7 @@ if [ "$resubmit" -eq 0 ]; then
     printf 'grid=%q\n' "$grid"
     printf 'shards=%q\n' "$shards"
     printf 'runs=%q\n' "$runs"
-    printf 'sweep_args=(%s)\n' "$(printf '%q ' "${sweep_args[@]}")"
+    printf 'sweep_args=(%s)\n' "${sweep_args[*]@Q}"  # () when there are none
   } > "$work/settings"
   array_spec="0-$((shards - 1))"
 else
@@ -109,7 +109,8 @@ rm -f "$work/merge.status"
 submitted=0
 if [ -n "$array_spec" ]; then
   array_job="$(sbatch --parsable --job-name=rotor_rub_sweep --array="$array_spec" \
-    --output="$work/logs/task_%a.log" "${sbatch_opts[@]}" "$work/task.sh")"
+    --output="$work/logs/task_%a.log" "${sbatch_opts[@]}" "$work/task.sh" 2>&1)" \
+    || { echo "slurm_sweep: sbatch refused the shards: $array_job" >&2; exit 1; }
   array_job="${array_job%%;*}"
   merge_dep=(--dependency="afterok:$array_job" --kill-on-invalid-dep=yes)
   IFS=, read -r -a ranges <<< "$array_spec"
@@ -118,24 +119,50 @@ else
   merge_dep=()
 fi
 merge_job="$(sbatch --parsable --job-name=rotor_rub_merge --output="$work/logs/merge.log" \
-  "${merge_dep[@]}" "${sbatch_opts[@]}" "$work/merge.sh")"
+  "${merge_dep[@]}" "${sbatch_opts[@]}" "$work/merge.sh" 2>&1)" || {
+  echo "slurm_sweep: sbatch refused the merge: $merge_job" >&2
+  [ -n "${array_job:-}" ] && scancel "$array_job" 2>/dev/null && echo "slurm_sweep: cancelled the shards (job $array_job)" >&2
+  exit 1
+}
 merge_job="${merge_job%%;*}"
 echo "slurm_sweep: $runs runs in $shards shards; submitted ${submitted} shard task(s) as job ${array_job:-none}," \
   "the merge as job $merge_job; waiting (work folder $work)"
 
 # Waits until none of the jobs is pending, running or completing. squeue
-# forgets a job some minutes after it ends (MinJobAge): an unknown job is done.
-jobs_left() {
-  squeue -h -j "$1" -t PENDING,RUNNING,COMPLETING,CONFIGURING,SUSPENDED -o %i 2>/dev/null | grep -c . || true
+# forgets a job some minutes after it ends (MinJobAge): an unknown job is
+# done. Any other squeue failure (a busy controller) is retried, for up to
+# 2 minutes, then the script stops saying the jobs may still run.
+squeue_failures=0
+left=0
+count_left() {  # JOB...: sets left to how many of their tasks are not done
+  local j out
+  left=0
+  for j in "$@"; do
+    if out="$(squeue -h -j "$j" -t PENDING,RUNNING,COMPLETING,CONFIGURING,SUSPENDED -o %i 2>&1)"; then
+      left=$((left + $(grep -c . <<< "$out" || true)))
+    elif ! grep -q "Invalid job id" <<< "$out"; then
+      squeue_failures=$((squeue_failures + 1))
+      if [ "$squeue_failures" -gt 120 ]; then
+        echo "slurm_sweep: squeue keeps failing ($out); jobs ${array_job:-} $merge_job may still run" >&2
+        exit 1
+      fi
+      left=1  # unknown: wait
+      return
+    fi
+  done
+  squeue_failures=0
 }
-all_jobs="${array_job:+$array_job,}$merge_job"
-while [ "$(jobs_left "$all_jobs")" -gt 0 ]; do
+# shellcheck disable=SC2086
+while count_left ${array_job:-} "$merge_job"; [ "$left" -gt 0 ]; do
   # The merge waits on the array; once the array is gone, a merge still pending
   # means a shard failed (kill-on-invalid-dep cancels it, but do not rely on it).
-  if [ -n "${array_job:-}" ] && [ "$(jobs_left "$array_job")" -eq 0 ]; then
-    bad=0
-    for ((i = 0; i < shards; i++)); do [ "$(cat "$work/part_$i.status" 2>/dev/null)" = "0" ] || bad=1; done
-    if [ "$bad" -eq 1 ]; then scancel "$merge_job" 2>/dev/null || true; break; fi
+  if [ -n "${array_job:-}" ]; then
+    count_left "$array_job"
+    if [ "$left" -eq 0 ]; then
+      bad=0
+      for ((i = 0; i < shards; i++)); do [ "$(cat "$work/part_$i.status" 2>/dev/null)" = "0" ] || bad=1; done
+      if [ "$bad" -eq 1 ]; then scancel "$merge_job" 2>/dev/null || true; break; fi
+    fi
   fi
   sleep 1
 done
@@ -150,7 +177,7 @@ for ((i = 0; i < shards; i++)); do
 done
 if [ "$n_failed" -gt 0 ]; then
   echo "slurm_sweep: $n_failed of $shards shards failed; nothing merged. Resubmit only those:" \
-    "scripts/slurm_sweep.sh --resubmit $out ${sbatch_opts[*]}" >&2
+    "scripts/slurm_sweep.sh --resubmit $out ${sbatch_opts[*]@Q}" >&2
   exit 1
 fi
 if [ "$(cat "$work/merge.status" 2>/dev/null)" != "0" ]; then

@@ -120,18 +120,18 @@ void write_row(std::ostream& os, const Row& r) {
 // bins (one bin for a constant run).
 class BinnedRecorder : public core::SimulationObserver {
  public:
-  BinnedRecorder(double settle_s, std::vector<double> bin_edges) : settle_s_(settle_s), edges_(std::move(bin_edges)) {
+  BinnedRecorder(double settle_s, std::vector<double> bin_edges, const core::Simulation& sim)
+      : settle_s_(settle_s), edges_(std::move(bin_edges)), sim_(sim) {
     windows.resize(edges_.size() - 1);
     for (auto& w : windows) w.drifting = edges_.size() > 2;  // a ramp's bins
   }
   bool wants_keyphasor() const override { return true; }
   void on_sample(const core::Sample& s) override {
-    last_speed_ = s.drive.speed_rad_per_s;
     if (auto* w = window_at(s)) w->add_sample(s);
   }
   void on_event(const core::ContactEvent& e) override {
     if (e.t_s < settle_s_) return;
-    const int b = bin_of(last_speed_);
+    const int b = bin_of(sim_.profile().at(e.t_s).speed_rad_per_s);  // the speed at the event itself
     if (b >= 0) ++windows[static_cast<std::size_t>(b)].contact_events;
   }
   void on_keyphasor(const core::Sample& s) override {
@@ -153,7 +153,7 @@ class BinnedRecorder : public core::SimulationObserver {
   }
   double settle_s_;
   std::vector<double> edges_;
-  double last_speed_ = 0.0;
+  const core::Simulation& sim_;
 };
 
 std::vector<double> grid_speeds(const Options& o) {
@@ -210,8 +210,8 @@ std::vector<Row> run_one(const Run& run, std::size_t total, const Values& base, 
       centres.push_back(w);
     }
   }
-  BinnedRecorder rec(o.settle_s, edges);
   core::Simulation sim(scene);
+  BinnedRecorder rec(o.settle_s, edges, sim);
   bool ok = sim.advance_to(o.settle_s, rec);
   if (ok && run.direction != Direction::kConstant) {
     sim.command_speed(run.direction == Direction::kUp ? o.speed_to : o.speed_from, o.ramp_accel);

@@ -100,7 +100,9 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
                 {"max_constraint_violation_m", st.max_constraint_violation_m},
                 {"min_abs_sliding_velocity_m_per_s",
                  st.min_abs_sliding_velocity_m_per_s > 1e299 ? std::nan("") : st.min_abs_sliding_velocity_m_per_s}};
-  os << j.dump(2) << "\n";
+  // Bytes that are not UTF-8 (a scene path in another encoding) are replaced,
+  // not a throw after the run.
+  os << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
 }
 
 }  // namespace rotor_rub::tools

@@ -118,3 +118,19 @@ TEST(Keyphasor, MarksDoNotDependOnTheOutputRate) {
     }
   }
 }
+
+// A speed command issued exactly at a mark puts a segment boundary on it:
+// no mark is lost or doubled (every multiple of 2 pi once, in order).
+TEST(Keyphasor, AMarkOnASegmentBoundaryIsKeptOnce) {
+  const double w = 100.0;
+  core::Scene s = free_scene(w, 3.0);
+  core::Simulation sim(s);
+  Marks m;
+  sim.advance_to(2 * M_PI * 5 / w, m);  // the 5th mark's time
+  sim.command_speed(200.0, 50.0);
+  sim.advance_to(s.end_time_s, m);
+  ASSERT_GT(m.marks.size(), 50u);
+  for (std::size_t k = 0; k < m.marks.size(); ++k) {
+    EXPECT_NEAR(m.marks[k].drive.angle_rad, 2 * M_PI * double(k + 1), 1e-9) << k;
+  }
+}

@@ -138,3 +138,15 @@ TEST(ResponseClass, ShortAperiodicSeriesIsNotJudged) {
   EXPECT_TRUE(std::isnan(c.k01));
   EXPECT_EQ(c.response, core::ResponseClass::kAperiodicRub);
 }
+
+// On a ramp the period test uses second differences; with too few points it
+// must not pass vacuously (16 points hold no second difference of period 8).
+TEST(ResponseClass, DriftingPeriodNeedsEnoughComparisons) {
+  std::vector<Vec2> pts;
+  for (int j = 0; j < core::kMinPoints; ++j) pts.push_back(1e-3 * Vec2(std::cos(2.7 * j * j), std::sin(1.3 * j)));
+  core::ResponseWindow w = window_of(pts);
+  w.drifting = true;
+  const auto c = core::classify_response(w, kClearance_m);
+  EXPECT_EQ(c.period, 0);
+  EXPECT_NE(c.motion, core::Motion::kPeriodic);
+}

@@ -67,7 +67,7 @@ TEST(YamlValues, PlainScalarsResolveAsRosparamDoes) {
 }
 
 TEST(YamlValues, ValuesRosparamCannotPassAreErrorsNamingThePlace) {
-  for (const std::string bad : {"~", "null", "", "3000000000", "-2147483649", "deg(90)", "rad(pi)"}) {
+  for (const std::string bad : {"~", "null", "", "3000000000", "-2147483649", "deg(90)", "rad(pi)", "0b_", "0x_"}) {
     const std::string msg = error_of([&] { core::rosparam_scalar_text(bad, false, "f.yaml:3:7"); });
     EXPECT_NE(msg.find("f.yaml:3:7"), std::string::npos) << bad << ": " << msg;
   }

@@ -119,8 +119,12 @@ ResponseClassification classify_response(const ResponseWindow& w, double clearan
   c.k01 = std::numeric_limits<double>::quiet_NaN();
   if (m >= kMinPoints) {
     for (int n = 1; n <= kMaxPeriod && c.period == 0; ++n) {
+      // Period n is seen only with kMinComparisons comparisons at least
+      // (16 points hold no second difference of period 8).
+      const int span = (w.drifting ? 2 : 1) * n;
+      if (m - span < kMinComparisons) break;
       bool repeats = true;
-      for (int j = 0; j + (w.drifting ? 2 : 1) * n < m && repeats; ++j) {
+      for (int j = 0; j + span < m && repeats; ++j) {
         const Vec2 d = w.drifting ? Vec2(p[j + 2 * n].relative_m - 2.0 * p[j + n].relative_m + p[j].relative_m)
                                   : Vec2(p[j + n].relative_m - p[j].relative_m);
         repeats = d.norm() <= tol;
@@ -160,7 +164,7 @@ ResponseClassification classify_response(const ResponseWindow& w, double clearan
     c.response = ResponseClass::kChaotic;
   } else if (c.motion == Motion::kQuasiPeriodic) {
     c.response = ResponseClass::kQuasiPeriodic;
-  } else if (c.motion == Motion::kAperiodic) {
+  } else if (c.motion == Motion::kAperiodic || c.motion == Motion::kTooShort) {
     c.response = ResponseClass::kAperiodicRub;
   } else {
     c.response = ResponseClass::kPartialRub;

@@ -12,10 +12,17 @@ std::map<std::string, std::string> read_scene_values(const std::string& path) {
   } catch (const YamlError& e) {
     throw SceneError(std::string("scene file ") + e.what());
   }
-  if (docs.size() != 1) {
-    throw SceneError("scene file '" + path + "' holds " + std::to_string(docs.size()) +
+  // Documents of comments only (a trailing "---", say) hold nothing.
+  std::vector<YamlDocument> filled;
+  for (auto& d : docs) {
+    if (!d.empty()) filled.push_back(std::move(d));
+  }
+  if (filled.size() > 1) {
+    throw SceneError("scene file '" + path + "' holds " + std::to_string(filled.size()) +
                      " YAML documents; accepted: one mapping of scene keys");
   }
+  if (filled.empty()) filled.emplace_back();
+  docs.swap(filled);
   std::map<std::string, std::string> values;
   // Every value is checked on its own here, also one that an override will
   // replace: a bad file is an error whatever the command line says.

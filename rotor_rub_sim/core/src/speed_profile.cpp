@@ -1,5 +1,6 @@
 #include "rotor_rub_sim/core/speed_profile.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -56,14 +57,20 @@ double SpeedProfile::time_at_angle(double t_s, double angle_rad) const {
     if (end < t_s) continue;
     // phi(start + tau) = angle: 0.5 a tau^2 + w0 tau - delta = 0, delta >= 0.
     // The root written without cancellation: tau = 2 delta / (w0 + sqrt(w0^2 + 2 a delta)).
-    const double delta = angle_rad - seg.start_angle_rad;
+    // Rounding: a mark on a segment boundary may come out an ulp past the
+    // end of one segment and an ulp before the start of the next; a few ulps
+    // of slack on both sides keep it.
+    const double slack_rad = 8.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(angle_rad));
+    double delta = angle_rad - seg.start_angle_rad;
+    if (delta < 0.0 && delta > -slack_rad) delta = 0.0;
     const double w0 = seg.start_speed_rad_per_s, a = seg.accel_rad_per_s2;
     const double disc = w0 * w0 + 2.0 * a * delta;
     if (delta < 0.0 || disc < 0.0) continue;
     const double denominator = w0 + std::sqrt(disc);
     if (!(denominator > 0.0)) continue;  // standing still: never
     const double t = seg.start_time_s + 2.0 * delta / denominator;
-    if (t <= end && t >= std::max(t_s, seg.start_time_s)) return t;
+    const double slack_s = 8.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(end));
+    if (t <= end + slack_s && t >= std::max(t_s, seg.start_time_s)) return std::min(t, end);
   }
   return kInf;
 }

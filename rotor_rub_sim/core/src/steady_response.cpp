@@ -60,9 +60,13 @@ std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
 
 double rub_onset_speed_rad_per_s(const ModelParameters& p) {
   const double g = p.gravity_m_per_s2;
-  const double sag_rotor = p.rotor_mass_kg * g / p.rotor_stiffness_N_per_m;
+  // Without gravity no sag (also on a support of zero stiffness, which would
+  // give 0/0); with gravity on such a support there is no static position.
+  auto sag = [g](double m, double k) { return g == 0.0 ? 0.0 : m * g / k; };
+  const double sag_rotor = sag(p.rotor_mass_kg, p.rotor_stiffness_N_per_m);
   const double sag_stator =
-      p.stator_model == StatorModel::kRigid ? 0.0 : p.stator_mass_kg * g / p.stator_stiffness_N_per_m;
+      p.stator_model == StatorModel::kRigid ? 0.0 : sag(p.stator_mass_kg, p.stator_stiffness_N_per_m);
+  if (!std::isfinite(sag_rotor - sag_stator)) return std::numeric_limits<double>::quiet_NaN();
   const double reach = p.clearance_m - std::abs(sag_rotor - sag_stator);
   if (reach <= 0.0) return 0.0;  // in contact at rest
   // |z| = e rho / sqrt((1 - rho)^2 + 4 zeta^2 rho), rho = (w / w_n)^2, rises

@@ -241,10 +241,14 @@ class SwitchingMethod final : public ContactMethod {
       // penetrates: contact, located where the penetration reaches the
       // tolerance (the paper's remedy for the stall, located instead of at
       // the step's end, which could lie far beyond the tolerance).
-      if (first_k < 0 && !armed_[kGap] && regime_ == Regime::kFree && cur.value[kGap] > penetration_tolerance_m_) {
-        const double tol = penetration_tolerance_m_;
+      // The threshold counts from the flight's start, so a flight that
+      // starts at the tolerance (such a contact that grazed again) fires
+      // later, never again at its own start.
+      const double tol = penetration_tolerance_m_ + std::max(0.0, start_gap_m_);
+      if (first_k < 0 && !armed_[kGap] && regime_ == Regime::kFree && cur.value[kGap] > tol &&
+          (prev.value[kGap] < tol || prev_t > regime_start_s_)) {
         auto beyond = [this, tol](double t) { return event_value(kGap, t) - tol; };
-        first_t = prev.value[kGap] - tol < 0.0
+        first_t = prev.value[kGap] < tol
                       ? locate_event(beyond, prev_t, prev.value[kGap] - tol, ti, cur.value[kGap] - tol, stats_)
                       : prev_t;
         first_k = kGap;
@@ -376,6 +380,7 @@ class SwitchingMethod final : public ContactMethod {
   void begin_regime(double t_s) {
     values_end_ = event_values(t_s);
     regime_start_s_ = t_s;
+    start_gap_m_ = regime_ == Regime::kFree ? values_end_.value[kGap] : 0.0;
     for (int k = 0; k < kEventFunctions; ++k) {
       armed_[k] = values_end_.value[k] < 0.0 && values_end_.value[k] != kUnused;
       start_rate_[k] = values_end_.rate[k];
@@ -405,6 +410,7 @@ class SwitchingMethod final : public ContactMethod {
   std::array<bool, kEventFunctions> armed_{};
   std::array<double, kEventFunctions> start_rate_{};
   double regime_start_s_ = 0.0;
+  double start_gap_m_ = 0.0;  // the penetration a free flight starts with (<= 0 but at a graze)
   EventValues values_end_{};
   double valid_begin_ = 0.0, valid_end_ = 0.0;
   bool pending_ = false;

@@ -21,7 +21,7 @@ const std::regex& bool_re() {
 const std::regex& float_re() {
   static const std::regex re(
       "[-+]?(?:[0-9][0-9_]*)\\.[0-9_]*(?:[eE][-+][0-9]+)?"
-      "|\\.[0-9_]+(?:[eE][-+][0-9]+)?"
+      "|\\.[0-9][0-9_]*(?:[eE][-+][0-9]+)?"
       "|[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+\\.[0-9_]*"
       "|[-+]?\\.(?:inf|Inf|INF)"
       "|\\.(?:nan|NaN|NAN)");
@@ -95,6 +95,10 @@ std::string int_text(std::string s, const std::string& original, const std::stri
   s = without_underscores(s);
   const double sign = take_sign(s);
   double v = 0.0;  // exact for every value that can pass the 32-bit check
+  if ((s == "0b" || s == "0x")) {
+    // PyYAML fails on these (int('', base)): rosparam cannot load the file.
+    throw YamlError(where + ": '" + original + "' is not a number YAML 1.1 can read; accepted: digits after " + s);
+  }
   if (s.size() > 2 && s[0] == '0' && s[1] == 'b') {
     v = static_cast<double>(std::strtoull(s.c_str() + 2, nullptr, 2));
   } else if (s.size() > 2 && s[0] == '0' && s[1] == 'x') {
@@ -194,6 +198,10 @@ std::vector<YamlDocument> read_yaml_documents(const std::string& path) {
       }
       YamlEntry e;
       e.key = kv.first.Scalar();
+      if (e.key == "<<") {
+        throw YamlError(where_of(path, kv.first.Mark()) +
+                        ": a merge key (<<) is not supported by this reader; write the keys out");
+      }
       e.where = where_of(path, kv.second.Mark().is_null() ? kv.first.Mark() : kv.second.Mark());
       for (const auto& seen : doc) {
         if (seen.key == e.key) throw YamlError(where_of(path, kv.first.Mark()) + ": key '" + e.key + "' given twice");

@@ -8,7 +8,8 @@
 //   contact, no lift-off: annular rub), partial (the rest).
 // * motion, from the Poincare points p_1..p_M of the rotor relative to the
 //   stator (one per revolution): period n when p_{j+n} = p_j within
-//   kPeriodTolerance (of the clearance) for every j, n <= kMaxPeriod;
+//   kPeriodTolerance (of the clearance) for every j, n <= kMaxPeriod, seen
+//   in kMinComparisons comparisons at least;
 //   otherwise the 0-1 test for chaos (Gottwald & Melbourne 2009, correlation
 //   form, median over 32 frequencies c in (pi/5, 4 pi/5) from a fixed seed)
 //   on the series |p_j|: K >= kChaosK chaotic, else quasi-periodic (with at
@@ -23,7 +24,8 @@
 //   power-weighted frequency, + forward (with the spin), - backward.
 // * class, for charts: no_contact; backward_whirl (in contact and whirling
 //   backward: dry whirl/whip); full_rub (annular, forward); partial_rub
-//   (periodic); quasi_periodic, chaotic and aperiodic_rub (in contact).
+//   (periodic); quasi_periodic, chaotic (in contact); aperiodic_rub (in
+//   contact, not shown periodic: too few points to judge).
 #pragma once
 
 #include <string>
@@ -77,6 +79,7 @@ const char* to_string(ResponseClass v);
 // Points closer than this share of the clearance are the same point.
 inline constexpr double kPeriodTolerance = 1e-4;
 inline constexpr int kMaxPeriod = 8;
+inline constexpr int kMinComparisons = 8;
 // At least this many Poincare points to judge the motion (period 8 needs
 // 16 to be seen twice; the 0-1 test needs many more to be meaningful).
 inline constexpr int kMinPoints = 16;

@@ -23,15 +23,16 @@ struct FullRub {
   std::complex<double> rotor_m, stator_m;
   double normal_force_N = 0.0;
 };
-// Every solution with N > 0: none (no such branch at w), one or two, the
-// larger normal force first. With the penalty method the rotor overlaps the
+// Every solution with N > 0: none (no such branch at w), one (when the free
+// orbit alone is larger than C) or two, the larger normal force first. With the penalty method the rotor overlaps the
 // stator by N / k_c more (not included).
 std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w_rad_per_s);
 
 // The lowest speed at which the steady unbalance orbit (offset by the static
 // sags under gravity, m_r g / k_r - m_s g / k_s) reaches the clearance:
 // |z(w)| + |sag offset| = C, solved by TOMS 748 below the amplitude's peak.
-// Infinity when the orbit never reaches it.
+// Infinity when the orbit never reaches it; NaN when gravity acts on a support
+// of zero stiffness (no static position).
 double rub_onset_speed_rad_per_s(const ModelParameters& p);
 
 }  // namespace rotor_rub::core

@@ -16,6 +16,9 @@
 // rosparam cannot pass (an int beyond 32 bits, a mapping where a scalar is
 // expected), rosparam's deg()/rad() expressions (not evaluated here), and
 // a key given twice (rosparam silently keeps the last).
+// Not as rosparam: yaml-cpp gives `! 5` (the non-specific tag) the same tag as
+// a quoted '5', so it is read as the string "5" (PyYAML: the int 5); merge
+// keys (`<<: *base`) are not expanded by yaml-cpp 0.7 and are rejected.
 #pragma once
 
 #include <stdexcept>
