@@ -52,7 +52,7 @@ CLI::Validator key_value() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path, csv_path, summary_path, method, rtol, atol, rate;
+  std::string scene_path, csv_path, summary_path, keyphasor_path, probes_path, method, rtol, atol, rate;
   std::vector<std::string> sets;
   bool quiet = false, list_keys = false;
   CLI::App app(
@@ -78,6 +78,14 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv_path, "write the samples to this CSV file (one row per sample at t = k / rate)")
       ->type_name("FILE");
   app.add_option("--summary", summary_path, "write the JSON summary (status, events, stats) to this file")
+      ->type_name("FILE");
+  app.add_option("--keyphasor", keyphasor_path,
+                 "write the keyphasor's marks (t, revolution, speed: once per revolution, at the spin angle 2 pi k, "
+                 "from the dense output) to this CSV file")
+      ->type_name("FILE");
+  app.add_option("--probes", probes_path,
+                 "write the X/Y proximity probes' signals (t, x_V, y_V, x_m, y_m at probe_rate_hz, which must be > 0) "
+                 "to this CSV file")
       ->type_name("FILE");
   app.add_flag("--quiet", quiet, "no summary line on stdout");
   app.add_flag("--list-keys", list_keys, "print every scene key with its default, accepted range and meaning; exit");
@@ -110,7 +118,11 @@ int main(int argc, char** argv) {
     bad_input(e.what());
   }
 
-  tools::RunRecorder recorder(!csv_path.empty());
+  if (!probes_path.empty() && !(scene.probes.rate_hz > 0.0)) {
+    bad_input("--probes needs probe_rate_hz > 0 (scene key probe_rate_hz is 0: no probe signals); accepted: (0, 1e7]");
+  }
+  tools::RunRecorder recorder(!csv_path.empty(), !keyphasor_path.empty(),
+                              probes_path.empty() ? nullptr : &scene.probes);
   core::Simulation sim(scene);
   sim.advance_to(scene.end_time_s, recorder);
   const core::RunStats& st = sim.stats();
@@ -125,6 +137,19 @@ int main(int argc, char** argv) {
       status = kExitOutput;
     }
   }
+  auto write_file = [&](const std::string& path, const char* what, auto&& write) {
+    if (path.empty()) return;
+    std::ofstream os(path);
+    write(os);
+    if (!os) {
+      std::cerr << "rotor_rub_run: cannot write " << what << " '" << path << "'\n";
+      status = kExitOutput;
+    }
+  };
+  write_file(keyphasor_path, "keyphasor CSV",
+             [&](std::ostream& os) { tools::write_keyphasor_csv(os, recorder.marks); });
+  write_file(probes_path, "probes CSV",
+             [&](std::ostream& os) { tools::write_probes_csv(os, recorder.probe_readings); });
   if (!summary_path.empty()) {
     std::ofstream os(summary_path);
     tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure()});

@@ -34,6 +34,24 @@ void write_csv(std::ostream& os, const std::vector<core::Sample>& samples) {
   }
 }
 
+void write_keyphasor_csv(std::ostream& os, const std::vector<core::Sample>& marks) {
+  os << "t,revolution,speed\n";
+  char buf[128];
+  for (std::size_t k = 0; k < marks.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%.17g,%zu,%.17g\n", marks[k].t_s, k + 1, marks[k].drive.speed_rad_per_s);
+    os << buf;
+  }
+}
+
+void write_probes_csv(std::ostream& os, const std::vector<core::ProbeReading>& readings) {
+  os << "t,x_V,y_V,x_m,y_m\n";
+  char buf[160];
+  for (const auto& r : readings) {
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g\n", r.t_s, r.x_V, r.y_V, r.x_m, r.y_m);
+    os << buf;
+  }
+}
+
 double first_touchdown_s(const std::vector<core::ContactEvent>& events) {
   for (const auto& e : events) {
     if (e.kind == core::EventKind::kTouchdown) return e.t_s;

@@ -2,20 +2,33 @@
 // figures a person reads (touchdown, lift-off, max orbit, max force, cost).
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "rotor_rub_sim/core/probes.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 
 namespace rotor_rub::tools {
 
-// Keeps the samples (when asked) and running maxima.
+// Keeps the samples (when asked), running maxima, and (when asked) the
+// keyphasor marks and the probes' signals.
 class RunRecorder : public core::SimulationObserver {
  public:
-  explicit RunRecorder(bool keep_samples) : keep_samples_(keep_samples) {}
+  explicit RunRecorder(bool keep_samples, bool keep_marks = false, const core::ProbeParameters* probes = nullptr)
+      : keep_samples_(keep_samples), keep_marks_(keep_marks) {
+    if (probes != nullptr) probe_pair_.emplace(*probes);
+  }
   void on_sample(const core::Sample& s) override;
   void on_event(const core::ContactEvent& e) override { events.push_back(e); }
+  bool wants_keyphasor() const override { return keep_marks_; }
+  void on_keyphasor(const core::Sample& s) override { marks.push_back(s); }
+  bool wants_probes() const override { return probe_pair_.has_value(); }
+  void on_probe_sample(const core::Sample& s) override { probe_readings.push_back(probe_pair_->read(s)); }
+
+  std::vector<core::Sample> marks;                 // the keyphasor's states
+  std::vector<core::ProbeReading> probe_readings;  // the probes' signals
 
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
@@ -25,8 +38,14 @@ class RunRecorder : public core::SimulationObserver {
   double max_penetration_m = -1e300;  // max delta - C over the samples
 
  private:
-  bool keep_samples_;
+  bool keep_samples_, keep_marks_;
+  std::optional<core::ProbePair> probe_pair_;
 };
+
+// The keyphasor's marks: t, revolution (1, 2, ...), spin speed; and the
+// probes' signals: t, x_V, y_V and what they measure without noise, x_m, y_m.
+void write_keyphasor_csv(std::ostream& os, const std::vector<core::Sample>& marks);
+void write_probes_csv(std::ostream& os, const std::vector<core::ProbeReading>& readings);
 
 void write_csv(std::ostream& os, const std::vector<core::Sample>& samples);
 

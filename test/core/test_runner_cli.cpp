@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -118,4 +119,30 @@ TEST(RunnerCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   expect_usage(run("--scene " + kScene + " --bogus"), {"unknown option '--bogus'"});
   expect_usage(run("--scene /nonexistent.yaml"), {"--scene", "/nonexistent.yaml"});
   expect_usage(run("--rtol 1e-6"), {"--scene is required"});
+}
+
+// The keyphasor and probe CSVs (part of issue 17): a mark every 2 pi / w at a
+// constant speed; the probes at their own rate; --probes without a probe rate
+// is bad input naming the key.
+TEST(RunnerCli, KeyphasorAndProbeCsvs) {
+  Result r = run("--scene " + kScene +
+                 " --set initial_speed_rad_per_s=100 --set target_speed_rad_per_s=100 --set end_time_s=1"
+                 " --set probe_rate_hz=2000 --keyphasor /tmp/rr_kp.csv --probes /tmp/rr_pr.csv --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream kp("/tmp/rr_kp.csv");
+  std::string line;
+  std::getline(kp, line);
+  EXPECT_EQ(line, "t,revolution,speed");
+  int n = 0;
+  while (std::getline(kp, line)) {
+    ++n;
+    EXPECT_NEAR(std::stod(line.substr(0, line.find(','))), 2 * M_PI * n / 100.0, 1e-12) << line;
+  }
+  EXPECT_EQ(n, 15);  // 100 rad/s for 1 s: 15.9 revolutions
+  const std::string probes = read("/tmp/rr_pr.csv");
+  EXPECT_EQ(probes.rfind("t,x_V,y_V,x_m,y_m\n", 0), 0u);
+  EXPECT_EQ(std::count(probes.begin(), probes.end(), '\n'), 2001);  // header + 2000 samples
+  r = run("--scene " + kScene + " --set end_time_s=0.1 --probes /tmp/rr_pr0.csv");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("probe_rate_hz"), std::string::npos) << r.err;
 }

@@ -188,6 +188,28 @@ const std::vector<KeyEntry>& entries() {
         real("end_time_s", 0, true, 1e6, "simulated end time [s]", [](Scene& s) -> double& { return s.end_time_s; }));
     t.push_back(real("output_rate_hz", 0, true, 1e7, "sample rate of the output in simulated time [Hz]",
                      [](Scene& s) -> double& { return s.output_rate_hz; }));
+    // Proximity probes (parameters.hpp: on the casing, API 670 mounting).
+    t.push_back(real("probe_rate_hz", 0, false, 1e7,
+                     "sample rate of the X/Y proximity probes in simulated time, 0 for none [Hz]",
+                     [](Scene& s) -> double& { return s.probes.rate_hz; }));
+    t.push_back(real("probe_x_angle_rad", -kInf, false, kInf,
+                     "X probe's axis, counter-clockwise from +x (pi/4: 45 deg right of top) [rad]",
+                     [](Scene& s) -> double& { return s.probes.x_angle_rad; }));
+    t.push_back(real("probe_y_angle_rad", -kInf, false, kInf,
+                     "Y probe's axis, counter-clockwise from +x (3 pi/4: 45 deg left of top) [rad]",
+                     [](Scene& s) -> double& { return s.probes.y_angle_rad; }));
+    t.push_back(real("probe_sensitivity_V_per_m", 0, true, kInf, "probe sensitivity (7874: 200 mV/mil) [V/m]",
+                     [](Scene& s) -> double& { return s.probes.sensitivity_V_per_m; }));
+    t.push_back(real("probe_noise_V", 0, false, kInf, "probe noise, standard deviation, seeded [V]",
+                     [](Scene& s) -> double& { return s.probes.noise_V; }));
+    t.push_back(integer("probe_noise_seed", 0, 2147483647L, "seed of the probe noise (the same seed, the same noise)",
+                        [](Scene& s) -> long& { return s.probes.noise_seed; }));
+    t.push_back(real("probe_runout_m", 0, false, kInf,
+                     "mechanical/electrical runout seen by the probes: a once-per-revolution pattern [m]",
+                     [](Scene& s) -> double& { return s.probes.runout_m; }));
+    t.push_back(real("probe_runout_phase_rad", -kInf, false, kInf,
+                     "the runout's direction on the shaft, from the unbalance's [rad]",
+                     [](Scene& s) -> double& { return s.probes.runout_phase_rad; }));
     return t;
   }();
   return table;

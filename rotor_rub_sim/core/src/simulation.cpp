@@ -106,12 +106,28 @@ void Simulation::deliver_marks_before(double t_s, bool inclusive, SimulationObse
   }
 }
 
+void Simulation::deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer) {
+  const double rate = scene_.probes.rate_hz;
+  if (!(rate > 0.0) || !observer.wants_probes()) return;
+  // An observer that did not want them before: from the next one.
+  while (static_cast<double>(next_probe_sample_) / rate <= time_s_ && time_s_ > 0.0) ++next_probe_sample_;
+  for (;;) {
+    const double tk = static_cast<double>(next_probe_sample_) / rate;
+    if (inclusive ? tk > t_s : tk >= t_s) return;
+    const Sample s = method_->sample(tk);
+    check_invariants(s, limits_);
+    observer.on_probe_sample(s);
+    ++next_probe_sample_;
+  }
+}
+
 void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
   const double rate = scene_.output_rate_hz;
   for (;;) {
     const double tk = static_cast<double>(next_sample_) / rate;
     if (tk > t_s) break;
     deliver_marks_before(tk, false, observer);
+    deliver_probes_before(tk, false, observer);
     for (auto it = step_events_.begin(); it != step_events_.end();) {
       if (it->t_s < tk) {
         count_and_deliver(*it, observer);
@@ -126,6 +142,7 @@ void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
     ++next_sample_;
   }
   deliver_marks_before(t_s, true, observer);
+  deliver_probes_before(t_s, true, observer);
   for (auto it = step_events_.begin(); it != step_events_.end();) {
     if (it->t_s <= t_s) {
       count_and_deliver(*it, observer);
@@ -191,6 +208,8 @@ RunResult run_scene(const Scene& scene, SimulationObserver& observer) {
     }
     bool wants_keyphasor() const override { return inner->wants_keyphasor(); }
     void on_keyphasor(const Sample& s) override { inner->on_keyphasor(s); }
+    bool wants_probes() const override { return inner->wants_probes(); }
+    void on_probe_sample(const Sample& s) override { inner->on_probe_sample(s); }
   } recorder;
   recorder.inner = &observer;
   Simulation sim(scene);

@@ -108,10 +108,32 @@ struct SolverSettings {
   bool profile_cost = false;
 };
 
+// ---- Proximity probes (what a machinery-protection system reads) -----------
+// An X/Y pair of eddy-current probes on the casing (the inertial frame, not
+// the elastically supported stator), each measuring the rotor centre's
+// displacement along its axis, at angle theta counter-clockwise from +x.
+// The default mounting is API 670's: 45 deg right (X) and 45 deg left (Y) of
+// top dead centre (+y). The signal is the dynamic (AC) part in volts:
+//   v = S (r_r . u_theta + runout(phi) . u_theta) + noise,
+// runout(phi) = runout (cos(phi + runout_phase), sin(phi + runout_phase)) a
+// once-per-revolution pattern fixed to the shaft (mechanical/electrical
+// runout), noise Gaussian with a fixed seed.
+struct ProbeParameters {
+  double rate_hz = 0.0;  // 0: no probe signals
+  double x_angle_rad = 0.25 * 3.14159265358979323846;
+  double y_angle_rad = 0.75 * 3.14159265358979323846;
+  double sensitivity_V_per_m = 7874.0;  // 200 mV/mil (API 670)
+  double noise_V = 0.0;                 // standard deviation
+  long noise_seed = 1;
+  double runout_m = 0.0;
+  double runout_phase_rad = 0.0;
+};
+
 struct Scene {
   ModelParameters model;
   SpeedProfileParameters speed;
   SolverSettings solver;
+  ProbeParameters probes;
   double end_time_s = 4.0;
   double output_rate_hz = 1000.0;
 };

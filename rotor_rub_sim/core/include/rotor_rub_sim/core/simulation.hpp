@@ -29,6 +29,11 @@ class SimulationObserver {
   // the start angle itself (t = 0) is not one.
   virtual bool wants_keyphasor() const { return false; }
   virtual void on_keyphasor(const Sample& /*s*/) {}
+  // The proximity probes' samples: the state at k / scene.probes.rate_hz
+  // (k >= 1) from the dense output, called only when wants_probes() and the
+  // rate is > 0; in time order with the samples (probes.hpp reads them).
+  virtual bool wants_probes() const { return false; }
+  virtual void on_probe_sample(const Sample& /*s*/) {}
 };
 
 struct RunFailure {
@@ -66,6 +71,7 @@ class Simulation {
  private:
   void deliver_until(double t_s, SimulationObserver& observer);
   void deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer);
+  void deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer);
   void count_and_deliver(const ContactEvent& e, SimulationObserver& observer);
 
   Scene scene_;
@@ -74,7 +80,9 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double next_mark_angle_rad_ = 0.0;       // the next keyphasor angle (a multiple of 2 pi)
+  double next_mark_angle_rad_ = 0.0;
+  long next_probe_sample_ =
+      1;  // the probes' next sample index (k / probe rate)       // the next keyphasor angle (a multiple of 2 pi)
   double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
   bool break_due_ = false;                 // the last step ended on it
   std::vector<ContactEvent> step_events_;  // found, not yet delivered
