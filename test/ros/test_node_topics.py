@@ -13,10 +13,13 @@ from std_srvs.srv import Trigger
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ros_test_support import Collector, PKG, find_binary, run_runner, temp_prefix  # noqa: E402
 from rotor_rub_msgs.msg import ContactEvent, RotorState, SolverStats, SpeedCommand, SpeedCommandFeedback  # noqa
+from rotor_rub_msgs.msg import Keyphasor, ProbeSignals  # noqa: E402
 from rotor_rub_msgs.srv import StepSimulation  # noqa: E402
 
 NODE = "/rotor_rub_sim"
 RATE_HZ = 2000.0  # node_topics.test sets output_rate_hz
+PROBE_RATE_HZ = 1000.0  # and probe_rate_hz, probe_noise_V 0.01 V
+PROBE_ARGS = ["--set", "probe_rate_hz=1000", "--set", "probe_noise_V=0.01"]
 END_S = 4.0
 # The node and the runner run the same core on the same scene, and the node's
 # chunked advance does not change the integrator's steps, so event times are
@@ -47,6 +50,8 @@ def speed_from(segs, t):
 
 
 class NodeTestBase(unittest.TestCase):
+    WITH_PROBES = False  # the launch file sets probe_rate_hz > 0 (else no "probes" topic)
+
     @classmethod
     def setUpClass(cls):
         rospy.init_node("test_node_topics")
@@ -54,6 +59,8 @@ class NodeTestBase(unittest.TestCase):
         cls.events = Collector(NODE + "/contact_events", ContactEvent)
         cls.stats = Collector(NODE + "/solver_stats", SolverStats)
         cls.feedback = Collector(NODE + "/speed_command_feedback", SpeedCommandFeedback)
+        cls.keyphasor = Collector(NODE + "/keyphasor", Keyphasor)
+        cls.probes = Collector(NODE + "/probes", ProbeSignals)
         for srv in ["reset", "pause", "resume", "step"]:
             rospy.wait_for_service(NODE + "/" + srv, timeout=60)
         cls.reset_srv = rospy.ServiceProxy(NODE + "/reset", Trigger)
@@ -61,7 +68,8 @@ class NodeTestBase(unittest.TestCase):
         cls.resume_srv = rospy.ServiceProxy(NODE + "/resume", Trigger)
         cls.step_srv = rospy.ServiceProxy(NODE + "/step", StepSimulation)
         cls.command_pub = rospy.Publisher(NODE + "/speed_command", SpeedCommand, queue_size=100)
-        for c in [cls.states, cls.events, cls.stats, cls.feedback]:
+        for c in [cls.states, cls.events, cls.stats, cls.feedback, cls.keyphasor] + ([cls.probes] if cls.WITH_PROBES
+                                                                                     else []):
             c.wait_connected()
         while cls.command_pub.get_num_connections() == 0:
             rospy.sleep(0.01)
@@ -74,7 +82,7 @@ class NodeTestBase(unittest.TestCase):
         # The reset's own statistics (t = 0, paused) mark the start of the run.
         self.stats.wait_for(lambda m: m and m[-1].sim_time == 0.0 and m[-1].status == SolverStats.PAUSED,
                             "the reset's statistics")
-        for c in [self.states, self.events, self.stats, self.feedback]:
+        for c in [self.states, self.events, self.stats, self.feedback, self.keyphasor, self.probes]:
             c.clear()
 
     def run_to_end(self):
@@ -86,7 +94,9 @@ class NodeTestBase(unittest.TestCase):
 
 
 class NodeTopicsTest(NodeTestBase):
-    """node_topics.test: real_time_factor 0, end_action pause."""
+    """node_topics.test: real_time_factor 0, end_action pause, probes at 1 kHz."""
+
+    WITH_PROBES = True
 
     def test_1_rate_events_and_runner_agreement(self):
         self.fresh_paused_run()
@@ -97,7 +107,9 @@ class NodeTopicsTest(NodeTestBase):
             self.assertEqual(s.sample_index, k)
             # Stamps are whole nanoseconds: k / rate exactly at 2 kHz.
             self.assertEqual(s.header.stamp.to_nsec(), k * int(1e9 / RATE_HZ))
-        summary = run_runner(["--rate", str(RATE_HZ)], temp_prefix("paper"))
+        prefix = temp_prefix("paper")
+        summary = run_runner(["--rate", str(RATE_HZ), "--keyphasor", prefix + ".kp.csv", "--probes",
+                              prefix + ".pr.csv"] + PROBE_ARGS, prefix)
         final = [s for s in self.stats.msgs if s.status == SolverStats.FINISHED][-1]
         events = self.events.wait_for(lambda m: len(m) >= len(summary["events"]), "the runner's events")
         self.assertEqual([e.kind_name for e in events], [e["kind"] for e in summary["events"]])
@@ -111,6 +123,22 @@ class NodeTopicsTest(NodeTestBase):
         self.assertEqual(final.events_published, len(summary["events"]))
         self.assertEqual(final.steps, summary["stats"]["steps"])
         self.assertGreater(final.real_time_factor, 0.0)
+        # The keyphasor and the probes: the runner's marks and signals (the
+        # same core, the same seeded noise), to the last digit of its CSV.
+        with open(prefix + ".kp.csv") as f:
+            marks = [line.split(",") for line in f.read().splitlines()[1:]]
+        got = self.keyphasor.wait_for(lambda m: len(m) >= len(marks), "%d keyphasor marks" % len(marks))
+        self.assertEqual(len(got), len(marks))
+        for k, (msg, row) in enumerate(zip(got, marks)):
+            self.assertEqual(msg.revolution, k + 1)
+            self.assertEqual(msg.time, float(row[0]))
+            self.assertEqual(msg.speed, float(row[2]))
+        with open(prefix + ".pr.csv") as f:
+            signals = [[float(v) for v in line.split(",")] for line in f.read().splitlines()[1:]]
+        self.assertEqual(len(signals), int(END_S * PROBE_RATE_HZ))
+        got = self.probes.wait_for(lambda m: len(m) >= len(signals), "%d probe samples" % len(signals))
+        for msg, row in zip(got, signals):
+            self.assertEqual((msg.time, msg.x, msg.y, msg.x_displacement, msg.y_displacement), tuple(row))
 
     def send(self, t, target, accel, command_id=0):
         cmd = SpeedCommand()

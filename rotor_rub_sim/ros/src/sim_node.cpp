@@ -31,6 +31,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   event_pub_ = nh.advertise<rotor_rub_msgs::ContactEvent>("contact_events", q);
   stats_pub_ = nh.advertise<rotor_rub_msgs::SolverStats>("solver_stats", q, /*latch=*/true);
   feedback_pub_ = nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
+  keyphasor_pub_ = nh.advertise<rotor_rub_msgs::Keyphasor>("keyphasor", q);
+  if (scene_.probes.rate_hz > 0.0) probes_pub_ = nh.advertise<rotor_rub_msgs::ProbeSignals>("probes", q);
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", q);
   if (config_.marker_rate_hz > 0.0) {
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 10);
@@ -141,6 +143,8 @@ void SimNode::restart_simulation() {
   states_published_ = events_published_ = 0;
   next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = 0.0;
   last_sample_ = core::Sample{};
+  revolutions_ = 0;
+  if (scene_.probes.rate_hz > 0.0) probe_pair_.emplace(scene_.probes);  // the same noise again
   run_wall_accum_s_ = run_sim_accum_s_ = 0.0;
   anchor_pacing();
   if (markers_) markers_->clear();
@@ -374,6 +378,29 @@ void SimNode::on_event(const core::ContactEvent& e) {
   to_msg(e, config_.frame_id, event_msg_);
   publish(event_pub_, event_msg_, e.t_s);
   ++events_published_;
+}
+
+void SimNode::on_keyphasor(const core::Sample& s) {
+  rotor_rub_msgs::Keyphasor msg;
+  msg.header.stamp = ros::Time().fromSec(s.t_s);
+  msg.header.frame_id = config_.frame_id;
+  msg.time = s.t_s;
+  msg.revolution = ++revolutions_;
+  msg.speed = s.drive.speed_rad_per_s;
+  publish(keyphasor_pub_, msg, s.t_s);
+}
+
+void SimNode::on_probe_sample(const core::Sample& s) {
+  const core::ProbeReading r = probe_pair_->read(s);
+  rotor_rub_msgs::ProbeSignals msg;
+  msg.header.stamp = ros::Time().fromSec(r.t_s);
+  msg.header.frame_id = config_.frame_id;
+  msg.time = r.t_s;
+  msg.x = r.x_V;
+  msg.y = r.y_V;
+  msg.x_displacement = r.x_m;
+  msg.y_displacement = r.y_m;
+  publish(probes_pub_, msg, r.t_s);
 }
 
 void SimNode::publish_clock(double t_s) {

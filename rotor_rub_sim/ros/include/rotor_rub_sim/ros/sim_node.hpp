@@ -22,10 +22,13 @@
 #include <vector>
 
 #include "rotor_rub_msgs/ContactEvent.h"
+#include "rotor_rub_msgs/Keyphasor.h"
+#include "rotor_rub_msgs/ProbeSignals.h"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_msgs/SolverStats.h"
 #include "rotor_rub_msgs/SpeedCommand.h"
 #include "rotor_rub_msgs/StepSimulation.h"
+#include "rotor_rub_sim/core/probes.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/ros/bag_appender.hpp"
 #include "rotor_rub_sim/ros/markers.hpp"
@@ -44,6 +47,11 @@ class SimNode : public core::SimulationObserver {
 
   void on_sample(const core::Sample& s) override;
   void on_event(const core::ContactEvent& e) override;
+  // The keyphasor and the probes (topics "keyphasor" and "probes").
+  bool wants_keyphasor() const override { return true; }
+  void on_keyphasor(const core::Sample& s) override;
+  bool wants_probes() const override { return probe_pair_.has_value(); }
+  void on_probe_sample(const core::Sample& s) override;
 
  private:
   enum class Status : uint8_t { kRunning, kPaused, kFinished, kFailed };
@@ -103,7 +111,10 @@ class SimNode : public core::SimulationObserver {
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
 
   ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
-  double lockstep_awaited_s_ = -1.0;  // the boundary a reply is awaited for
+  ros::Publisher keyphasor_pub_, probes_pub_;
+  uint64_t revolutions_ = 0;                   // keyphasor marks since the start or the last reset
+  std::optional<core::ProbePair> probe_pair_;  // when probe_rate_hz > 0; its noise restarts with the run
+  double lockstep_awaited_s_ = -1.0;           // the boundary a reply is awaited for
   bool lockstep_replied_ = false;
   uint64_t lockstep_timeouts_ = 0;
   // The last command applied (target, acceleration): a repeat changes
