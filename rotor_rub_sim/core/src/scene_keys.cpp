@@ -143,6 +143,11 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.contact_stiffness_N_per_m; }));
     t.push_back(real("gravity_m_per_s2", 0, false, 100.0, "gravity along -y [m/s^2]; 0 for a vertical machine",
                      [](Scene& s) -> double& { return s.model.gravity_m_per_s2; }));
+    t.push_back(real("stator_offset_x_m", -1.0, false, 1.0,
+                     "stator rest position, x (a misaligned casing: partial rub); |offset| < clearance_m [m]",
+                     [](Scene& s) -> double& { return s.model.stator_offset_x_m; }));
+    t.push_back(real("stator_offset_y_m", -1.0, false, 1.0, "stator rest position, y; |offset| < clearance_m [m]",
+                     [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
     // Drive.
     t.push_back(real("initial_angle_rad", -kInf, false, kInf, "spin angle at t = 0 [rad]",
                      [](Scene& s) -> double& { return s.speed.initial_angle_rad; }));
@@ -291,6 +296,16 @@ void validate_scene(const Scene& s) {
                        format_double(s.model.contact_stiffness_N_per_m) +
                        ", restitution = " + format_double(s.model.restitution) + "): (0, " + format_double(h_max) +
                        "], RK4's stability bound 2.785 / (omega_c (zeta + sqrt(zeta^2 - 1)))");
+    }
+  }
+  {
+    // The rotor starts centred in the casing: inside the bore only when the
+    // stator's offset is less than the clearance.
+    const double offset = std::hypot(s.model.stator_offset_x_m, s.model.stator_offset_y_m);
+    if (!(offset < s.model.clearance_m)) {
+      throw SceneError("scene keys 'stator_offset_x_m', 'stator_offset_y_m': offset " + format_double(offset) +
+                       " m is out of range; accepted: below clearance_m = " + format_double(s.model.clearance_m) +
+                       " m (the rotor starts centred, inside the bore)");
     }
   }
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {

@@ -29,7 +29,7 @@ Simulation::Simulation(const Scene& scene)
       method_(make_contact_method(scene)),
       limits_(InvariantLimits::for_scene(scene)) {
   // Start at rest, centred: the run-up's initial condition.
-  method_->start(0.0, Kinematics{}, profile_.segment_at(0.0));
+  method_->start(0.0, JeffcottModel(scene.model).initial_kinematics(), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
   next_mark_angle_rad_ = two_pi * (std::floor(scene.speed.initial_angle_rad / two_pi) + 1.0);
 }

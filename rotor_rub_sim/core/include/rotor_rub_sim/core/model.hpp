@@ -18,6 +18,9 @@
 // * Drive: the speed is prescribed (speed_profile.hpp); no torsional DOF.
 // * Gravity: none unless the scene sets gravity_m_per_s2 (acts along -y on
 //   rotor and stator).
+// * Stator offset: the stator's springs pull it to (stator_offset_x_m,
+//   stator_offset_y_m), where a rigid stator sits (a misaligned casing);
+//   the shaft's spring centre is the casing's origin, where the rotor starts.
 // * Stator: mass m_s on springs k_s and dampers b_s (elastic), or immovable
 //   (rigid, then the state holds the rotor's 2 DOF only).
 // * Contact geometry: delta = |r_r - r_s|, outward normal n = (r_r - r_s)/delta,
@@ -109,7 +112,28 @@ class JeffcottModel {
         inv_rotor_mass_(1.0 / p.rotor_mass_kg),
         inv_stator_mass_(p.stator_model == StatorModel::kRigid ? 0.0 : 1.0 / p.stator_mass_kg),
         effective_mass_kg_(1.0 / (inv_rotor_mass_ + inv_stator_mass_)),
-        has_friction_(p.friction_coefficient > 0.0) {}
+        has_friction_(p.friction_coefficient > 0.0),
+        stator_offset_(p.stator_offset_x_m, p.stator_offset_y_m) {
+    // A rigid stator has no state: the methods work in its frame (its centre
+    // at the origin), where the shaft's spring centre is -offset; samples are
+    // shifted back by +offset (frame_shift()). An elastic stator's springs pull
+    // it to the offset; the frame is the casing's.
+    const bool rigid = p.stator_model == StatorModel::kRigid;
+    rotor_spring_centre_ = rigid ? Vec2(-stator_offset_) : Vec2::Zero();
+    stator_spring_centre_ = rigid ? Vec2::Zero() : stator_offset_;
+    frame_shift_ = rigid ? stator_offset_ : Vec2::Zero();
+  }
+
+  // Where the methods start (t = 0): at rest, the rotor centred in the casing,
+  // the stator at its rest position; in the methods' frame.
+  Kinematics initial_kinematics() const {
+    Kinematics k;
+    k.rotor_pos = -frame_shift_;
+    k.stator_pos = stator_spring_centre_;
+    return k;
+  }
+  // Methods' frame -> the casing's (what samples report): add this to positions.
+  const Vec2& frame_shift() const { return frame_shift_; }
 
   const ModelParameters& parameters() const { return p_; }
   double inv_rotor_mass() const { return inv_rotor_mass_; }
@@ -124,7 +148,8 @@ class JeffcottModel {
     const double me = p_.rotor_mass_kg * p_.eccentricity_m;
     const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
     const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
-    Vec2 f = -p_.rotor_stiffness_N_per_m * k.rotor_pos - p_.rotor_damping_N_s_per_m * k.rotor_vel;
+    Vec2 f =
+        -p_.rotor_stiffness_N_per_m * (k.rotor_pos - rotor_spring_centre_) - p_.rotor_damping_N_s_per_m * k.rotor_vel;
     f.x() += me * (w2 * c + d.accel_rad_per_s2 * s);
     f.y() += me * (w2 * s - d.accel_rad_per_s2 * c) - p_.rotor_mass_kg * p_.gravity_m_per_s2;
     return f;
@@ -134,7 +159,8 @@ class JeffcottModel {
   // whose acceleration is zero anyway).
   Vec2 stator_free_force(const Kinematics& k) const {
     if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
-    Vec2 f = -p_.stator_stiffness_N_per_m * k.stator_pos - p_.stator_damping_N_s_per_m * k.stator_vel;
+    Vec2 f = -p_.stator_stiffness_N_per_m * (k.stator_pos - stator_spring_centre_) -
+             p_.stator_damping_N_s_per_m * k.stator_vel;
     f.y() -= p_.stator_mass_kg * p_.gravity_m_per_s2;
     return f;
   }
@@ -191,6 +217,7 @@ class JeffcottModel {
   double inv_stator_mass_;
   double effective_mass_kg_;
   bool has_friction_;
+  Vec2 stator_offset_, rotor_spring_centre_, stator_spring_centre_, frame_shift_;
 };
 
 }  // namespace rotor_rub::core

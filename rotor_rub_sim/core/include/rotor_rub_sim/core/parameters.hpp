@@ -71,6 +71,11 @@ struct ModelParameters {
   double impact_settle_velocity_m_per_s = 1.0e-6;
   double contact_stiffness_N_per_m = 1.0e9;  // k_c, penalty method only
   double gravity_m_per_s2 = 0.0;             // along -y; 0: vertical machine, as in the paper
+  // The stator's rest position (a misaligned or thermally bowed casing): the
+  // centre its springs pull it to, or where a rigid stator sits. A static
+  // offset below the clearance gives partial rub on one side.
+  double stator_offset_x_m = 0.0;
+  double stator_offset_y_m = 0.0;
 };
 
 // ---- Drive: piecewise constant angular acceleration ------------------------

@@ -11,6 +11,8 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   Sample s;
   s.t_s = t_s;
   s.kin = k;
+  s.kin.rotor_pos += m.frame_shift();  // the casing's frame (a rigid stator's offset)
+  s.kin.stator_pos += m.frame_shift();
   s.drive = d;
   const ContactGeometry g = m.contact_geometry(k, d);
   s.penetration_m = g.penetration_m;
