@@ -116,10 +116,15 @@ def main():
 
     fig, ax = plt.subplots(1, 2, figsize=(10, 5))
     th = np.linspace(0, 2 * np.pi, 400)
-    for axis, (x, y), lab in ((ax[0], (xr - xs, yr - ys), "relative to the stator (what the probes see)"),
-                              (ax[1], (xr, yr), "absolute")):
+    # Relative to the stator the bore is the clearance circle about 0; in the
+    # casing (where the proximity probes are mounted) it moves with the
+    # stator: drawn about the stator's mean position (its offset, its sag).
+    for axis, (x, y), (cx, cy), lab in (
+            (ax[0], (xr - xs, yr - ys), (0.0, 0.0), "relative to the stator"),
+            (ax[1], (xr, yr), (np.mean(xs), np.mean(ys)),
+             "in the casing (the probes' frame), the bore at the stator's mean")):
         axis.plot(x * mm, y * mm, lw=0.3)
-        axis.plot(a.clearance * mm * np.cos(th), a.clearance * mm * np.sin(th), "k--", lw=0.8)
+        axis.plot((cx + a.clearance * np.cos(th)) * mm, (cy + a.clearance * np.sin(th)) * mm, "k--", lw=0.8)
         axis.set_aspect("equal")
         axis.set_xlabel("x [mm]")
         axis.set_ylabel("y [mm]")
