@@ -68,7 +68,7 @@ layout)
   done
   [ -f "$INSTALL/lib/librotor_rub_core.so" ] || missing+=("lib/librotor_rub_core.so")
   BIN="$INSTALL/lib/rotor_rub_sim"
-  for p in rotor_rub_run rotor_rub_bench rotor_rub_sweep rotor_rub_compare rotor_rub_sim_node; do
+  for p in rotor_rub_run rotor_rub_bench rotor_rub_sweep rotor_rub_bifurcation rotor_rub_compare rotor_rub_sim_node; do
     [ -x "$BIN/$p" ] || missing+=("lib/rotor_rub_sim/$p")
   done
   for s in "$ROOT"/rotor_rub_sim/tools/*.py "$ROOT"/rotor_rub_sim/examples/*.py; do

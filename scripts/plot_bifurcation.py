@@ -2,8 +2,8 @@
 """Draws the bifurcation diagrams from rotor_rub_bifurcation's CSVs
 (scripts/make_bifurcation.sh runs the tool).
 
-usage: plot_bifurcation.py --classes FILE.csv --points FILE.points.csv --out DIR --stamp TEXT
-                           [--friction F] [--clearance-m C] [--scene-note TEXT]
+usage: plot_bifurcation.py --classes FILE.csv --points FILE.csv.points.csv --out DIR [--stamp TEXT]
+                           [--friction F] [--clearance-m C]
 Writes DIR/bifurcation.png (the Poincare amplitude against speed at friction
 F: constant-speed runs coloured by class; run-up and run-down together),
 DIR/bifurcation_map.png (the class over speed x friction, one panel per
@@ -14,6 +14,8 @@ prints the speed ranges of each class per direction.
 import argparse
 import csv
 import collections
+import os
+import sys
 
 import matplotlib
 
@@ -56,6 +58,7 @@ def diagram(classes, points, friction, clearance, out, text):
     # A constant-speed run has one row: its class colours all its points.
     run_class = {r["run_id"]: klass(r) for r in rows if r["direction"] == "constant"}
     pts = [p for p in points if float(p["friction_coefficient"] or "nan") == friction]
+    step = grid_step(classes)
     fig, axes = plt.subplots(2, 1, figsize=(11, 8.5), sharex=True)
     present = set()
     # Constant-speed runs: every Poincare point, coloured by the run's class.
@@ -74,7 +77,8 @@ def diagram(classes, points, friction, clearance, out, text):
     ax.legend(handles=legend_handles(present), loc="upper right", fontsize=8, ncol=3)
     # Ramps: up and down together, the class as a strip along the bottom.
     ax = axes[1]
-    for d, colour in (("up", "#377eb8"), ("down", "#e41a1c")):
+    # Direction colours apart from the class colours of the legend.
+    for d, colour in (("up", "#17becf"), ("down", "#bcbd22")):
         sel = [p for p in pts if p["direction"] == d]
         if sel:
             ax.scatter([float(p["speed_rad_per_s"]) for p in sel], [1e3 * float(p["r_rel_m"]) for p in sel], s=2,
@@ -86,7 +90,7 @@ def diagram(classes, points, friction, clearance, out, text):
             w = float(r["speed_rad_per_s"])
             c = klass(r)
             present.add(c)
-            ax.add_patch(plt.Rectangle((w - 2, -0.35 - 0.25 * k), 4, 0.2, color=CLASS_COLOURS[c], lw=0))
+            ax.add_patch(plt.Rectangle((w - step / 2, -0.35 - 0.25 * k), step, 0.2, color=CLASS_COLOURS[c], lw=0))
     ax.text(0.0, -0.25, "up", fontsize=7, va="center", ha="right", transform=ax.get_yaxis_transform())
     ax.text(0.0, -0.5, "down", fontsize=7, va="center", ha="right", transform=ax.get_yaxis_transform())
     ax.axhline(1e3 * clearance, color="#888888", lw=0.8, ls="--", label="clearance C")
@@ -103,8 +107,15 @@ def diagram(classes, points, friction, clearance, out, text):
     plt.close(fig)
 
 
+def grid_step(classes):
+    """The spacing of the speed grid (bars and strips are that wide)."""
+    speeds = sorted({float(r["speed_rad_per_s"]) for r in classes})
+    return min(b - a for a, b in zip(speeds, speeds[1:])) if len(speeds) > 1 else 1.0
+
+
 def class_map(classes, out, text):
     frictions = sorted({float(r["friction_coefficient"]) for r in classes if r["friction_coefficient"]})
+    step = grid_step(classes)
     fig, axes = plt.subplots(len(DIRECTIONS), 1, figsize=(11, 2.0 + 1.6 * len(DIRECTIONS)), sharex=True)
     present = set()
     for ax, d in zip(axes, DIRECTIONS):
@@ -114,14 +125,15 @@ def class_map(classes, out, text):
             w = float(r["speed_rad_per_s"])
             c = klass(r)
             present.add(c)
-            ax.add_patch(plt.Rectangle((w - 2, frictions.index(f) - 0.4), 4, 0.8, color=CLASS_COLOURS[c], lw=0))
+            ax.add_patch(plt.Rectangle((w - step / 2, frictions.index(f) - 0.4), step, 0.8, color=CLASS_COLOURS[c],
+                                       lw=0))
         ax.set_yticks(range(len(frictions)))
         ax.set_yticklabels([f"{f:g}" for f in frictions])
         ax.set_ylim(-0.6, len(frictions) - 0.4)
         ax.set_ylabel("friction f")
         ax.set_title(DIRECTION_LABELS[d], fontsize=10)
     speeds = [float(r["speed_rad_per_s"]) for r in classes]
-    axes[-1].set_xlim(min(speeds) - 4, max(speeds) + 4)
+    axes[-1].set_xlim(min(speeds) - step, max(speeds) + step)
     axes[-1].set_xlabel("speed [rad/s]")
     axes[0].legend(handles=legend_handles(present), loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
     fig.tight_layout(rect=(0, 0.02, 1, 1))
@@ -143,7 +155,7 @@ def sections(classes, points, clearance, out, text):
                 break
     if not picked:
         return
-    fig, axes = plt.subplots(1, len(picked), figsize=(3.3 * len(picked), 3.6), squeeze=False)
+    fig, axes = plt.subplots(1, len(picked), figsize=(3.3 * len(picked), 4.0), squeeze=False)
     lim = 1.15e3 * clearance
     circle = np.linspace(0, 2 * np.pi, 200)
     for ax, (c, r) in zip(axes[0], picked.items()):
@@ -189,13 +201,26 @@ def main():
     ap.add_argument("--classes", required=True)
     ap.add_argument("--points", required=True)
     ap.add_argument("--out", required=True)
-    ap.add_argument("--stamp", required=True)
+    ap.add_argument("--stamp", default="", help="a note in the corner (what made the data, when)")
     ap.add_argument("--friction", type=float, default=0.1, help="the friction of the diagram and sections")
     ap.add_argument("--clearance-m", type=float, default=2e-3)
     a = ap.parse_args()
     classes, points = read(a.classes), read(a.points)
     if not classes:
         raise SystemExit(f"plot_bifurcation: '{a.classes}' has no rows")
+    # The charts take friction as the second parameter: a grid that varies
+    # another key too would be drawn as if it did not.
+    others = {";".join(kv for kv in r["overrides"].split(";") if kv and not kv.startswith("friction_coefficient="))
+              for r in classes}
+    if len(others) > 1:
+        raise SystemExit("plot_bifurcation: the grid varies more than friction_coefficient (%s); the charts draw "
+                         "friction as the second parameter: plot one setting of the others at a time"
+                         % " | ".join(sorted(o or "-" for o in others)))
+    frictions = sorted({float(r["friction_coefficient"]) for r in classes if r["friction_coefficient"]})
+    if a.friction not in frictions:
+        raise SystemExit(f"plot_bifurcation: no rows at --friction {a.friction:g}; the CSV has "
+                         + ", ".join(f"{f:g}" for f in frictions))
+    os.makedirs(a.out, exist_ok=True)
     diagram(classes, points, a.friction, a.clearance_m, a.out, a.stamp)
     class_map(classes, a.out, a.stamp)
     sections(classes, points, a.clearance_m, a.out, a.stamp)

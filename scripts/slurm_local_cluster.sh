@@ -6,8 +6,8 @@
 #   scripts/slurm_local_cluster.sh start DIR   # prints: export SLURM_CONF=DIR/slurm.conf
 #   scripts/slurm_local_cluster.sh stop DIR    # stops the daemons by their PIDs, keeps DIR
 #
-# Needs Debian's slurm-wlm and munge (scripts/setup_deps.sh --slurm installs
-# them). slurmd starts jobs as their user, so it runs as root (as on every
+# Needs Debian's slurm-wlm and munge (scripts/setup_deps.sh installs them).
+# slurmd starts jobs as their user, so it runs as root (as on every
 # Slurm node); CI runs as root.
 set -euo pipefail
 cmd="${1:-}"; dir="${2:-}"
@@ -33,7 +33,7 @@ esac
 
 for tool in munged slurmctld slurmd sbatch; do
   command -v "$tool" >/dev/null || [ -x "/usr/sbin/$tool" ] || {
-    echo "slurm_local_cluster: '$tool' not found; install slurm-wlm and munge (scripts/setup_deps.sh --slurm)" >&2; exit 1; }
+    echo "slurm_local_cluster: '$tool' not found; install slurm-wlm and munge (scripts/setup_deps.sh installs them)" >&2; exit 1; }
 done
 [ "$(id -u)" -eq 0 ] || { echo "slurm_local_cluster: slurmd must run as root (it starts jobs as their user)" >&2; exit 1; }
 mkdir -p "$dir"

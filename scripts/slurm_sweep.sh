@@ -154,6 +154,19 @@ count_left() {  # JOB...: sets left to how many of their tasks are not done
 }
 # shellcheck disable=SC2086
 while count_left ${array_job:-} "$merge_job"; [ "$left" -gt 0 ]; do
+  # A task Slurm can never start (more CPUs or time than the partition has,
+  # an unknown constraint) would be waited for forever: cancel and say why.
+  if [ -n "${array_job:-}" ]; then
+    never="$(squeue -h -j "$array_job" -t PENDING -o %r 2>/dev/null \
+      | grep -E -m1 "PartitionConfig|PartitionNodeLimit|PartitionTimeLimit|BadConstraints|InvalidQOS|InvalidAccount|QOSMax|AssocMax|ReqNodeNotAvail" || true)"
+    if [ -n "$never" ]; then
+      scancel "$array_job" "$merge_job" 2>/dev/null || true
+      echo "slurm_sweep: Slurm cannot start the shards (pending: $never): the sbatch options ask for more than" \
+        "the partition offers (sinfo and scontrol show partition tell what it has); cancelled jobs $array_job and" \
+        "$merge_job" >&2
+      exit 1
+    fi
+  fi
   # The merge waits on the array; once the array is gone, a merge still pending
   # means a shard failed (kill-on-invalid-dep cancels it, but do not rely on it).
   if [ -n "${array_job:-}" ]; then

@@ -14,7 +14,7 @@
 //    is classified in speed bins centred on the grid's speeds (the
 //    quasi-static diagram: the jump and hysteresis of rub show as the two
 //    directions disagree).
-// Output: OUT.csv, one row per classified (run, speed); OUT.points.csv, every
+// Output: OUT.csv, one row per classified (run, speed); OUT.csv.points.csv, every
 // Poincare point (rotor minus stator at each keyphasor, after settling).
 #include <algorithm>
 #include <atomic>
@@ -275,7 +275,7 @@ Options parse(int argc, char** argv) {
       "Bifurcation diagrams: over a speed range, the Poincare points (rotor minus stator at each keyphasor, "
       "after settling) and the class of the motion at each speed, from constant-speed runs and from slow "
       "run-up and run-down ramps, over a grid of scene parameters. One CSV row per classified (run, speed), "
-      "the points in OUT.points.csv.",
+      "the points in OUT.csv.points.csv.",
       "rotor_rub_bifurcation");
   std::vector<CLI::Option*> run_options;
   run_options.push_back(app.add_option("--scene", o.scene_path,
@@ -292,7 +292,10 @@ Options parse(int argc, char** argv) {
                             ->type_name("KEY=V1,V2,...")
                             ->allow_extra_args(false));
   run_options.push_back(
-      app.add_option("--out", o.out_path, "the classes CSV to write (the points go to OUT.points.csv); required")
+      app.add_option(
+             "--out", o.out_path,
+             "the classes CSV to write (the points go to OUT.csv.points.csv: this name with .points.csv appended); "
+             "required")
           ->type_name("FILE.csv"));
   run_options.push_back(app.add_option("--speed-from", o.speed_from, "the lowest speed [rad/s]")
                             ->type_name("W")
@@ -326,7 +329,7 @@ Options parse(int argc, char** argv) {
           ->capture_default_str());
   run_options.push_back(app.add_option("--points-per-bin", o.points_per_bin,
                                        "write only the last N Poincare points of each (run, speed) to "
-                                       "OUT.points.csv; 0: all (the classes always use all) [-]")
+                                       "OUT.csv.points.csv; 0: all (the classes always use all) [-]")
                             ->type_name("N")
                             ->check(cli::integer_in(0, 1000000))
                             ->capture_default_str());
@@ -340,7 +343,7 @@ Options parse(int argc, char** argv) {
   run_options.push_back(app.add_flag("--no-progress", no_progress, "accepted for the sweep's interface; no bar here"));
   app.add_flag("--count-runs", o.count_runs, "print the number of runs the grid makes and exit");
   CLI::Option* merge = app.add_option("--merge", o.merge,
-                                      "merge shards: OUT.csv (and OUT.points.csv) from the SHARD.csv files (and "
+                                      "merge shards: OUT.csv (and OUT.csv.points.csv) from the SHARD.csv files (and "
                                       "their .points.csv), in run order; a missing run is an error")
                            ->type_name("OUT.csv SHARD.csv")
                            ->expected(2, -1);
@@ -353,9 +356,11 @@ Options parse(int argc, char** argv) {
     return o;
   }
   if (o.out_path.empty() && !o.count_runs) cli::usage_error(app, "--out FILE.csv is required");
-  if (!(o.speed_to > o.speed_from)) {
-    cli::usage_error(
-        app, "--speed-to " + num(o.speed_to) + " is out of range; accepted: above --speed-from " + num(o.speed_from));
+  // One speed needs no range (constant runs only: a ramp needs one).
+  const bool one_speed = o.speeds == 1 && directions == "constant";
+  if (!(o.speed_to > o.speed_from) && !(one_speed && o.speed_to == o.speed_from)) {
+    cli::usage_error(app, "--speed-to " + num(o.speed_to) + " is out of range; accepted: above --speed-from " +
+                              num(o.speed_from) + " (equal with --speeds 1 --directions constant)");
   }
   o.constant = o.up = o.down = false;
   std::stringstream ss(directions);
@@ -391,7 +396,7 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-// OUT.csv and OUT.points.csv from the shards', rows in run order; every run
+// OUT.csv and OUT.csv.points.csv from the shards', rows in run order; every run
 // of the grid must be in exactly one shard.
 void merge(const std::vector<std::string>& args) {
   const std::string out = args[0];

@@ -44,8 +44,10 @@ double grid_number(const std::string& key, const std::string& text) {
     used = 0;
   }
   if (used == 0 || used != text.size() || !std::isfinite(v) || !(v > 0.0)) {
-    throw std::invalid_argument("grid key '" + key + "': value '" + text +
-                                "' is not a positive number; accepted: (0, inf) (atol_per_rtol multiplies rtol)");
+    throw std::invalid_argument(
+        "grid key '" + key + "': value '" + text +
+        "' is not a positive number, which atol = rtol * atol_per_rtol needs; accepted: a number > 0 "
+        "(and rtol within its own range, checked per run)");
   }
   return v;
 }

@@ -149,6 +149,13 @@ TEST(BifurcationCli, BadInputIsOneLineAndExitTwo) {
   r = bif("--set frictoin_coefficient=0.1 --out /tmp/rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("friction_coefficient"), std::string::npos) << r.err;  // the nearest key
+  // One speed is a grid of one (constant runs only).
+  r =
+      bif("--speeds 1 --speed-from 100 --speed-to 100 --directions constant --settle-s 1 --revolutions 16 "
+          "--out /tmp/rr_bif_one.csv");
+  EXPECT_EQ(r.status, 0) << r.err;
+  r = bif("--speeds 1 --speed-from 100 --speed-to 100 --out /tmp/rr_bif_bad.csv");  // ramps need a range
+  EXPECT_EQ(r.status, 2);
   r = bif("--directions sideways --out /tmp/rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;

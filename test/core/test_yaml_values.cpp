@@ -93,6 +93,10 @@ TEST(YamlValues, SceneFilesMayUseAnyYaml) {
   EXPECT_EQ(s.model.stator_damping_N_s_per_m, 2.5);
   EXPECT_EQ(s.model.clearance_m, 1.5e-3);
   EXPECT_EQ(s.solver.max_steps, 1000000);
+  // The core tags, as rosparam reads them.
+  const core::Scene tagged = core::load_scene(write("tags", "end_time_s: !!float 0.5\nmax_steps: !!int 1000\n"));
+  EXPECT_EQ(tagged.end_time_s, 0.5);
+  EXPECT_EQ(tagged.solver.max_steps, 1000);
 }
 
 // The example: `rtol:1.0e-4` is no key to YAML (a plain scalar), so
@@ -103,6 +107,7 @@ TEST(YamlValues, AKeyWithoutASpaceAfterTheColonIsAnError) {
   EXPECT_NE(msg.find("space after the colon"), std::string::npos) << msg;
   msg = error_of([] { core::load_scene(write("nospace", "method: switching\nrtol:1.0e-4\n")); });
   EXPECT_NE(msg.find("rotor_rub_yaml_nospace.yaml:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("a space after its colon"), std::string::npos) << msg;
 }
 
 TEST(YamlValues, SceneFileErrorsNameFileLineAndKey) {

@@ -96,6 +96,15 @@ elif [ $rc -eq 0 ]; then
 fi
 record "--resubmit reruns only the failed shard and merges" $rc "$out"
 
+# 2b. A request Slurm can never meet (more CPUs than the node has) is
+# cancelled and said, not waited for forever.
+out="$(SWEEP_SHARDS=1 ROTOR_RUB_SWEEP="$BIN/rotor_rub_sweep" timeout 120 \
+  "$ROOT/scripts/slurm_sweep.sh" "$GRID" "$TMP/never.csv" --cpus-per-task=1024 2>&1)"
+rc=$?
+ok=1
+[ $rc -eq 1 ] && grep -q "Slurm cannot start the shards" <<< "$out" && ok=0
+record "a request the partition can never meet is cancelled with a reason" $ok "exit $rc: $out"
+
 # 3. The bifurcation tool through the same script: identical classes and points.
 BGRID="$TMP/bifurcation.yaml"
 echo "friction_coefficient: [0.1, 0.3]" > "$BGRID"

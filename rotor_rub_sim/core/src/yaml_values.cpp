@@ -129,8 +129,10 @@ std::string where_of(const std::string& path, const YAML::Mark& mark) {
 
 std::string scalar_of(const YAML::Node& node, const std::string& key, const std::string& where) {
   if (node.IsNull()) {
-    // A null (`key:`, `~`) has no text rosparam could pass to a key.
-    throw YamlError(where + ": key '" + key + "' has no value");
+    // A null (`key:`, `~`) has no text rosparam could pass to a key. A "key"
+    // holding a colon is most likely `rtol:1.0e-4`, which YAML does not split.
+    throw YamlError(where + ": key '" + key + "' has no value" +
+                    (key.find(':') != std::string::npos ? " (a key needs a space after its colon: 'key: value')" : ""));
   }
   if (!node.IsScalar()) {
     throw YamlError(where + ": key '" + key + "' has a " + (node.IsMap() ? "mapping" : "nested list") +
@@ -140,6 +142,9 @@ std::string scalar_of(const YAML::Node& node, const std::string& key, const std:
   bool quoted = false;
   if (tag == "!" || tag == "tag:yaml.org,2002:str") {
     quoted = true;
+  } else if (tag == "tag:yaml.org,2002:float" || tag == "tag:yaml.org,2002:int" || tag == "tag:yaml.org,2002:bool") {
+    // An explicit core tag: the plain text resolved as usual (PyYAML then
+    // converts; the key table parses the same text alike).
   } else if (tag != "?" && !tag.empty()) {
     throw YamlError(where + ": key '" + key + "': tag '" + tag +
                     "' is not accepted; accepted: a plain or quoted scalar");
