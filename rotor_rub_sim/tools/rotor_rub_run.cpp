@@ -152,14 +152,14 @@ int main(int argc, char** argv) {
              [&](std::ostream& os) { tools::write_probes_csv(os, recorder.probe_readings); });
   if (!summary_path.empty()) {
     std::ofstream os(summary_path);
-    tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure()});
+    tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time()});
     if (!os) {
       std::cerr << "rotor_rub_run: cannot write summary '" << summary_path << "'\n";
       status = kExitOutput;
     }
   }
   if (!quiet) {
-    const auto sustained = core::longest_contact(recorder.events);
+    const auto sustained = core::longest_contact(recorder.events, sim.time());
     std::printf(
         "%-9s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
         "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",

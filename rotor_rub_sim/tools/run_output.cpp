@@ -88,7 +88,7 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
     j["status"] = "ok";
   }
   const auto& events = in.recorder->events;
-  const auto sustained = core::longest_contact(events);
+  const auto sustained = core::longest_contact(events, in.end_time_s);
   j["first_contact_s"] = core::first_contact_s(events);
   j["first_touchdown_s"] = first_touchdown_s(events);
   j["sustained_contact_s"] = {sustained.first, sustained.second};

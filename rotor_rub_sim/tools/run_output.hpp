@@ -2,6 +2,7 @@
 // figures a person reads (touchdown, lift-off, max orbit, max force, cost).
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -55,6 +56,7 @@ struct SummaryInput {
   const RunRecorder* recorder;
   core::RunStats stats;
   const std::optional<core::RunFailure>* failure;
+  double end_time_s = std::nan("");  // the time the run reached (a contact still on ends there)
 };
 void write_summary_json(std::ostream& os, const SummaryInput& in);
 

@@ -29,13 +29,19 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
     std::ofstream os(csv);
     tools::write_csv(os, recorder.samples);
     std::ofstream js(json);
-    tools::write_summary_json(js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure()});
+    tools::write_summary_json(js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure(), sim.time()});
   }
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);  // throws on invalid JSON
   EXPECT_EQ(j.at("scene").get<std::string>(), odd_path);
   EXPECT_EQ(j.at("status").get<std::string>(), "ok");
   EXPECT_TRUE(j.at("last_liftoff_s").is_null() || j.at("last_liftoff_s").is_number());
+  // The run ends at 1.5 s in the contact that began at the touchdown near
+  // 1.11 s: sustained until the end, not unreported.
+  const auto sustained = j.at("sustained_contact_s");
+  ASSERT_TRUE(sustained.at(0).is_number());
+  EXPECT_GT(sustained.at(0).get<double>(), 1.1);
+  EXPECT_EQ(sustained.at(1).get<double>(), 1.5);
   // The whole scene, every key, reads back to the same scene.
   std::map<std::string, std::string> values = j.at("scene_values").get<std::map<std::string, std::string>>();
   EXPECT_EQ(core::scene_values(core::scene_from_values(values)), core::scene_values(scene));

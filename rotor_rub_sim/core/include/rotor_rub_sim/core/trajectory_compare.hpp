@@ -57,16 +57,22 @@ inline double last_contact_end_s(const std::vector<ContactEvent>& events) {
 
 // Start and end of the longest sustained contact interval (touchdown to the
 // following lift-off), NaN if none.
-inline std::pair<double, double> longest_contact(const std::vector<ContactEvent>& events) {
+// A contact still on at the run's end lasts until end_s when that is given
+// (the time the run reached); without it, only contacts that ended count.
+inline std::pair<double, double> longest_contact(const std::vector<ContactEvent>& events, double end_s = std::nan("")) {
   std::pair<double, double> best{std::nan(""), std::nan("")};
   double start = std::nan("");
+  auto consider = [&best](double a, double b) {
+    if (!std::isfinite(best.first) || b - a > best.second - best.first) best = {a, b};
+  };
   for (const auto& ev : events) {
     if (ev.kind == EventKind::kTouchdown) start = ev.t_s;
     if (ev.kind == EventKind::kLiftoff && std::isfinite(start)) {
-      if (!std::isfinite(best.first) || ev.t_s - start > best.second - best.first) best = {start, ev.t_s};
+      consider(start, ev.t_s);
       start = std::nan("");
     }
   }
+  if (std::isfinite(start) && std::isfinite(end_s) && end_s >= start) consider(start, end_s);
   return best;
 }
 
