@@ -1,6 +1,7 @@
 #include "cli_options.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -113,6 +114,19 @@ void parse_or_exit(CLI::App& app, int argc, const char* const* argv) {
   } catch (const CLI::ParseError& e) {
     usage_error(app, e.what());
   }
+}
+
+CLI::Validator shard_spec() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        unsigned si = 0, sn = 0;
+        char extra = 0;
+        if (std::sscanf(s.c_str(), "%u/%u%c", &si, &sn, &extra) != 2 || sn == 0 || si >= sn) {
+          return "value '" + s + "' is not accepted; accepted: I/N with 0 <= I < N";
+        }
+        return std::string();
+      },
+      "", "shard");
 }
 
 }  // namespace rotor_rub::tools::cli

@@ -14,6 +14,8 @@ constexpr int kExitUsage = 2;
 CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 // An integer in [lo, hi].
 CLI::Validator integer_in(long lo, long hi);
+// A shard "I/N" with 0 <= I < N (the sweep's and the bifurcation tool's --shard).
+CLI::Validator shard_spec();
 // An existing file (CLI::ExistingFile; FILE is the option's type name).
 CLI::Validator existing_file();
 // A value the scene key `key` accepts (its range or names, from the core's

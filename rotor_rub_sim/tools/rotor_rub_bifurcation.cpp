@@ -254,19 +254,6 @@ struct Result {
   double friction = 0.0;
 };
 
-CLI::Validator shard_spec() {
-  return CLI::Validator(
-      [](std::string& s) -> std::string {
-        unsigned i = 0, n = 0;
-        char tail = 0;
-        if (std::sscanf(s.c_str(), "%u/%u%c", &i, &n, &tail) != 2 || n == 0 || i >= n) {
-          return "value '" + s + "' is not a shard; accepted: I/N with 0 <= I < N";
-        }
-        return "";
-      },
-      "I/N");
-}
-
 Options parse(int argc, char** argv) {
   Options o;
   std::vector<std::string> axes;
@@ -338,7 +325,7 @@ Options parse(int argc, char** argv) {
                             ->check(cli::integer_in(1, 1024)));
   run_options.push_back(app.add_option("--shard", shard, "only runs with id % N == I (0-based); merge with --merge")
                             ->type_name("I/N")
-                            ->check(shard_spec()));
+                            ->check(cli::shard_spec()));
   bool no_progress = false;
   run_options.push_back(app.add_flag("--no-progress", no_progress, "accepted for the sweep's interface; no bar here"));
   app.add_flag("--count-runs", o.count_runs, "print the number of runs the grid makes and exit");

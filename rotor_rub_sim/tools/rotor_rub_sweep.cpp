@@ -138,19 +138,6 @@ class Progress {
 };
 
 // I/N with 0 <= I < N.
-CLI::Validator shard_spec() {
-  return CLI::Validator(
-      [](std::string& s) -> std::string {
-        unsigned si = 0, sn = 0;
-        char extra = 0;
-        if (std::sscanf(s.c_str(), "%u/%u%c", &si, &sn, &extra) != 2 || sn == 0 || si >= sn) {
-          return "value '" + s + "' is not accepted; accepted: I/N with 0 <= I < N";
-        }
-        return std::string();
-      },
-      "", "shard");
-}
-
 // key=v1,v2,...: one axis of the grid.
 CLI::Validator axis_spec() {
   return CLI::Validator(
@@ -210,7 +197,7 @@ Parsed parse(int argc, char** argv) {
   run_options.push_back(
       app.add_option("--shard", shard, "only runs with id % N == I (0-based); merge the shards' CSVs with --merge")
           ->type_name("I/N")
-          ->check(shard_spec()));
+          ->check(cli::shard_spec()));
   run_options.push_back(app.add_flag("--profile", o.profile,
                                      "one more run per point for the shares of time in derivatives and iteration"));
   run_options.push_back(app.add_option("--cache", o.cache_dir,
