@@ -128,7 +128,7 @@ class JeffcottModel {
   // the stator at its rest position; in the methods' frame.
   Kinematics initial_kinematics() const {
     Kinematics k;
-    k.rotor_pos = -frame_shift_;
+    k.rotor_pos = Vec2::Zero() - frame_shift_;  // +0, not -0, without an offset
     k.stator_pos = stator_spring_centre_;
     return k;
   }
