@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/name_table.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 
 namespace rotor_rub::tools {
@@ -206,14 +207,8 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
         core::ContactEvent ev;
         ev.t_s = number_or_nan(e.at("t"));
         const std::string kind = e.at("kind").get<std::string>();
-        bool known = false;
-        for (const auto& row : core::kEventKindNames) {
-          if (kind == row.name) {
-            ev.kind = row.value;
-            known = true;
-          }
-        }
-        if (!known) throw std::runtime_error("event kind '" + kind + "' is not one of touchdown, liftoff, graze");
+        if (!core::value_in_table(core::kEventKindNames, kind, &ev.kind))
+          throw std::runtime_error("event kind '" + kind + "' is not one of touchdown, liftoff, graze");
         ev.normal_velocity_m_per_s = number_or_nan(e.at("normal_velocity_m_per_s"));
         ev.impulse_N_s = number_or_nan(e.at("impulse_N_s"));
         run.events.push_back(ev);

@@ -2,22 +2,15 @@
 
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/name_table.hpp"
+
 namespace rotor_rub::core {
 namespace {
 
-template <class Table, class Enum>
-const char* name_of(const Table& table, Enum v) {
-  for (const auto& row : table) {
-    if (row.value == v) return row.name;
-  }
-  return "?";  // unreachable: the tables are exhaustive
-}
-
 template <class Table>
 auto value_of(const Table& table, const std::string& s, const char* what) {
-  for (const auto& row : table) {
-    if (s == row.name) return row.value;
-  }
+  auto v = table[0].value;
+  if (value_in_table(table, s, &v)) return v;
   std::string accepted;
   for (const auto& row : table) accepted += std::string(accepted.empty() ? "" : ", ") + row.name;
   throw std::invalid_argument(std::string(what) + " '" + s + "' is not accepted; accepted: " + accepted);
@@ -25,9 +18,9 @@ auto value_of(const Table& table, const std::string& s, const char* what) {
 
 }  // namespace
 
-const char* to_string(Method m) { return name_of(kMethodNames, m); }
-const char* to_string(Integrator i) { return name_of(kIntegratorNames, i); }
-const char* to_string(StatorModel s) { return name_of(kStatorModelNames, s); }
+const char* to_string(Method m) { return name_in_table(kMethodNames, m); }
+const char* to_string(Integrator i) { return name_in_table(kIntegratorNames, i); }
+const char* to_string(StatorModel s) { return name_in_table(kStatorModelNames, s); }
 Method method_from_string(const std::string& s) { return value_of(kMethodNames, s, "method"); }
 Integrator integrator_from_string(const std::string& s) { return value_of(kIntegratorNames, s, "integrator"); }
 StatorModel stator_model_from_string(const std::string& s) { return value_of(kStatorModelNames, s, "stator_model"); }

@@ -5,16 +5,10 @@
 #include <limits>
 #include <random>
 
+#include "rotor_rub_sim/core/name_table.hpp"
+
 namespace rotor_rub::core {
 namespace {
-
-template <class Table, class Enum>
-const char* name_in(const Table& table, Enum v) {
-  for (const auto& row : table) {
-    if (row.value == v) return row.name;
-  }
-  return "?";
-}
 
 double correlation(const std::vector<double>& a, const std::vector<double>& b) {
   const double n = static_cast<double>(a.size());
@@ -35,10 +29,10 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-const char* to_string(ContactKind v) { return name_in(kContactKindNames, v); }
-const char* to_string(Motion v) { return name_in(kMotionNames, v); }
-const char* to_string(Whirl v) { return name_in(kWhirlNames, v); }
-const char* to_string(ResponseClass v) { return name_in(kResponseClassNames, v); }
+const char* to_string(ContactKind v) { return name_in_table(kContactKindNames, v); }
+const char* to_string(Motion v) { return name_in_table(kMotionNames, v); }
+const char* to_string(Whirl v) { return name_in_table(kWhirlNames, v); }
+const char* to_string(ResponseClass v) { return name_in_table(kResponseClassNames, v); }
 
 void ResponseWindow::add_sample(const Sample& s) {
   ++samples;
