@@ -190,6 +190,10 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
     s.in_contact = v[15] != 0.0;
     s.drive.angle_rad = v[16];
     s.drive.speed_rad_per_s = v[17];
+    if (v.size() >= 21) {  // drive_torque, friction_torque (CSVs written before them lack both)
+      s.drive_torque_N_m = v[19];
+      s.friction_torque_N_m = v[20];
+    }
     run.samples.push_back(s);
   }
   std::ifstream js(summary_path);

@@ -19,17 +19,17 @@ void RunRecorder::on_sample(const core::Sample& s) {
 
 void write_csv(std::ostream& os, const std::vector<core::Sample>& samples) {
   os << "t,x_r,y_r,x_s,y_s,vx_r,vy_r,vx_s,vy_s,normal_force,friction_force,fx_contact,fy_contact,"
-        "penetration,sliding_velocity,in_contact,spin_angle,speed,sticking\n";
+        "penetration,sliding_velocity,in_contact,spin_angle,speed,sticking,drive_torque,friction_torque\n";
   char buf[1024];
   for (const auto& s : samples) {
-    std::snprintf(
-        buf, sizeof buf,
-        "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d\n",
-        s.t_s, s.kin.rotor_pos.x(), s.kin.rotor_pos.y(), s.kin.stator_pos.x(), s.kin.stator_pos.y(),
-        s.kin.rotor_vel.x(), s.kin.rotor_vel.y(), s.kin.stator_vel.x(), s.kin.stator_vel.y(), s.normal_force_N,
-        s.friction_force_N, s.contact_force_on_rotor_N.x(), s.contact_force_on_rotor_N.y(), s.penetration_m,
-        s.sliding_velocity_m_per_s, s.in_contact ? 1 : 0, s.drive.angle_rad, s.drive.speed_rad_per_s,
-        s.sticking ? 1 : 0);
+    std::snprintf(buf, sizeof buf,
+                  "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%"
+                  ".17g,%d,%.17g,%.17g\n",
+                  s.t_s, s.kin.rotor_pos.x(), s.kin.rotor_pos.y(), s.kin.stator_pos.x(), s.kin.stator_pos.y(),
+                  s.kin.rotor_vel.x(), s.kin.rotor_vel.y(), s.kin.stator_vel.x(), s.kin.stator_vel.y(),
+                  s.normal_force_N, s.friction_force_N, s.contact_force_on_rotor_N.x(), s.contact_force_on_rotor_N.y(),
+                  s.penetration_m, s.sliding_velocity_m_per_s, s.in_contact ? 1 : 0, s.drive.angle_rad,
+                  s.drive.speed_rad_per_s, s.sticking ? 1 : 0, s.drive_torque_N_m, s.friction_torque_N_m);
     os << buf;
   }
 }

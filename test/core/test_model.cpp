@@ -28,11 +28,10 @@ TEST(Model, NewtonsThirdLawForContactForces) {
   const DriveState d{0.3, 150.0, 70.0};
   const ContactGeometry g = m.contact_geometry(k, d);
   const double fn = 12.5, ft = -0.7;
-  Vec2 ar, as, ar0, as0;
-  m.accelerations(k, d, g, fn, ft, ar, as);
-  m.accelerations(k, d, g, 0.0, 0.0, ar0, as0);
-  const Vec2 on_rotor = (ar - ar0) / m.inv_rotor_mass();
-  const Vec2 on_stator = (as - as0) / m.inv_stator_mass();
+  const Accelerations a = m.accelerations(k, d, g, fn, ft);
+  const Accelerations a0 = m.accelerations(k, d, g, 0.0, 0.0);
+  const Vec2 on_rotor = (a.rotor - a0.rotor) / m.inv_rotor_mass();
+  const Vec2 on_stator = (a.stator - a0.stator) / m.inv_stator_mass();
   EXPECT_NEAR((on_rotor + on_stator).norm(), 0.0, kForceTolerance_N);
   // Normal part pushes the rotor inward with F_n, the tangential part is F_t.
   EXPECT_NEAR(on_rotor.dot(g.normal), -fn, kForceTolerance_N);
@@ -46,8 +45,8 @@ TEST(Model, SlidingAccelerationIsTheDerivativeOfSlidingVelocity) {
   const Kinematics k = pressed_state();
   const DriveState d{0.3, 150.0, 70.0};
   const ContactGeometry g = m.contact_geometry(k, d);
-  Vec2 ar, as;
-  m.accelerations(k, d, g, 12.5, -0.7, ar, as);
+  const Accelerations a = m.accelerations(k, d, g, 12.5, -0.7);
+  const Vec2 &ar = a.rotor, &as = a.stator;
   const double h = 1e-7;
   auto v_at = [&](double dt) {
     Kinematics kk = k;
@@ -60,7 +59,7 @@ TEST(Model, SlidingAccelerationIsTheDerivativeOfSlidingVelocity) {
   };
   // Central difference: truncation O(h^2) and round-off 1e-16 / h ~ 1e-9 of
   // accelerations O(100) m/s^2: 1e-4 m/s^2 is ample, a wrong term is O(1).
-  EXPECT_NEAR(m.sliding_acceleration(k, d, g, ar, as), (v_at(h) - v_at(-h)) / (2 * h), 1e-4);
+  EXPECT_NEAR(m.sliding_acceleration(k, g, a), (v_at(h) - v_at(-h)) / (2 * h), 1e-4);
 }
 
 TEST(ContactLaw, PenaltyFrictionNeverInjectsEnergyAndStaysInTheCone) {

@@ -62,8 +62,9 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
 
 TEST(RunSummary, ABrokenSummaryIsAnErrorNamingTheFile) {
   const std::string csv = "/tmp/rotor_rub_summary_bad.csv", json = "/tmp/rotor_rub_summary_bad.json";
-  std::ofstream(csv) << "t,x_r,y_r,x_s,y_s,vx_r,vy_r,vx_s,vy_s,normal_force,friction_force,fx_contact,fy_contact,"
-                        "penetration,sliding_velocity,in_contact,spin_angle,speed,sticking\n";
+  std::ofstream(csv)
+      << "t,x_r,y_r,x_s,y_s,vx_r,vy_r,vx_s,vy_s,normal_force,friction_force,fx_contact,fy_contact,"
+         "penetration,sliding_velocity,in_contact,spin_angle,speed,sticking,drive_torque,friction_torque\n";
   std::ofstream(json) << "{\"method\": \"switching\", \"events\": [";
   try {
     tools::read_runner_csv(csv, json);

@@ -76,15 +76,26 @@ class ContactForceSolver {
 
   double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
                                double ft) const {
-    Vec2 ar, as;
-    model_->accelerations(k, d, g, fn, ft, ar, as);
-    return JeffcottModel::distance_acceleration(k, g, ar, as);
+    return JeffcottModel::distance_acceleration(k, g, model_->accelerations(k, d, g, fn, ft));
   }
   double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
                               double ft) const {
-    Vec2 ar, as;
-    model_->accelerations(k, d, g, fn, ft, ar, as);
-    return model_->sliding_acceleration(k, d, g, ar, as);
+    return model_->sliding_acceleration(k, g, model_->accelerations(k, d, g, fn, ft));
+  }
+
+  // The F_t that makes v_slide' vanish at normal force fn.
+  double stick_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn, double t_s,
+                     long& iterations) const {
+    const double s0 = sliding_acceleration(k, d, g, fn, 0.0);
+    ++iterations;
+    // v_slide' rises with F_t: solve from the side where it is negative.
+    if (s0 == 0.0) return 0.0;
+    if (s0 < 0.0) {
+      return tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, fn, ft); }, 0.0, s0, t_s,
+                               iterations);
+    }
+    return -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, fn, -ft); }, 0.0, -s0, t_s,
+                              iterations);
   }
 
   // want_stick_force: compute stick_N even when sliding (to decide a
@@ -95,23 +106,11 @@ class ContactForceSolver {
     const double r0 = distance_acceleration(k, d, g, 0.0, 0.0);
     ++iterations;
     if (!(r0 > 0.0)) return f;  // separating without help: released
+    if (model_->motor()) return solve_with_spin(k, d, g, mode, want_stick_force, t_s, iterations);
     // delta'' falls as F_n grows: solve -delta''(F_n) = 0 from F_n = 0.
     f.normal_N =
         normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, fn, 0.0); }, 0.0, -r0, t_s, iterations);
-    if (mode.stick || want_stick_force) {
-      const double s0 = sliding_acceleration(k, d, g, f.normal_N, 0.0);
-      ++iterations;
-      // v_slide' rises with F_t: solve from the side where it is negative.
-      if (s0 == 0.0) {
-        f.stick_N = 0.0;
-      } else if (s0 < 0.0) {
-        f.stick_N = tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, f.normal_N, ft); }, 0.0, s0,
-                                      t_s, iterations);
-      } else {
-        f.stick_N = -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, f.normal_N, -ft); }, 0.0,
-                                       -s0, t_s, iterations);
-      }
-    }
+    if (mode.stick || want_stick_force) f.stick_N = stick_force(k, d, g, f.normal_N, t_s, iterations);
     if (mode.stick) {
       f.tangential_N = f.stick_N;
     } else if (model_->has_friction()) {
@@ -121,13 +120,39 @@ class ContactForceSolver {
   }
 
  private:
+  // Under a motor drive the spin couples the normal and the tangential
+  // force (model.hpp: the compliance W): the normal root is taken with the
+  // tangential force that goes with each trial F_n, -f s F_n in slip and the
+  // stick force (an inner root) in stick. delta'' still falls as F_n grows:
+  // its slope is -(W_nn + f s W_nt) in slip and the Schur complement
+  // -(W_nn - W_nt^2 / W_tt) in stick, both < 0 (validate_scene's bound).
+  ContactForces solve_with_spin(const Kinematics& k, const DriveState& d, const ContactGeometry& g,
+                                const FrictionMode& mode, bool want_stick_force, double t_s, long& iterations) const {
+    ContactForces f;
+    const double friction = model_->has_friction() ? model_->parameters().friction_coefficient : 0.0;
+    auto tangential_at = [&](double fn) {
+      return mode.stick ? stick_force(k, d, g, fn, t_s, iterations) : -friction * fn * mode.slip_sign;
+    };
+    auto residual = [&](double fn) { return -distance_acceleration(k, d, g, fn, tangential_at(fn)); };
+    const double r_lo = residual(0.0);
+    ++iterations;
+    if (r_lo < 0.0) f.normal_N = normal_.solve(residual, 0.0, r_lo, t_s, iterations);
+    f.tangential_N = tangential_at(f.normal_N);
+    if (mode.stick) {
+      f.stick_N = f.tangential_N;
+    } else if (want_stick_force) {
+      f.stick_N = stick_force(k, d, g, f.normal_N, t_s, iterations);
+    }
+    return f;
+  }
+
   const JeffcottModel* model_;
   ForceRoot normal_, tangential_;
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 struct IterationSystem {
-  using L = FreeLayout<kStatorDof>;
+  using L = FreeLayout<kStatorDof, kMotor>;
   const JeffcottModel* model = nullptr;
   const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;
@@ -145,25 +170,26 @@ struct IterationSystem {
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = segment.at(t);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState reference = segment.at(t);
+    const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
     const ContactForces f = forces(k, d, g, t);
-    Vec2 ar, as;
-    model->accelerations(k, d, g, f.normal_N, f.tangential_N, ar, as);
+    const Accelerations a = model->accelerations(k, d, g, f.normal_N, f.tangential_N);
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = ar;
+    dxdt.template segment<2>(L::kRotorVel) = a.rotor;
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = as;
+      dxdt.template segment<2>(L::kStatorVel) = a.stator;
     }
+    spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
   }
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 class IterationMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof>;
+  using L = FreeLayout<kStatorDof, kMotor>;
   using State = typename L::State;
 
   explicit IterationMethod(const Scene& scene)
@@ -203,7 +229,7 @@ class IterationMethod final : public ContactMethod {
     }
     State x;
     integrator_.state_at(t_s, x);
-    restart_from(t_s, kinematics_of<kStatorDof>(x), integrator_.dt());
+    restart_from(t_s, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
@@ -232,8 +258,9 @@ class IterationMethod final : public ContactMethod {
       return;
     }
     State x = integrator_.x_new();
-    Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = system_.segment.at(valid_end_);
+    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState reference = system_.segment.at(valid_end_);
+    DriveState d = model_.drive_at(k, reference);
     ContactGeometry g = model_.contact_geometry(k, d);
     if (g.penetration_m < -gap_tolerance_m_) return;  // free flight goes on
     // At the bore within tolerance: impact law, then engage if needed.
@@ -249,6 +276,7 @@ class IterationMethod final : public ContactMethod {
     } else if (!(pressing_acceleration(model_, k, d, g) > 0.0)) {
       return;  // at the bore, but leaving and not pressed: nothing happens
     }
+    d = model_.drive_at(k, reference);  // a motor's spin took part in the impact
     g = model_.contact_geometry(k, d);
     const bool sustained = settles && pressing_acceleration(model_, k, d, g) > 0.0;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
@@ -269,8 +297,8 @@ class IterationMethod final : public ContactMethod {
   Sample sample(double t_s) const override {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = system_.segment.at(t_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     // A copy of the solver: sampling must not move the warm start of the
     // integration's own solves, or the trajectory would depend on the output
@@ -304,7 +332,8 @@ class IterationMethod final : public ContactMethod {
   ContactGeometry geometry_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    return model_.contact_geometry(kinematics_of<kStatorDof>(x), system_.segment.at(t_s));
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
   }
 
   // The largest penetration of the free step just taken, on its dense
@@ -347,8 +376,8 @@ class IterationMethod final : public ContactMethod {
   double friction_event(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = system_.segment.at(t_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     if (!system_.mode.stick) return -system_.mode.slip_sign * g.sliding_velocity_m_per_s;
     const ContactForceSolver probe = solver_;
@@ -407,8 +436,8 @@ class IterationMethod final : public ContactMethod {
     guard_.record(te);
     State x;
     integrator_.state_at(te, x);
-    Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = system_.segment.at(te);
+    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState d = model_.drive_at(k, system_.segment.at(te));
     const ContactGeometry g = model_.contact_geometry(k, d);
     project_to_bore(k, g);
     FrictionMode next;
@@ -428,8 +457,8 @@ class IterationMethod final : public ContactMethod {
   // a stick regime starts strictly inside the cone, never on its surface).
   double friction_event_rate(double t_s) const {
     if (system_.mode.stick) return 0.0;
-    const Kinematics k = kinematics_of<kStatorDof>(integrator_.x_old());
-    const DriveState d = system_.segment.at(t_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(integrator_.x_old());
+    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
     long unused = 0;
@@ -438,8 +467,8 @@ class IterationMethod final : public ContactMethod {
   }
 
   void end_engaged_step(std::vector<ContactEvent>& events) {
-    Kinematics k = kinematics_of<kStatorDof>(integrator_.x_new());
-    const DriveState d = system_.segment.at(valid_end_);
+    Kinematics k = kinematics_of<kStatorDof, kMotor>(integrator_.x_new());
+    const DriveState d = model_.drive_at(k, system_.segment.at(valid_end_));
     const ContactGeometry g = model_.contact_geometry(k, d);
     Kinematics held = k;
     project_to_bore(held, g);
@@ -484,13 +513,15 @@ class IterationMethod final : public ContactMethod {
     system_.engaged = p.engaged;
     system_.mode = p.mode;
     if (p.new_mode) mode_start_s_ = p.t_s;
-    if (p.engaged && p.mode.stick) hold_rolling(p.kin, model_.contact_geometry(p.kin, system_.segment.at(p.t_s)));
+    if (p.engaged && p.mode.stick) {
+      hold_rolling(p.kin, model_.contact_geometry(p.kin, model_.drive_at(p.kin, system_.segment.at(p.t_s))));
+    }
     restart_from(p.t_s, p.kin, integrator_.dt());
   }
 
   void restart_from(double t_s, const Kinematics& k, double dt) {
     State x;
-    store_kinematics<kStatorDof>(k, x);
+    store_kinematics<kStatorDof, kMotor>(k, x);
     integrator_.initialize(system_, x, t_s, dt, stats_);
     valid_begin_ = valid_end_ = t_s;
   }
@@ -502,7 +533,7 @@ class IterationMethod final : public ContactMethod {
   double mode_start_s_ = -1.0;  // when the current friction regime began
   JeffcottModel model_;
   ContactForceSolver solver_;
-  IterationSystem<kStatorDof> system_;
+  IterationSystem<kStatorDof, kMotor> system_;
   DenseDopri5<State> integrator_;
   double initial_step_s_;
   double gap_tolerance_m_;
@@ -515,8 +546,13 @@ class IterationMethod final : public ContactMethod {
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  if (scene.model.stator_model == StatorModel::kRigid) return std::make_unique<IterationMethod<0>>(scene);
-  return std::make_unique<IterationMethod<2>>(scene);
+  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+  if (scene.model.drive_model == DriveModel::kMotor) {
+    if (rigid) return std::make_unique<IterationMethod<0, true>>(scene);
+    return std::make_unique<IterationMethod<2, true>>(scene);
+  }
+  if (rigid) return std::make_unique<IterationMethod<0, false>>(scene);
+  return std::make_unique<IterationMethod<2, false>>(scene);
 }
 
 }  // namespace rotor_rub::core

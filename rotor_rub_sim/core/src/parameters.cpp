@@ -21,8 +21,10 @@ auto value_of(const Table& table, const std::string& s, const char* what) {
 const char* to_string(Method m) { return name_in_table(kMethodNames, m); }
 const char* to_string(Integrator i) { return name_in_table(kIntegratorNames, i); }
 const char* to_string(StatorModel s) { return name_in_table(kStatorModelNames, s); }
+const char* to_string(DriveModel d) { return name_in_table(kDriveModelNames, d); }
 Method method_from_string(const std::string& s) { return value_of(kMethodNames, s, "method"); }
 Integrator integrator_from_string(const std::string& s) { return value_of(kIntegratorNames, s, "integrator"); }
 StatorModel stator_model_from_string(const std::string& s) { return value_of(kStatorModelNames, s, "stator_model"); }
+DriveModel drive_model_from_string(const std::string& s) { return value_of(kDriveModelNames, s, "drive_model"); }
 
 }  // namespace rotor_rub::core

@@ -27,9 +27,9 @@ struct PenaltyLaw {
   }
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 struct PenaltySystem {
-  using L = FreeLayout<kStatorDof>;
+  using L = FreeLayout<kStatorDof, kMotor>;
   using State = typename L::State;
   const JeffcottModel* model;
   PenaltyLaw law;
@@ -38,18 +38,19 @@ struct PenaltySystem {
 
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = segment.at(t);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState reference = segment.at(t);
+    const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
-    Vec2 ar, as;
     const double fn = law.normal(g);
-    model->accelerations(k, d, g, fn, law.tangential(g, fn), ar, as);
+    const Accelerations a = model->accelerations(k, d, g, fn, law.tangential(g, fn));
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = ar;
+    dxdt.template segment<2>(L::kRotorVel) = a.rotor;
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = as;
+      dxdt.template segment<2>(L::kStatorVel) = a.stator;
     }
+    spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
   }
 };
 
@@ -62,10 +63,10 @@ Integrator make_integrator(const SolverSettings& s) {
   }
 }
 
-template <int kStatorDof, class Integrator>
+template <int kStatorDof, bool kMotor, class Integrator>
 class PenaltyMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof>;
+  using L = FreeLayout<kStatorDof, kMotor>;
   using State = typename L::State;
 
   explicit PenaltyMethod(const Scene& scene)
@@ -80,18 +81,18 @@ class PenaltyMethod final : public ContactMethod {
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
     State x;
-    store_kinematics<kStatorDof>(k, x);
+    store_kinematics<kStatorDof, kMotor>(k, x);
     system_.segment = segment;
     integrator_.initialize(system_, x, t_s, initial_step_s_, stats_);
     valid_end_ = t_s;
-    penetration_end_ = model_.contact_geometry(k, segment.at(t_s)).penetration_m;
+    penetration_end_ = model_.contact_geometry(k, model_.drive_at(k, segment.at(t_s))).penetration_m;
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
     State x;
     integrator_.state_at(t_s, x);
     const double dt = integrator_.dt();
-    start(t_s, kinematics_of<kStatorDof>(x), segment);
+    start(t_s, kinematics_of<kStatorDof, kMotor>(x), segment);
     integrator_.set_dt(dt);
     ++stats_.restarts;
   }
@@ -125,8 +126,8 @@ class PenaltyMethod final : public ContactMethod {
   Sample sample(double t_s) const override {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = system_.segment.at(t_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     const double fn = system_.law.normal(g);
     const double ft = system_.law.tangential(g, fn);
@@ -142,12 +143,13 @@ class PenaltyMethod final : public ContactMethod {
   ContactGeometry geometry_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    return model_.contact_geometry(kinematics_of<kStatorDof>(x), system_.segment.at(t_s));
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
   }
   double penetration_at(double t_s) const { return geometry_at(t_s).penetration_m; }
 
   JeffcottModel model_;
-  PenaltySystem<kStatorDof> system_;
+  PenaltySystem<kStatorDof, kMotor> system_;
   Integrator integrator_;
   double initial_step_s_;
   double penetration_end_ = -1.0;  // at valid_end_
@@ -155,25 +157,27 @@ class PenaltyMethod final : public ContactMethod {
   RunStats stats_;
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 std::unique_ptr<ContactMethod> make_for_dof(const Scene& scene) {
-  using State = typename FreeLayout<kStatorDof>::State;
+  using State = typename FreeLayout<kStatorDof, kMotor>::State;
   switch (scene.solver.integrator) {
     case Integrator::kRosenbrock4:
-      return std::make_unique<PenaltyMethod<kStatorDof, DenseRosenbrock4<State>>>(scene);
+      return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseRosenbrock4<State>>>(scene);
     case Integrator::kRk4:
-      return std::make_unique<PenaltyMethod<kStatorDof, DenseRk4<State>>>(scene);
+      return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseRk4<State>>>(scene);
     case Integrator::kDopri5:
       break;
   }
-  return std::make_unique<PenaltyMethod<kStatorDof, DenseDopri5<State>>>(scene);
+  return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseDopri5<State>>>(scene);
 }
 
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
-  if (scene.model.stator_model == StatorModel::kRigid) return make_for_dof<0>(scene);
-  return make_for_dof<2>(scene);
+  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+  if (scene.model.drive_model == DriveModel::kMotor)
+    return rigid ? make_for_dof<0, true>(scene) : make_for_dof<2, true>(scene);
+  return rigid ? make_for_dof<0, false>(scene) : make_for_dof<2, false>(scene);
 }
 
 }  // namespace rotor_rub::core

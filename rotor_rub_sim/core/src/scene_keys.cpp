@@ -149,6 +149,21 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(real("stator_offset_y_m", -1.0, false, 1.0, "stator rest position, y; |offset| < clearance_m [m]",
                      [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
     // Drive.
+    t.push_back(choice<DriveModel, 2>("drive_model", kDriveModelNames,
+                                      "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
+                                      "drives the spin against the rub's friction torque",
+                                      [](Scene& s) -> DriveModel& { return s.model.drive_model; }));
+    t.push_back(real("rotor_polar_inertia_kg_m2", 0, true, kInf,
+                     "polar moment of inertia J_G of the rotating train about its mass centre [kg m^2]",
+                     [](Scene& s) -> double& { return s.model.rotor_polar_inertia_kg_m2; }));
+    t.push_back(real("drive_torque_limit_N_m", 0, true, kInf, "motor torque limit, motoring and braking [N m]",
+                     [](Scene& s) -> double& { return s.model.drive_torque_limit_N_m; }));
+    t.push_back(real("drive_proportional_gain_N_m_s_per_rad", 0, true, kInf,
+                     "speed controller's proportional gain K_p [N m s/rad]",
+                     [](Scene& s) -> double& { return s.model.drive_proportional_gain_N_m_s_per_rad; }));
+    t.push_back(real("drive_integral_gain_N_m_per_rad", 0, false, kInf,
+                     "speed controller's integral gain K_i [N m/rad]; 0: proportional only",
+                     [](Scene& s) -> double& { return s.model.drive_integral_gain_N_m_per_rad; }));
     t.push_back(real("initial_angle_rad", -kInf, false, kInf, "spin angle at t = 0 [rad]",
                      [](Scene& s) -> double& { return s.speed.initial_angle_rad; }));
     t.push_back(real("initial_speed_rad_per_s", 0, false, kInf, "spin speed at t = 0 [rad/s]",
@@ -306,6 +321,19 @@ void validate_scene(const Scene& s) {
       throw SceneError("scene keys 'stator_offset_x_m', 'stator_offset_y_m': offset " + format_double(offset) +
                        " m is out of range; accepted: below clearance_m = " + format_double(s.model.clearance_m) +
                        " m (the rotor starts centred, inside the bore)");
+    }
+  }
+  if (s.model.drive_model == DriveModel::kMotor) {
+    // Painleve's paradox (contact_law.hpp): with the spin in the contact's
+    // compliance, sliding friction must never pull the bodies together.
+    const double bound = s.model.friction_coefficient * s.model.eccentricity_m *
+                         (s.model.rotor_radius_m + s.model.eccentricity_m) * s.model.rotor_mass_kg;
+    if (!(s.model.rotor_polar_inertia_kg_m2 > bound)) {
+      throw SceneError("scene key 'rotor_polar_inertia_kg_m2': value " +
+                       format_double(s.model.rotor_polar_inertia_kg_m2) +
+                       " is out of range; accepted with drive_model "
+                       "motor: above f e (R_r + e) m_r = " +
+                       format_double(bound) + " (below it friction could pull the contact shut: Painleve's paradox)");
     }
   }
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {

@@ -2,9 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/iteration_method.hpp"
 #include "rotor_rub_sim/core/penalty_method.hpp"
 #include "rotor_rub_sim/core/switching_method.hpp"
@@ -29,7 +31,7 @@ Simulation::Simulation(const Scene& scene)
       method_(make_contact_method(scene)),
       limits_(InvariantLimits::for_scene(scene)) {
   // Start at rest, centred: the run-up's initial condition.
-  method_->start(0.0, JeffcottModel(scene.model).initial_kinematics(), profile_.segment_at(0.0));
+  method_->start(0.0, JeffcottModel(scene.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
   next_mark_angle_rad_ = two_pi * (std::floor(scene.speed.initial_angle_rad / two_pi) + 1.0);
 }
@@ -93,17 +95,33 @@ void Simulation::deliver_marks_before(double t_s, bool inclusive, SimulationObse
   if (!observer.wants_keyphasor()) return;
   // An observer that did not want marks before: start from the next one.
   const double two_pi = 2.0 * M_PI;
-  const double angle_now = profile_.at(time_s_).angle_rad;
+  const bool motor = scene_.model.drive_model == DriveModel::kMotor;
+  const double angle_now = motor ? method_->sample(time_s_).drive.angle_rad : profile_.at(time_s_).angle_rad;
   if (next_mark_angle_rad_ < angle_now) next_mark_angle_rad_ = two_pi * (std::floor(angle_now / two_pi) + 1.0);
   for (;;) {
     // Marks are not before time_s_ (the angle never decreases).
-    const double t_mark = profile_.time_at_angle(time_s_, next_mark_angle_rad_);
+    const double t_mark =
+        motor ? spin_angle_time(next_mark_angle_rad_, t_s) : profile_.time_at_angle(time_s_, next_mark_angle_rad_);
     if (inclusive ? t_mark > t_s : t_mark >= t_s) return;
     const Sample s = method_->sample(t_mark);
     check_invariants(s, limits_);
     observer.on_keyphasor(s);
     next_mark_angle_rad_ += two_pi;
   }
+}
+
+double Simulation::spin_angle_time(double angle_rad, double t_s) const {
+  // A motor's spin angle is a state: the mark is located on the method's
+  // dense output over [time(), t_s] (inside its last step), like a contact
+  // event, with TOMS 748 to kEventTimeTolerance_s. Not counted in the run's
+  // cost: whether marks are wanted must not change what a run reports.
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  auto behind = [this, angle_rad](double t) { return method_->sample(t).drive.angle_rad - angle_rad; };
+  const double f0 = behind(time_s_), f1 = behind(t_s);
+  if (f1 < 0.0) return kNever;
+  if (f0 >= 0.0) return time_s_;
+  RunStats uncounted;
+  return locate_event(behind, time_s_, f0, t_s, f1, uncounted);
 }
 
 void Simulation::deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer) {

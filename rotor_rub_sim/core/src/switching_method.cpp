@@ -15,29 +15,39 @@
 namespace rotor_rub::core {
 namespace {
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 struct FreeFlightSystem {
-  using L = FreeLayout<kStatorDof>;
+  using L = FreeLayout<kStatorDof, kMotor>;
   const JeffcottModel* model;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof>(x);
-    const DriveState d = segment.at(t);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = model->rotor_free_force(k, d) * model->inv_rotor_mass();
-    if constexpr (kStatorDof == 2) {
-      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
+    if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
+    if constexpr (kMotor) {
+      // The spin's acceleration and the rotor's depend on each other (model.hpp).
+      const DriveState reference = segment.at(t);
+      const DriveState d = model->drive_at(k, reference);
+      const Accelerations a = model->accelerations(k, d, model->contact_geometry(k, d), 0.0, 0.0);
+      dxdt.template segment<2>(L::kRotorVel) = a.rotor;
+      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorVel) = a.stator;
+      spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
+    } else {
+      const DriveState d = segment.at(t);
+      dxdt.template segment<2>(L::kRotorVel) = model->rotor_free_force(k, d) * model->inv_rotor_mass();
+      if constexpr (kStatorDof == 2) {
+        dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
+      }
     }
   }
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 struct ContactSystem {
-  using L = ContactLayout<kStatorDof>;
-  ConstrainedDynamics<kStatorDof> dynamics;
+  using L = ContactLayout<kStatorDof, kMotor>;
+  ConstrainedDynamics<kStatorDof, kMotor> dynamics;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
@@ -59,11 +69,11 @@ struct EventValues {
   std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor>
 class SwitchingMethod final : public ContactMethod {
  public:
-  using FL = FreeLayout<kStatorDof>;
-  using CL = ContactLayout<kStatorDof>;
+  using FL = FreeLayout<kStatorDof, kMotor>;
+  using CL = ContactLayout<kStatorDof, kMotor>;
 
   explicit SwitchingMethod(const Scene& scene)
       : model_(scene.model),
@@ -140,15 +150,17 @@ class SwitchingMethod final : public ContactMethod {
   double step_end() const override { return valid_end_; }
 
   Sample sample(double t_s) const override {
-    const DriveState d = free_sys_.segment.at(t_s);
+    const DriveState reference = free_sys_.segment.at(t_s);
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      return make_sample(model_, t_s, kinematics_of<kStatorDof>(x), d, 0.0, 0.0, false);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+      return make_sample(model_, t_s, k, model_.drive_at(k, reference), 0.0, 0.0, false);
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.dynamics.evaluate(x, d);
+    const auto c = contact_sys_.dynamics.evaluate(x, reference);
+    const DriveState d = model_.drive_at(c.kin, reference);
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
@@ -158,7 +170,7 @@ class SwitchingMethod final : public ContactMethod {
       // A friction transition at this instant: the sample reports the new
       // regime's forces (a stick force that jumped out of the cone at a drive
       // change is not applied, the slip force is).
-      ConstrainedDynamics<kStatorDof> next = contact_sys_.dynamics;
+      ConstrainedDynamics<kStatorDof, kMotor> next = contact_sys_.dynamics;
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, d);
       Sample s = make_sample(model_, t_s, cn.kin, d, cn.normal_force_N, cn.tangential_force_N, true);
@@ -188,7 +200,8 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      const ContactGeometry g = model_.contact_geometry(kinematics_of<kStatorDof>(x), d);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+      const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       v.value[kGap] = g.penetration_m;
       v.rate[kGap] = g.normal_velocity_m_per_s;
       return v;
@@ -307,7 +320,7 @@ class SwitchingMethod final : public ContactMethod {
       // stick to slip at the cone's edge. The contact goes on.
       ++stats_.friction_transitions;
       const auto c = contact_sys_.dynamics.evaluate(x, d);
-      const double cone = model_.parameters().friction_coefficient * c.normal_force_N;
+      const double cone = model_.parameters().friction_coefficient * c.stick_normal_force_N;
       if (k == kSlipEnd) {
         next_mode_ = select_friction_mode(0.0, true, c.stick_force_N, cone);
       } else {
@@ -318,13 +331,16 @@ class SwitchingMethod final : public ContactMethod {
       next_regime_ = Regime::kContact;
       return;
     }
-    Kinematics k_at = sample(te).kin;
-    const ContactGeometry g = model_.contact_geometry(k_at, d);
+    typename FL::State x_at;
+    free_int_.state_at(te, x_at);
+    Kinematics k_at = kinematics_of<kStatorDof, kMotor>(x_at);
+    const DriveState d_at = model_.drive_at(k_at, d);
+    const ContactGeometry g = model_.contact_geometry(k_at, d_at);
     ContactEvent e;
     e.t_s = te;
     bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const ImpactResult ir = apply_impact(model_, g, d, penetration_tolerance_m_, k_at);
+      const ImpactResult ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, k_at);
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
@@ -337,8 +353,9 @@ class SwitchingMethod final : public ContactMethod {
       const auto c = contact_sys_.dynamics.evaluate(x, d);
       sustained = c.normal_force_N > 0.0;
       if (sustained) {
-        next_mode_ = select_friction_mode(c.sliding_velocity_m_per_s, at_rest || !model_.has_friction(),
-                                          c.stick_force_N, model_.parameters().friction_coefficient * c.normal_force_N);
+        next_mode_ =
+            select_friction_mode(c.sliding_velocity_m_per_s, at_rest || !model_.has_friction(), c.stick_force_N,
+                                 model_.parameters().friction_coefficient * c.stick_normal_force_N);
         next_contact_state_ = x;
       }
     }
@@ -361,8 +378,8 @@ class SwitchingMethod final : public ContactMethod {
     typename CL::State x = next_contact_state_;
     if (next_mode_.stick) {
       // Rolling: v_slide = C psi' + w R_r = 0 exactly.
-      const DriveState d = contact_sys_.segment.at(pending_t_);
-      x[CL::kAngleRate] = -d.speed_rad_per_s * model_.parameters().rotor_radius_m / model_.parameters().clearance_m;
+      const double w = contact_sys_.dynamics.spin_speed(x, contact_sys_.segment.at(pending_t_));
+      x[CL::kAngleRate] = -w * model_.parameters().rotor_radius_m / model_.parameters().clearance_m;
     }
     contact_int_.initialize(contact_sys_, x, pending_t_, dt, stats_);
     begin_regime(pending_t_);
@@ -370,7 +387,7 @@ class SwitchingMethod final : public ContactMethod {
 
   void enter_free(double t_s, const Kinematics& k, double dt) {
     typename FL::State x;
-    store_kinematics<kStatorDof>(k, x);
+    store_kinematics<kStatorDof, kMotor>(k, x);
     free_int_.initialize(free_sys_, x, t_s, dt, stats_);
     begin_regime(t_s);
   }
@@ -399,8 +416,8 @@ class SwitchingMethod final : public ContactMethod {
 
   static constexpr int kScanPoints = 4;
   JeffcottModel model_;
-  FreeFlightSystem<kStatorDof> free_sys_;
-  ContactSystem<kStatorDof> contact_sys_;
+  FreeFlightSystem<kStatorDof, kMotor> free_sys_;
+  ContactSystem<kStatorDof, kMotor> contact_sys_;
   DenseDopri5<typename FL::State> free_int_;
   DenseDopri5<typename CL::State> contact_int_;
   double initial_step_s_;
@@ -425,8 +442,13 @@ class SwitchingMethod final : public ContactMethod {
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  if (scene.model.stator_model == StatorModel::kRigid) return std::make_unique<SwitchingMethod<0>>(scene);
-  return std::make_unique<SwitchingMethod<2>>(scene);
+  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+  if (scene.model.drive_model == DriveModel::kMotor) {
+    if (rigid) return std::make_unique<SwitchingMethod<0, true>>(scene);
+    return std::make_unique<SwitchingMethod<2, true>>(scene);
+  }
+  if (rigid) return std::make_unique<SwitchingMethod<0, false>>(scene);
+  return std::make_unique<SwitchingMethod<2, false>>(scene);
 }
 
 }  // namespace rotor_rub::core

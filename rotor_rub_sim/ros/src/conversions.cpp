@@ -37,6 +37,8 @@ void to_msg(const core::Sample& s, uint64_t sample_index, const std::string& fra
   msg.spin_angle = s.drive.angle_rad;
   msg.speed = s.drive.speed_rad_per_s;
   msg.angular_acceleration = s.drive.accel_rad_per_s2;
+  msg.drive_torque = s.drive_torque_N_m;
+  msg.friction_torque = s.friction_torque_N_m;
 }
 
 void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_msgs::ContactEvent& msg) {
@@ -90,6 +92,8 @@ core::Sample from_msg(const rotor_rub_msgs::RotorState& msg) {
   s.drive.angle_rad = msg.spin_angle;
   s.drive.speed_rad_per_s = msg.speed;
   s.drive.accel_rad_per_s2 = msg.angular_acceleration;
+  s.drive_torque_N_m = msg.drive_torque;
+  s.friction_torque_N_m = msg.friction_torque;
   return s;
 }
 

@@ -1,6 +1,7 @@
 // The rotor held on the stator's bore, |r_r - r_s| = C, in reduced
 // coordinates: the stator's position (elastic stator) and the contact angle
-// psi, with r_r = r_s + C n(psi), n = (cos psi, sin psi), t = n' = (-sin, cos).
+// psi, with r_r = r_s + C n(psi), n = (cos psi, sin psi), t = n' = (-sin, cos);
+// under a motor drive also the spin's states (model.hpp).
 //
 // With r_r'' = r_s'' + C psi'' t - C psi'^2 n, the rotor's and stator's
 // equations give the contact forces and psi'' in closed form
@@ -11,7 +12,14 @@
 //   stick: v_slide = C psi' + w R_r = 0 held, so psi'' = -A R_r / C and
 //          F_t = (C psi'' - F_r.t / m_r + F_s.t / m_s) / (1/m)
 //   r_s'' = (F_s + F_n n - F_t t) / m_s.
-// F_n does not depend on F_t (they act along n and t).
+// F_n does not depend on F_t (they act along n and t) under the prescribed
+// drive. Under a motor drive the spin takes part: with the free relative
+// accelerations a_n0 = n . (a_r - a_s), s0 = t . (a_r - a_s) + A R_r (no
+// contact force) and the compliance W (model.hpp), the constraint
+// n . (a_r - a_s) = -C psi'^2 and, in stick, v_slide' = 0 read
+//   W_nn F_n - W_nt F_t = a_n0 + C psi'^2 =: b,   -W_nt F_n + W_tt F_t = -s0,
+//   slip:  F_n = b / (W_nn + f s W_nt), F_t = -f s F_n;
+//   stick: both equations, det = W_nn W_tt - W_nt^2 > 0.
 #pragma once
 
 #include <cmath>
@@ -21,10 +29,10 @@
 
 namespace rotor_rub::core {
 
-template <int kStatorDof>
-struct ContactLayout {
+template <int kStatorDof, bool kMotor = false>
+struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
   static constexpr int kDof = 1 + kStatorDof;
-  static constexpr int kSize = 2 * kDof;
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
   static constexpr int kStatorPos = 0;                  // x_s, y_s [m] (elastic only)
   static constexpr int kAngle = kStatorDof;             // psi [rad]
   static constexpr int kStatorVel = kDof;               // x_s', y_s' [m/s] (elastic only)
@@ -32,18 +40,20 @@ struct ContactLayout {
   using State = Eigen::Matrix<double, kSize, 1>;
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kMotor = false>
 struct ConstrainedDynamics {
-  using L = ContactLayout<kStatorDof>;
+  using L = ContactLayout<kStatorDof, kMotor>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
   FrictionMode mode;
 
   struct Result {
     Kinematics kin;
-    double normal_force_N = 0.0;      // the constraint force; < 0 means lift-off
-    double tangential_force_N = 0.0;  // F_t on the rotor along t
-    double stick_force_N = 0.0;       // the F_t that would hold v_slide = 0
+    DriveState drive;                   // the drive there (a motor's with its spin acceleration)
+    double normal_force_N = 0.0;        // the constraint force; < 0 means lift-off
+    double tangential_force_N = 0.0;    // F_t on the rotor along t
+    double stick_force_N = 0.0;         // the F_t that would hold v_slide = 0
+    double stick_normal_force_N = 0.0;  // F_n with it (= normal_force_N unless the spin takes part)
     double sliding_velocity_m_per_s = 0.0;
     double sliding_acc_m_per_s2 = 0.0;  // v_slide'
     double angle_acc_rad_per_s2 = 0.0;
@@ -61,6 +71,7 @@ struct ConstrainedDynamics {
     }
     k.rotor_pos = k.stator_pos + c * n;
     k.rotor_vel = k.stator_vel + c * rate * t;
+    read_spin<L>(x, k.spin);
     return k;
   }
 
@@ -78,44 +89,99 @@ struct ConstrainedDynamics {
     }
     x[L::kAngle] = psi;
     x[L::kAngleRate] = (k.rotor_vel - k.stator_vel).dot(t) / model->parameters().clearance_m;
+    write_spin<L>(k.spin, x);
     return x;
   }
 
-  Result evaluate(const State& x, const DriveState& d) const {
-    Result r;
-    r.kin = kinematics(x);
-    const double c = model->parameters().clearance_m;
-    const double rate = x[L::kAngleRate];
-    const ContactGeometry g = model->contact_geometry(r.kin, d);
-    const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
-    const Vec2 fr = model->rotor_free_force(r.kin, d);
-    const Vec2 fs = model->stator_free_force(r.kin);
-    const ModelParameters& p = model->parameters();
-    r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) / im;
-    // Tangential relative acceleration without contact force, plus A R_r:
-    // v_slide' = free_t + F_t / m.
-    const double free_t = fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + d.accel_rad_per_s2 * p.rotor_radius_m;
-    r.stick_force_N = -free_t / im;
-    r.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * p.rotor_radius_m;
-    if (mode.stick) {
-      r.tangential_force_N = r.stick_force_N;
-    } else if (model->has_friction()) {
-      r.tangential_force_N = -p.friction_coefficient * r.normal_force_N * mode.slip_sign;
+  // The spin speed of the state x (the prescribed drive's from reference).
+  double spin_speed(const State& x, const DriveState& reference) const {
+    if constexpr (kMotor) {
+      return x[L::kSpinSpeed];
+    } else {
+      return reference.speed_rad_per_s;
     }
-    r.sliding_acc_m_per_s2 = free_t + r.tangential_force_N * im;
-    r.angle_acc_rad_per_s2 = (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) / c;
-    r.stator_acc = (fs + r.normal_force_N * g.normal - r.tangential_force_N * g.tangent) * ims;
-    return r;
   }
 
-  void derivative(const State& x, const DriveState& d, State& dxdt) const {
-    const Result r = evaluate(x, d);
+  // reference: the speed profile's state at the instant.
+  Result evaluate(const State& x, const DriveState& reference) const {
+    if constexpr (kMotor) {
+      return evaluate_with_spin(x, reference);
+    } else {
+      const DriveState& d = reference;
+      Result r;
+      r.kin = kinematics(x);
+      r.drive = d;
+      const double c = model->parameters().clearance_m;
+      const double rate = x[L::kAngleRate];
+      const ContactGeometry g = model->contact_geometry(r.kin, d);
+      const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
+      const Vec2 fr = model->rotor_free_force(r.kin, d);
+      const Vec2 fs = model->stator_free_force(r.kin);
+      const ModelParameters& p = model->parameters();
+      r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) / im;
+      r.stick_normal_force_N = r.normal_force_N;
+      // Tangential relative acceleration without contact force, plus A R_r:
+      // v_slide' = free_t + F_t / m.
+      const double free_t = fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + d.accel_rad_per_s2 * p.rotor_radius_m;
+      r.stick_force_N = -free_t / im;
+      r.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * p.rotor_radius_m;
+      if (mode.stick) {
+        r.tangential_force_N = r.stick_force_N;
+      } else if (model->has_friction()) {
+        r.tangential_force_N = -p.friction_coefficient * r.normal_force_N * mode.slip_sign;
+      }
+      r.sliding_acc_m_per_s2 = free_t + r.tangential_force_N * im;
+      r.angle_acc_rad_per_s2 = (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) / c;
+      r.stator_acc = (fs + r.normal_force_N * g.normal - r.tangential_force_N * g.tangent) * ims;
+      return r;
+    }
+  }
+
+  void derivative(const State& x, const DriveState& reference, State& dxdt) const {
+    const Result r = evaluate(x, reference);
     dxdt[L::kAngle] = x[L::kAngleRate];
     dxdt[L::kAngleRate] = r.angle_acc_rad_per_s2;
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(L::kStatorPos) = x.template segment<2>(L::kStatorVel);
       dxdt.template segment<2>(L::kStatorVel) = r.stator_acc;
     }
+    spin_derivative<L>(*model, r.kin, reference, r.drive.accel_rad_per_s2, dxdt);
+  }
+
+ private:
+  Result evaluate_with_spin(const State& x, const DriveState& reference) const {
+    Result r;
+    r.kin = kinematics(x);
+    const ModelParameters& p = model->parameters();
+    const double c = p.clearance_m;
+    const double rate = x[L::kAngleRate];
+    DriveState d = model->drive_at(r.kin, reference);
+    const ContactGeometry g = model->contact_geometry(r.kin, d);
+    const Accelerations free = model->accelerations(r.kin, d, g, 0.0, 0.0);
+    const ContactCompliance w = model->contact_compliance(g, d);
+    const double b = g.normal.dot(free.rotor - free.stator) + c * rate * rate;
+    const double s0 = g.tangent.dot(free.rotor - free.stator) + free.spin_rad_per_s2 * p.rotor_radius_m;
+    const double det = w.nn * w.tt - w.nt * w.nt;
+    r.stick_normal_force_N = (b * w.tt - w.nt * s0) / det;
+    r.stick_force_N = (w.nt * b - w.nn * s0) / det;
+    if (mode.stick) {
+      r.normal_force_N = r.stick_normal_force_N;
+      r.tangential_force_N = r.stick_force_N;
+    } else {
+      const double f = model->has_friction() ? p.friction_coefficient : 0.0;
+      // > 0 by validate_scene (Painleve's bound, contact_law.hpp).
+      r.normal_force_N = b / (w.nn + f * mode.slip_sign * w.nt);
+      r.tangential_force_N = -f * mode.slip_sign * r.normal_force_N;
+    }
+    const Accelerations a = model->accelerations(r.kin, d, g, r.normal_force_N, r.tangential_force_N);
+    d.accel_rad_per_s2 = a.spin_rad_per_s2;
+    r.drive = d;
+    r.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;
+    const double rel_t = g.tangent.dot(a.rotor - a.stator);
+    r.sliding_acc_m_per_s2 = rel_t + a.spin_rad_per_s2 * p.rotor_radius_m;
+    r.angle_acc_rad_per_s2 = rel_t / c;
+    r.stator_acc = a.stator;
+    return r;
   }
 };
 

@@ -47,8 +47,10 @@
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
 
@@ -145,9 +147,53 @@ struct ImpactResult {
 // the free motion presses the rotor onto the bore.
 inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
                                     const ContactGeometry& g) {
-  Vec2 ar, as;
-  m.accelerations(k, d, g, 0.0, 0.0, ar, as);
-  return JeffcottModel::distance_acceleration(k, g, ar, as);
+  return JeffcottModel::distance_acceleration(k, g, m.accelerations(k, d, g, 0.0, 0.0));
+}
+
+// The impact law when the spin takes part (a motor drive): the tangential
+// impulse P_t acts on the spin through R_r and the normal one through the
+// unbalance's lever, so normal and tangential velocities answer both
+// impulses through the compliance W (model.hpp). With d(v_n, v_slide) =
+// W (-P_n, P_t):
+// * sliding through the impact, P_t = -f s P_n (s = sgn v_slide) and
+//   v_n+ = -e v_n give P_n = (1 + e) v_n / (W_nn + f s W_nt);
+// * if that would reverse the sliding, the impulse that stops it solves
+//   W_nn P_n - W_nt P_t = (1 + e) v_n, -W_nt P_n + W_tt P_t = -v_slide
+//   (kept when |P_t| <= f P_n, else the sliding one stands).
+// With W_nt = 0 and W_tt = W_nn = 1/m_eff this is the prescribed drive's law
+// below. W_nn + f s W_nt <= 0 (Painleve's paradox: the friction would pull
+// the bodies together faster than the normal impulse parts them) cannot
+// occur while J_G > f e (R_r + e) m_r, which validate_scene() demands; the
+// check below is the guard behind it.
+inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
+                                           double e, ImpactResult r, Kinematics& k) {
+  const ModelParameters& p = m.parameters();
+  const ContactCompliance w = m.contact_compliance(g, d);
+  const double vn = g.normal_velocity_m_per_s, vs = g.sliding_velocity_m_per_s;
+  const double f = m.has_friction() ? p.friction_coefficient : 0.0;
+  const double s = vs > 0.0 ? 1.0 : (vs < 0.0 ? -1.0 : 0.0);
+  const double normal_compliance = w.nn + f * s * w.nt;
+  if (!(normal_compliance > 0.0)) {
+    throw MethodFailure(FailureClass::kInvariantViolated, std::numeric_limits<double>::quiet_NaN(),
+                        "impact: W_nn + f s W_nt <= 0 (Painleve's paradox; lower friction_coefficient, or raise "
+                        "rotor_polar_inertia_kg_m2)");
+  }
+  double pn = (1.0 + e) * vn / normal_compliance;
+  double pt = -f * s * pn;
+  const double vs_after = vs - pn * w.nt + pt * w.tt;
+  if (f > 0.0 && s * vs_after <= 0.0) {
+    const double det = w.nn * w.tt - w.nt * w.nt;
+    const double pn_stick = ((1.0 + e) * vn * w.tt - w.nt * vs) / det;
+    const double pt_stick = ((1.0 + e) * vn * w.nt - w.nn * vs) / det;
+    if (pn_stick >= 0.0 && std::abs(pt_stick) <= f * pn_stick) {
+      pn = pn_stick;
+      pt = pt_stick;
+      r.sliding_stopped = true;
+    }
+  }
+  r.normal_impulse_N_s = pn;
+  m.apply_impulse(g, pn, pt, k);
+  return r;
 }
 
 // Applies the impact law to k (velocities change, positions do not). Call
@@ -166,6 +212,7 @@ inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& 
     e = 0.0;
     r.settles = true;
   }
+  if (m.motor()) return apply_impact_with_spin(m, g, d, e, r, k);
   const double inv_m_sum = m.inv_rotor_mass() + m.inv_stator_mass();
   r.normal_impulse_N_s = (1.0 + e) * g.normal_velocity_m_per_s / inv_m_sum;
   Vec2 impulse_on_rotor = -r.normal_impulse_N_s * g.normal;

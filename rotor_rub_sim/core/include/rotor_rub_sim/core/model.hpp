@@ -15,7 +15,26 @@
 //   A > 0. The paper's eq. (2.2) writes +m_r e A on its rotating axis y_3; we
 //   follow the kinematics. The term is small (m e A = 0.012 N against
 //   m e w^2 = 1.7 N at 100 rad/s in the paper scene).
-// * Drive: the speed is prescribed (speed_profile.hpp); no torsional DOF.
+// * Drive, prescribed (the default, the paper's): the speed profile is the
+//   spin (speed_profile.hpp); no torsional DOF. The torque such an ideal
+//   drive applies is reported (drive_torque below), never fed back.
+// * Drive, motor (drive_model motor): the spin angle phi and speed w are
+//   states. Lagrange's equations for the coordinates (x_r, y_r, phi) of a
+//   rotor whose mass centre is r_r + e (cos phi, sin phi) give, with
+//   u = (sin phi, -cos phi) and F the forces at the geometric centre (shaft
+//   spring and damper, contact force), T_m the motor torque and R_r F_t the
+//   friction's torque (the tangential force acts at the contact point
+//   r_r + R_r n, whose virtual displacement is dr_r + R_r dphi t):
+//     J_G phi'' = T_m + R_r F_t + e F . u          (gravity has no torque about G)
+//     m_r r_r'' = F + m_r e (w^2 (cos phi, sin phi) + phi'' u) - m_r g y
+//   J_G the polar inertia about the mass centre (J_G + m e^2 about the shaft
+//   axis). The coupling e F . u is the unbalance's reaction on the spin (the
+//   Sommerfeld effect): with it, the motor's work pays every loss, which the
+//   power balance test checks. The motor: T_m = clamp(J_G A_ref + K_p
+//   (w_ref - w) + K_i z, -T_max, T_max), its integrator z' = (w_ref - w) +
+//   (T_m - T_cmd) / K_p (back-calculation anti-windup: in saturation z
+//   relaxes to (T_max - J_G A_ref - K_p e_w) / K_i instead of winding up),
+//   w_ref, A_ref the speed profile's speed and acceleration.
 // * Gravity: none unless the scene sets gravity_m_per_s2 (acts along -y on
 //   rotor and stator).
 // * Stator offset: the stator's springs pull it to (stator_offset_x_m,
@@ -49,13 +68,30 @@ namespace rotor_rub::core {
 
 using Vec2 = Eigen::Vector2d;
 
+// The drive's states of a motor drive (unused with the prescribed drive).
+struct SpinState {
+  double angle_rad = 0.0;           // phi
+  double speed_rad_per_s = 0.0;     // w = phi'
+  double drive_integral_rad = 0.0;  // z: the speed controller's integrated speed error
+};
+
+// The drive's three states at the end of a method's state vector (kMotor
+// only), after the positions and velocities: kBase is where they start.
+template <bool kMotor, int kBase>
+struct SpinLayout {
+  static constexpr int kSpinSize = kMotor ? 3 : 0;
+  static constexpr int kSpinAngle = kBase;          // phi [rad]
+  static constexpr int kSpinSpeed = kBase + 1;      // w [rad/s]
+  static constexpr int kDriveIntegral = kBase + 2;  // z [rad]
+};
+
 // Layout of the free (unconstrained) state vector. kStatorDof is 2 for an
-// elastic stator and 0 for a rigid one.
-template <int kStatorDof>
-struct FreeLayout {
+// elastic stator and 0 for a rigid one; kMotor adds the drive's states.
+template <int kStatorDof, bool kMotor = false>
+struct FreeLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
   static constexpr int kDof = 2 + kStatorDof;
-  static constexpr int kSize = 2 * kDof;
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
   static constexpr int kRotorPos = 0;          // x_r, y_r [m]
   static constexpr int kStatorPos = 2;         // x_s, y_s [m] (elastic only)
   static constexpr int kRotorVel = kDof;       // x_r', y_r' [m/s]
@@ -64,17 +100,36 @@ struct FreeLayout {
 };
 
 // Positions and velocities of both bodies as plain 2-vectors (a rigid stator
-// is at rest at the origin).
+// is at rest at the origin), and a motor drive's states.
 struct Kinematics {
   Vec2 rotor_pos = Vec2::Zero();
   Vec2 rotor_vel = Vec2::Zero();
   Vec2 stator_pos = Vec2::Zero();
   Vec2 stator_vel = Vec2::Zero();
+  SpinState spin;  // motor drive only
 };
 
-template <int kStatorDof>
-Kinematics kinematics_of(const typename FreeLayout<kStatorDof>::State& x) {
-  using L = FreeLayout<kStatorDof>;
+template <class L, class State>
+void read_spin(const State& x, SpinState& spin) {
+  if constexpr (L::kSpinSize > 0) {
+    spin.angle_rad = x[L::kSpinAngle];
+    spin.speed_rad_per_s = x[L::kSpinSpeed];
+    spin.drive_integral_rad = x[L::kDriveIntegral];
+  }
+}
+
+template <class L, class State>
+void write_spin(const SpinState& spin, State& x) {
+  if constexpr (L::kSpinSize > 0) {
+    x[L::kSpinAngle] = spin.angle_rad;
+    x[L::kSpinSpeed] = spin.speed_rad_per_s;
+    x[L::kDriveIntegral] = spin.drive_integral_rad;
+  }
+}
+
+template <int kStatorDof, bool kMotor = false>
+Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor>;
   Kinematics k;
   k.rotor_pos = x.template segment<2>(L::kRotorPos);
   k.rotor_vel = x.template segment<2>(L::kRotorVel);
@@ -82,19 +137,37 @@ Kinematics kinematics_of(const typename FreeLayout<kStatorDof>::State& x) {
     k.stator_pos = x.template segment<2>(L::kStatorPos);
     k.stator_vel = x.template segment<2>(L::kStatorVel);
   }
+  read_spin<L>(x, k.spin);
   return k;
 }
 
-template <int kStatorDof>
-void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof>::State& x) {
-  using L = FreeLayout<kStatorDof>;
+template <int kStatorDof, bool kMotor = false>
+void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof, kMotor>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor>;
   x.template segment<2>(L::kRotorPos) = k.rotor_pos;
   x.template segment<2>(L::kRotorVel) = k.rotor_vel;
   if constexpr (kStatorDof == 2) {
     x.template segment<2>(L::kStatorPos) = k.stator_pos;
     x.template segment<2>(L::kStatorVel) = k.stator_vel;
   }
+  write_spin<L>(k.spin, x);
 }
+
+// Accelerations of both bodies and of the spin [m/s^2, rad/s^2].
+struct Accelerations {
+  Vec2 rotor = Vec2::Zero();
+  Vec2 stator = Vec2::Zero();
+  double spin_rad_per_s2 = 0.0;
+};
+
+// How the relative velocity at the contact (normal v_n = delta', sliding
+// v_slide) answers a contact force or impulse on the rotor, -F_n n + F_t t:
+// d(v_n, v_slide) = W (-F_n, F_t) dt. W = I / m_eff + h h^T / J_G with
+// h = (e n . u, R_r + e t . u) under a motor drive (the spin takes part),
+// W = I / m_eff under the prescribed drive (the spin cannot).
+struct ContactCompliance {
+  double nn = 0.0, nt = 0.0, tt = 0.0;  // [1/kg]
+};
 
 struct ContactGeometry {
   double distance_m = 0.0;                // delta = |r_r - r_s|
@@ -113,6 +186,8 @@ class JeffcottModel {
         inv_stator_mass_(p.stator_model == StatorModel::kRigid ? 0.0 : 1.0 / p.stator_mass_kg),
         effective_mass_kg_(1.0 / (inv_rotor_mass_ + inv_stator_mass_)),
         has_friction_(p.friction_coefficient > 0.0),
+        motor_(p.drive_model == DriveModel::kMotor),
+        inv_polar_inertia_(1.0 / p.rotor_polar_inertia_kg_m2),
         stator_offset_(p.stator_offset_x_m, p.stator_offset_y_m) {
     // A rigid stator has no state: the methods work in its frame (its centre
     // at the origin), where the shaft's spring centre is -offset; samples are
@@ -126,10 +201,16 @@ class JeffcottModel {
 
   // Where the methods start (t = 0): at rest, the rotor centred in the casing,
   // the stator at its rest position; in the methods' frame.
-  Kinematics initial_kinematics() const {
+  // A motor drive starts at the speed profile's initial angle and speed
+  // (initial), with the controller's integrator empty.
+  Kinematics initial_kinematics(const DriveState& initial = DriveState{}) const {
     Kinematics k;
     k.rotor_pos = Vec2::Zero() - frame_shift_;  // +0, not -0, without an offset
     k.stator_pos = stator_spring_centre_;
+    if (motor_) {
+      k.spin.angle_rad = initial.angle_rad;
+      k.spin.speed_rad_per_s = initial.speed_rad_per_s;
+    }
     return k;
   }
   // Methods' frame -> the casing's (what samples report): add this to positions.
@@ -141,9 +222,65 @@ class JeffcottModel {
   // m_r m_s / (m_r + m_s): the mass the contact sees (m_r for a rigid stator).
   double effective_mass_kg() const { return effective_mass_kg_; }
   bool has_friction() const { return has_friction_; }
+  bool motor() const { return motor_; }
+
+  // ---- The drive ----------------------------------------------------------
+
+  // The drive as the forces see it at an instant, from the speed profile's
+  // state there (reference): prescribed, the reference itself; motor, the
+  // spin states with the motor's torque (accel_rad_per_s2 stays the
+  // reference's until accelerations() gives the spin's own).
+  DriveState drive_at(const Kinematics& k, const DriveState& reference) const {
+    if (!motor_) return reference;
+    DriveState d = reference;
+    d.angle_rad = k.spin.angle_rad;
+    d.speed_rad_per_s = k.spin.speed_rad_per_s;
+    d.motor_torque_N_m = motor_output(k.spin, reference).torque_N_m;
+    return d;
+  }
+
+  struct MotorOutput {
+    double torque_N_m = 0.0;               // T_m, limited
+    double integral_rate_rad_per_s = 0.0;  // z'
+  };
+  // The speed controller (header comment): PI with acceleration feed-forward,
+  // torque limit and back-calculation anti-windup.
+  MotorOutput motor_output(const SpinState& spin, const DriveState& reference) const {
+    const double error = reference.speed_rad_per_s - spin.speed_rad_per_s;
+    const double command = p_.rotor_polar_inertia_kg_m2 * reference.accel_rad_per_s2 +
+                           p_.drive_proportional_gain_N_m_s_per_rad * error +
+                           p_.drive_integral_gain_N_m_per_rad * spin.drive_integral_rad;
+    MotorOutput out;
+    out.torque_N_m = std::clamp(command, -p_.drive_torque_limit_N_m, p_.drive_torque_limit_N_m);
+    out.integral_rate_rad_per_s = error + (out.torque_N_m - command) / p_.drive_proportional_gain_N_m_s_per_rad;
+    return out;
+  }
+
+  // The torque the drive applies to the rotor [N m]: the motor's, or the one
+  // an ideal prescribed drive needs for the spin acceleration A it imposes,
+  // J_G A - R_r F_t - e F . u (the spin equation solved for T).
+  double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
+                          double tangential_force_N) const {
+    if (motor_) return d.motor_torque_N_m;
+    const Vec2 u(std::sin(d.angle_rad), -std::cos(d.angle_rad));
+    const Vec2 at_centre = shaft_force(k) + contact_force_on_rotor(g, normal_force_N, tangential_force_N);
+    return p_.rotor_polar_inertia_kg_m2 * d.accel_rad_per_s2 - p_.rotor_radius_m * tangential_force_N -
+           p_.eccentricity_m * at_centre.dot(u);
+  }
+  // The rub's torque on the rotor about its spin axis [N m] (< 0 brakes a
+  // rotor spinning forward).
+  double friction_torque_N_m(double tangential_force_N) const { return p_.rotor_radius_m * tangential_force_N; }
+
+  // The shaft's spring and damper on the rotor [N].
+  Vec2 shaft_force(const Kinematics& k) const {
+    return -p_.rotor_stiffness_N_per_m * (k.rotor_pos - rotor_spring_centre_) -
+           p_.rotor_damping_N_s_per_m * k.rotor_vel;
+  }
 
   // All forces on the rotor except contact: shaft spring and damper,
-  // unbalance, gravity [N].
+  // unbalance, gravity [N], for the spin acceleration d.accel_rad_per_s2 (the
+  // prescribed drive's; a motor's depends on the contact forces:
+  // accelerations()).
   Vec2 rotor_free_force(const Kinematics& k, const DriveState& d) const {
     const double me = p_.rotor_mass_kg * p_.eccentricity_m;
     const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
@@ -186,29 +323,76 @@ class JeffcottModel {
     return -normal_force_N * g.normal + tangential_force_N * g.tangent;
   }
 
-  // Accelerations of rotor and stator under given contact forces [m/s^2].
-  void accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
-                     double tangential_force_N, Vec2& rotor_acc, Vec2& stator_acc) const {
+  // Accelerations of rotor, stator and spin under given contact forces, for
+  // the drive d of drive_at() [m/s^2, rad/s^2].
+  Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
+                              double tangential_force_N) const {
+    Accelerations a;
     const Vec2 on_rotor = contact_force_on_rotor(g, normal_force_N, tangential_force_N);
-    rotor_acc = (rotor_free_force(k, d) + on_rotor) * inv_rotor_mass_;
-    stator_acc = (stator_free_force(k) - on_rotor) * inv_stator_mass_;
+    if (!motor_) {
+      a.rotor = (rotor_free_force(k, d) + on_rotor) * inv_rotor_mass_;
+      a.spin_rad_per_s2 = d.accel_rad_per_s2;
+    } else {
+      // The spin equation first (header comment), then the rotor's with it.
+      const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
+      const Vec2 at_centre = shaft_force(k) + on_rotor;
+      a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N +
+                           p_.eccentricity_m * (at_centre.x() * s - at_centre.y() * c)) *
+                          inv_polar_inertia_;
+      const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
+      const double e = p_.eccentricity_m;
+      a.rotor = at_centre * inv_rotor_mass_ + e * Vec2(w2 * c + a.spin_rad_per_s2 * s, w2 * s - a.spin_rad_per_s2 * c);
+      a.rotor.y() -= p_.gravity_m_per_s2;
+    }
+    a.stator = (stator_free_force(k) - on_rotor) * inv_stator_mass_;
+    return a;
+  }
+
+  // The compliance W of the contact (ContactCompliance) at g under drive d.
+  ContactCompliance contact_compliance(const ContactGeometry& g, const DriveState& d) const {
+    ContactCompliance w;
+    const double im = inv_rotor_mass_ + inv_stator_mass_;
+    w.nn = w.tt = im;
+    if (motor_) {
+      const Vec2 u(std::sin(d.angle_rad), -std::cos(d.angle_rad));
+      const double hn = p_.eccentricity_m * g.normal.dot(u);
+      const double ht = p_.rotor_radius_m + p_.eccentricity_m * g.tangent.dot(u);
+      w.nn += hn * hn * inv_polar_inertia_;
+      w.nt = hn * ht * inv_polar_inertia_;
+      w.tt += ht * ht * inv_polar_inertia_;
+    }
+    return w;
+  }
+
+  // Applies an impulse on the rotor P (-P_n n + P_t t at the contact; the
+  // stator gets the opposite) to the velocities, the spin's included.
+  void apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
+                     Kinematics& k) const {
+    const Vec2 on_rotor = contact_force_on_rotor(g, normal_impulse_N_s, tangential_impulse_N_s);
+    k.rotor_vel += on_rotor * inv_rotor_mass_;
+    k.stator_vel -= on_rotor * inv_stator_mass_;
+    if (motor_) {
+      const Vec2 u(std::sin(k.spin.angle_rad), -std::cos(k.spin.angle_rad));
+      const double dw =
+          (p_.rotor_radius_m * tangential_impulse_N_s + p_.eccentricity_m * on_rotor.dot(u)) * inv_polar_inertia_;
+      k.spin.speed_rad_per_s += dw;
+      k.rotor_vel += p_.eccentricity_m * dw * u;
+    }
   }
 
   // Second time derivative of delta for given accelerations:
   // delta'' = n . (a_r - a_s) + |v_rel . t|^2 / delta.
-  static double distance_acceleration(const Kinematics& k, const ContactGeometry& g, const Vec2& rotor_acc,
-                                      const Vec2& stator_acc) {
+  static double distance_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) {
     const double vt = (k.rotor_vel - k.stator_vel).dot(g.tangent);
-    return g.normal.dot(rotor_acc - stator_acc) + vt * vt / g.distance_m;
+    return g.normal.dot(a.rotor - a.stator) + vt * vt / g.distance_m;
   }
 
   // Time derivative of v_slide for given accelerations:
   // v_slide' = t . (a_r - a_s) - (v_rel . n)(v_rel . t) / delta + A R_r.
-  double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Vec2& rotor_acc,
-                              const Vec2& stator_acc) const {
+  double sliding_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) const {
     const Vec2 v = k.rotor_vel - k.stator_vel;
-    return g.tangent.dot(rotor_acc - stator_acc) - v.dot(g.normal) * v.dot(g.tangent) / g.distance_m +
-           d.accel_rad_per_s2 * p_.rotor_radius_m;
+    return g.tangent.dot(a.rotor - a.stator) - v.dot(g.normal) * v.dot(g.tangent) / g.distance_m +
+           a.spin_rad_per_s2 * p_.rotor_radius_m;
   }
 
  private:
@@ -217,7 +401,21 @@ class JeffcottModel {
   double inv_stator_mass_;
   double effective_mass_kg_;
   bool has_friction_;
+  bool motor_;
+  double inv_polar_inertia_;
   Vec2 stator_offset_, rotor_spring_centre_, stator_spring_centre_, frame_shift_;
 };
+
+// The drive's rows of a method's derivative (kMotor only): phi' = w,
+// w' = the spin acceleration, z' = the controller's integral rate.
+template <class L, class State>
+void spin_derivative(const JeffcottModel& m, const Kinematics& k, const DriveState& reference, double spin_acc,
+                     State& dxdt) {
+  if constexpr (L::kSpinSize > 0) {
+    dxdt[L::kSpinAngle] = k.spin.speed_rad_per_s;
+    dxdt[L::kSpinSpeed] = spin_acc;
+    dxdt[L::kDriveIntegral] = m.motor_output(k.spin, reference).integral_rate_rad_per_s;
+  }
+}
 
 }  // namespace rotor_rub::core

@@ -15,6 +15,7 @@ namespace rotor_rub::core {
 enum class Method { kPenalty, kSwitching, kIteration };
 enum class Integrator { kDopri5, kRosenbrock4, kRk4 };
 enum class StatorModel { kElastic, kRigid };
+enum class DriveModel { kPrescribed, kMotor };
 
 struct MethodName {
   Method value;
@@ -43,13 +44,24 @@ inline constexpr std::array<StatorModelName, 2> kStatorModelNames{{
     {StatorModel::kRigid, "rigid"},      // immovable stator: rotor's 2 DOF only
 }};
 
+struct DriveModelName {
+  DriveModel value;
+  const char* name;
+};
+inline constexpr std::array<DriveModelName, 2> kDriveModelNames{{
+    {DriveModel::kPrescribed, "prescribed"},  // the speed profile is the spin (the paper's kinematic drive)
+    {DriveModel::kMotor, "motor"},            // spin a state: a speed-controlled motor against the rub's torque
+}};
+
 const char* to_string(Method m);
 const char* to_string(Integrator i);
 const char* to_string(StatorModel s);
+const char* to_string(DriveModel d);
 // Throw std::invalid_argument naming the accepted names.
 Method method_from_string(const std::string& s);
 Integrator integrator_from_string(const std::string& s);
 StatorModel stator_model_from_string(const std::string& s);
+DriveModel drive_model_from_string(const std::string& s);
 
 // ---- Physical model ---------------------------------------------------------
 
@@ -76,6 +88,18 @@ struct ModelParameters {
   // offset below the clearance gives partial rub on one side.
   double stator_offset_x_m = 0.0;
   double stator_offset_y_m = 0.0;
+  // The drive (model.hpp): prescribed, the speed profile is the spin; motor,
+  // the spin is a state driven by a PI speed controller (with acceleration
+  // feed-forward, a torque limit and back-calculation anti-windup) that
+  // follows the speed profile, against the rub's friction torque.
+  DriveModel drive_model = DriveModel::kPrescribed;
+  // J_G: the rotating train's polar moment of inertia about the spin axis
+  // through its mass centre (disc, shaft, coupling, motor rotor) [kg m^2].
+  // The prescribed drive uses it only to report the torque it applies.
+  double rotor_polar_inertia_kg_m2 = 1.0e-3;
+  double drive_torque_limit_N_m = 0.5;                 // |T_m| <= limit (motoring and braking)
+  double drive_proportional_gain_N_m_s_per_rad = 0.1;  // K_p: per rad/s of speed error
+  double drive_integral_gain_N_m_per_rad = 2.5;        // K_i: per rad of integrated speed error
 };
 
 // ---- Drive: piecewise constant angular acceleration ------------------------

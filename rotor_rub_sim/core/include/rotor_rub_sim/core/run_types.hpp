@@ -24,6 +24,10 @@ struct Sample {
   // In contact and sticking (rolling, v_slide held at 0): the rigid methods'
   // stick regime; the penalty method's creep band |c_t v_slide| < f F_n.
   bool sticking = false;
+  // The drive's torque on the rotor (the motor's, or what an ideal
+  // prescribed drive applies) and the rub's, R_r F_t [N m] (model.hpp).
+  double drive_torque_N_m = 0.0;
+  double friction_torque_N_m = 0.0;
 };
 
 enum class EventKind { kTouchdown, kLiftoff, kGraze };

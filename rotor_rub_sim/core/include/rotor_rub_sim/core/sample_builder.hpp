@@ -21,6 +21,12 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   s.normal_force_N = normal_force_N;
   s.contact_force_on_rotor_N = JeffcottModel::contact_force_on_rotor(g, normal_force_N, tangential_force_N);
   s.friction_force_N = tangential_force_N;
+  // A motor's spin acceleration depends on the contact forces: the drive
+  // state d carries the reference's until here.
+  if (m.motor())
+    s.drive.accel_rad_per_s2 = m.accelerations(k, d, g, normal_force_N, tangential_force_N).spin_rad_per_s2;
+  s.drive_torque_N_m = m.drive_torque_N_m(k, s.drive, g, normal_force_N, tangential_force_N);
+  s.friction_torque_N_m = m.friction_torque_N_m(tangential_force_N);
   return s;
 }
 

@@ -72,6 +72,9 @@ class Simulation {
   void deliver_until(double t_s, SimulationObserver& observer);
   void deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer);
   void deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer);
+  // The first time in [time(), t_s] at which a motor's spin angle reaches
+  // angle_rad, on the dense output; infinity if it does not get there.
+  double spin_angle_time(double angle_rad, double t_s) const;
   void count_and_deliver(const ContactEvent& e, SimulationObserver& observer);
 
   Scene scene_;
@@ -80,9 +83,8 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double next_mark_angle_rad_ = 0.0;
-  long next_probe_sample_ =
-      1;  // the probes' next sample index (k / probe rate)       // the next keyphasor angle (a multiple of 2 pi)
+  double next_mark_angle_rad_ = 0.0;       // the next keyphasor angle (a multiple of 2 pi)
+  long next_probe_sample_ = 1;             // the probes' next sample index (k / probe rate)
   double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
   bool break_due_ = false;                 // the last step ended on it
   std::vector<ContactEvent> step_events_;  // found, not yet delivered

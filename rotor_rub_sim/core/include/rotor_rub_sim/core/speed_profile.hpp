@@ -1,7 +1,8 @@
 // The drive: spin angle, speed and angular acceleration against time, as
-// segments of constant angular acceleration. The speed is prescribed
-// (kinematic drive): friction torque does not slow the rotor; a speed command
-// appends a segment. Segment boundaries are discontinuities of the unbalance
+// segments of constant angular acceleration. With the prescribed drive
+// (drive_model prescribed) this is the spin: friction torque does not slow
+// the rotor. With a motor (drive_model motor) it is the speed controller's
+// reference (model.hpp). A speed command appends a segment. Segment boundaries are discontinuities of the unbalance
 // force's tangential term, so integration restarts at each of them.
 #pragma once
 
@@ -14,7 +15,8 @@ namespace rotor_rub::core {
 struct DriveState {
   double angle_rad = 0.0;         // phi: spin angle of the mass-centre offset
   double speed_rad_per_s = 0.0;   // omega = dphi/dt (counter-clockwise positive)
-  double accel_rad_per_s2 = 0.0;  // alpha = domega/dt
+  double accel_rad_per_s2 = 0.0;  // alpha = domega/dt (a motor drive: the reference's until the forces are known)
+  double motor_torque_N_m = 0.0;  // a motor drive only: the motor's torque T_m on the rotor
 };
 
 // One segment: constant acceleration from start_time_s. Evaluated without
