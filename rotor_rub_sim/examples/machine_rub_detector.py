@@ -476,7 +476,8 @@ class MachineRubDetector(object):
     def feed_drive(self, t, speed, torque):
         """One drive sample: time [s], speed [rad/s], drive torque [N m]."""
         if t <= self.last_drive_t:
-            raise ValueError("drive sample at t = %.9g s after one at %.9g s: feed in time order" % (t, self.last_drive_t))
+            raise ValueError("drive sample at t = %.9g s after one at %.9g s: feed in time order"
+                             % (t, self.last_drive_t))
         self.last_drive_t = t
         w, b = self.s["window_s"], self.s["baseline_s"]
         if self.drive_t0 is None:

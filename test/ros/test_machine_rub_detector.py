@@ -103,7 +103,8 @@ class Reconstruction(unittest.TestCase):
     def test_displacement_from_non_orthogonal_probes(self):
         geo = mrd.ProbeGeometry(X_ANGLE, Y_ANGLE, S)
         for x, y in ((1e-3, 0.0), (0.0, -2e-3), (3e-4, 7e-4)):
-            vx, vy = S * (x * math.cos(X_ANGLE) + y * math.sin(X_ANGLE)), S * (x * math.cos(Y_ANGLE) + y * math.sin(Y_ANGLE))
+            vx = S * (x * math.cos(X_ANGLE) + y * math.sin(X_ANGLE))
+            vy = S * (x * math.cos(Y_ANGLE) + y * math.sin(Y_ANGLE))
             gx, gy = geo.displacement(vx, vy)
             self.assertAlmostEqual(gx, x, delta=1e-15)
             self.assertAlmostEqual(gy, y, delta=1e-15)

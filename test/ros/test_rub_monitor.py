@@ -87,10 +87,10 @@ class Run(object):
         self.bag = temp_prefix("monitored") + ".bag"
         alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
         try:
-            subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch", "controller:=false",
-                            "scene:=" + scene, "record:=true", "bag:=" + self.bag, "probe_rate_hz:=%g" % PROBE_RATE_HZ,
-                            "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args), check=True, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, timeout=600)
+            subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
+                            "controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
+                            "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
+                           check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600)
             end = end_time(scene)
             # The alarm is latched: whenever this subscriber connected, it holds
             # the monitor's last verdict, which carries its first alarm's delay.
@@ -111,8 +111,9 @@ def replay(scene, prefix):
     """The detector offline on the headless runner's outputs of the same scene
     (the same seeded probe noise as the node's)."""
     subprocess.run([find_binary("rotor_rub_run"), "--scene", scene, "--set", "probe_rate_hz=%g" % PROBE_RATE_HZ,
-                    "--set", "probe_noise_V=%g" % PROBE_NOISE_V, "--csv", prefix + ".csv", "--probes", prefix + ".p.csv",
-                    "--keyphasor", prefix + ".k.csv", "--summary", prefix + ".json", "--quiet"], check=True)
+                    "--set", "probe_noise_V=%g" % PROBE_NOISE_V, "--csv", prefix + ".csv",
+                    "--probes", prefix + ".p.csv", "--keyphasor", prefix + ".k.csv", "--summary", prefix + ".json",
+                    "--quiet"], check=True)
     with open(prefix + ".json") as f:
         summary = json.load(f)
     det, _ = machine_rub_detector.replay(summary, prefix + ".p.csv", prefix + ".k.csv", prefix + ".csv")
@@ -194,9 +195,9 @@ class RubMonitor(unittest.TestCase):
                       sorted({r for a in run.alarms for r in a.reasons.split(",") if r}))
 
     def test_probes_off_fail_loudly(self):
-        p = subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch", "controller:=false",
-                            "probe_rate_hz:=0"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                           timeout=120)
+        p = subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
+                            "controller:=false", "probe_rate_hz:=0"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           text=True, timeout=120)
         self.assertEqual(p.returncode, 2, p.stdout[-2000:])
         self.assertIn("probes are disabled: probe_rate_hz = 0 (from /rotor_rub_sim/rotor_rub_sim/probe_rate_hz)",
                       p.stdout)
