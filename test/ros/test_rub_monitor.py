@@ -202,6 +202,19 @@ class RubMonitor(unittest.TestCase):
         self.assertIn("probes are disabled: probe_rate_hz = 0 (from /rotor_rub_sim/rotor_rub_sim/probe_rate_hz)",
                       p.stdout)
 
+    def test_design_data_on_the_monitor_is_an_error(self):
+        # A clearance of the monitor's own would be a second copy that can
+        # disagree with the simulator's: refused before anything else.
+        p = subprocess.run([find_binary("rub_monitor.py"), "__ns:=/no_simulator", "_clearance_m:=0.001"],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+        self.assertEqual(p.returncode, 2, p.stdout[-2000:])
+        self.assertIn("~clearance_m is set on the monitor", p.stdout)
+        # No simulator in its namespace (the first call left its ~clearance_m on the master): said so, status 2.
+        p = subprocess.run([find_binary("rub_monitor.py"), "__ns:=/no_simulator_2"], stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True, timeout=60)
+        self.assertEqual(p.returncode, 2, p.stdout[-2000:])
+        self.assertIn("no parameters under /no_simulator_2/rotor_rub_sim", p.stdout)
+
 
 if __name__ == "__main__":
     rospy.init_node("test_rub_monitor")
