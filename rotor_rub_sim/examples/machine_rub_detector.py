@@ -41,8 +41,11 @@ while any channel is (`reasons()` names them):
     the orbit reaches `whirl_orbit_ratio` (0.5) C raises; a share below
     `backward_clear` (0.4), or the orbit below 0.8 x that ratio, clears: dry
     whirl, the rotor rolling backward on the bore.
-  drive_braking (every drive sample): a rub is a braking torque. The torque
-    rise is the mean drive torque over the last `window_s` minus its running
+  drive_braking (every drive sample): a rub is a braking torque. The drive
+    torque is first averaged over the last revolution (2 pi / speed), which
+    removes the once-per-revolution torque an unbalanced rotor's whirl asks
+    of its drive. The torque rise is that torque's mean over the last
+    `window_s` minus its running
     baseline (a straight line fitted to the `baseline_s` (0.5 s) before that
     window, evaluated at the window's centre); the speed dip is the speed's
     own baseline, extrapolated to now, minus the speed. A rise >=
@@ -318,6 +321,8 @@ class MachineRubDetector(object):
         self.drive_win = collections.deque()
         self.drive_base = collections.deque()
         self.win_torque = 0.0
+        self.rev_torque = collections.deque()  # (t, torque) over the last revolution
+        self.rev_torque_sum = 0.0
         self.baseline = LineFit()
         self.drive_t0 = None
         self.torque_rise = 0.0
@@ -482,8 +487,16 @@ class MachineRubDetector(object):
         w, b = self.s["window_s"], self.s["baseline_s"]
         if self.drive_t0 is None:
             self.drive_t0 = t
-        self.drive_win.append((t, float(speed), float(torque)))
-        self.win_torque += float(torque)
+        # The torque over the last revolution: no once-per-revolution part.
+        rev = self.rev_torque
+        rev.append((t, float(torque)))
+        self.rev_torque_sum += float(torque)
+        period = min(2 * math.pi / speed, self.s["max_revolution_s"]) if speed > 0 else w
+        while len(rev) > 1 and rev[0][0] <= t - period:
+            self.rev_torque_sum -= rev.popleft()[1]
+        torque = self.rev_torque_sum / len(rev)
+        self.drive_win.append((t, float(speed), torque))
+        self.win_torque += torque
         while self.drive_win and self.drive_win[0][0] <= t - w:  # from the window into the baseline
             old = self.drive_win.popleft()
             self.win_torque -= old[2]
