@@ -108,6 +108,7 @@ ros-tools)
   [ "$share" = "$INSTALL/share/rotor_rub_msgs" ] || fail "rospack find rotor_rub_msgs: $share"
   installed rosrun rotor_rub_sim rotor_rub_run --help >> "$LOG" 2>&1 || fail "rosrun rotor_rub_sim rotor_rub_run --help"
   installed rosrun rotor_rub_sim plot_run.py --help >> "$LOG" 2>&1 || fail "rosrun rotor_rub_sim plot_run.py --help"
+  installed rosrun rotor_rub_sim plot_machine.py --help >> "$LOG" 2>&1 || fail "rosrun rotor_rub_sim plot_machine.py --help"
   files="$(installed roslaunch --files rotor_rub_sim sim.launch 2>>"$LOG")" || fail "roslaunch --files rotor_rub_sim sim.launch"
   echo "$files" >> "$LOG"
   grep -qx "$INSTALL/share/rotor_rub_sim/launch/sim.launch" <<< "$files" || fail "roslaunch --files: $files"

@@ -1,6 +1,9 @@
-"""Rub detection from what a real machine measures (no ROS here): the
-rotor's displacement relative to the stator, d = r_r - r_s, as a pair of
-proximity probes on the casing would give it.
+"""The run-up controller's rub detector (no ROS here), on the simulator's
+exact state: the rotor's displacement relative to the stator, d = r_r - r_s,
+which no machine measures as such (its probes sit on the casing and see r_r;
+machine_rub_detector.py is the rub monitor's detector, on what a machine
+offers). The controller keeps this one because it must decide in lockstep
+with the simulator, whose lockstep contract orders the `state` topic only.
 
 Sustained rub: over a sliding window (default 20 ms of simulated time), at
 least `raise_fraction` of the samples have |d| >= `touch_ratio` * clearance;
@@ -10,7 +13,7 @@ is reported beside the spin frequency: rub-induced backward whirl shows as a
 negative whirl frequency while the rotor spins forward.
 
 Deterministic: the verdict after a sample depends only on the samples fed so
-far, in order, so the controller can run the same detector in lockstep."""
+far, in order, so the controller can run it in lockstep."""
 import collections
 import math
 

@@ -21,10 +21,12 @@ from ros_test_support import Collector, find_binary, temp_prefix
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
 from runup_controller import RunUpPolicy  # noqa: E402
 
-# The detector raises its alarm when half of a 20 ms window touches the
-# clearance: a rub that stays from its first touch is detected 10 ms after it.
-# One whole window (20 ms) bounds the delay on the paper scene, whose first
-# touch turns into sustained contact within 1 ms.
+# The monitor's orbit_at_clearance channel raises its alarm when half of a
+# 20 ms window of probe samples has the orbit at the clearance: a rub that
+# stays from its first touch is detected 10 ms after it. One whole window
+# (20 ms) bounds the delay on the paper scene, whose first touch turns into
+# sustained contact within 1 ms. (rub_monitor.test holds the monitor to its
+# bounds on more scenes.)
 MAX_DETECTION_DELAY_S = 0.020
 
 
@@ -93,8 +95,8 @@ class ClosedLoop(unittest.TestCase):
 
     def test_monitor_takes_the_clearance_from_the_simulator(self):
         """A scene of 1 mm clearance (the monitor once assumed 2 mm from its own
-        parameter and raised no alarm in 2.77 s of contact): the alarm comes,
-        within the stated delay."""
+        parameter and raised no alarm in 2.77 s of contact): the monitor reads
+        the simulator's clearance_m, and the alarm comes within the stated delay."""
         scene = temp_prefix("scene_1mm") + ".yaml"
         with open(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "config",
                                "paper_runup.yaml")) as f:

@@ -1,0 +1,221 @@
+#!/usr/bin/env python3
+"""The rub monitor (rub_monitor.py on machine_rub_detector.py) live, through
+launch/closed_loop.launch with controller:=false on this master: its
+detection delay, from the first contact (the simulator's contact_events,
+recorded in the bag: ground truth only) to its first alarm, measured and held
+to a stated bound on
+  (a) the paper's run-up (config/paper_runup.yaml, probes on),
+  (b) a partial rub (stator_offset_x_m 1.6e-3 at a constant 60 rad/s),
+  (c) the motor-driven run-up (config/machine_runup.yaml; disabled until that
+      scene exists on this branch: see MACHINE_RUNUP_ENABLED);
+the same scenes without contact raise no alarm; the live verdict equals the
+detector replayed offline on the headless runner's CSVs (which carry no
+positions to the detector at all); and probes switched off end the monitor
+with status 2 and a line naming probe_rate_hz."""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import unittest
+
+import rosbag
+import rospkg
+import rospy
+import rostest
+from rotor_rub_msgs.msg import ContactEvent, RubAlarm
+
+from ros_test_support import Collector, find_binary, temp_prefix
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
+import machine_rub_detector  # noqa: E402
+
+CONFIG = os.path.join(rospkg.RosPack().get_path("rotor_rub_sim"), "config")
+PROBE_RATE_HZ, PROBE_NOISE_V = 2000, 0.01  # closed_loop.launch's defaults, given explicitly
+
+# (a) The paper's run-up: the rub holds from its first touch, and the
+# orbit_at_clearance channel raises once half of its 20 ms window has the
+# orbit at the clearance: 10 ms after the touch (measured 9.1 ms). One whole
+# window bounds it.
+PAPER_MAX_DELAY_S = 0.020
+# (b) The partial rub touches in the first revolution (t = 0.057 s). Its orbit
+# stays at 0.2-0.5 of the designed clearance (the casing is offset), so only
+# its shape tells: the orbit_distorted channel judges `revolutions` (4) whole
+# revolutions after the first keyphasor mark, i.e. 5 revolutions after the
+# start (0.524 s at 60 rad/s), and the distortion is 0.14-0.23 from the first
+# span (raise level 0.1). Bound: that first verdict, 5 revolutions (measured
+# 0.467 s).
+PARTIAL_SPEED = 60.0
+PARTIAL_MAX_DELAY_S = 5 * 2 * math.pi / PARTIAL_SPEED
+# (c) The motor-driven run-up, config/machine_runup.yaml, written on main with
+# the drive model (drive_torque and friction_torque filled in). To enable after
+# the merge: set MACHINE_RUNUP_ENABLED = True, run this test, and set the bound
+# to the measured delay's stated reason (the test logs the delay and which
+# channels raised). Until then the bound is the paper's: the same rotor and
+# stator touching on a run-up.
+MACHINE_RUNUP_ENABLED = False
+MACHINE_RUNUP_MAX_DELAY_S = PAPER_MAX_DELAY_S
+
+
+def scene_file(name, base="paper_runup.yaml", **keys):
+    """A scene: base with keys replaced (or appended)."""
+    with open(os.path.join(CONFIG, base)) as f:
+        text = f.read()
+    for k, v in keys.items():
+        line = "%s: %s" % (k, v)
+        text, n = re.subn(r"(?m)^%s:.*$" % k, line, text)
+        if n == 0:
+            text += "\n" + line + "\n"
+    path = temp_prefix(name) + ".yaml"
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def end_time(scene):
+    with open(scene) as f:
+        return float(re.search(r"(?m)^end_time_s:\s*(\S+)", f.read()).group(1))
+
+
+class Run(object):
+    """One monitored run: the monitor's last verdict, every alarm heard, and the
+    ground truth from the recorded contact events."""
+
+    def __init__(self, scene, *args):
+        self.scene = scene
+        self.bag = temp_prefix("monitored") + ".bag"
+        alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
+        try:
+            subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
+                            "controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
+                            "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
+                           check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600)
+            end = end_time(scene)
+            # The alarm is latched: whenever this subscriber connected, it holds
+            # the monitor's last verdict, which carries its first alarm's delay.
+            self.alarms = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= end - 0.1,
+                                          "the monitor's last verdict")
+        finally:
+            alarms.sub.unregister()
+        self.last = self.alarms[-1]
+        with rosbag.Bag(self.bag) as b:
+            events = [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/contact_events"])]
+        touches = [e.time for e in events if e.kind in (ContactEvent.TOUCHDOWN, ContactEvent.GRAZE)]
+        self.first_contact_s = touches[0] if touches else float("nan")
+        raised = [a for a in self.alarms if a.rubbing]
+        self.first_reasons = raised[0].reasons if raised else ""
+
+
+def replay(scene, prefix):
+    """The detector offline on the headless runner's outputs of the same scene
+    (the same seeded probe noise as the node's)."""
+    subprocess.run([find_binary("rotor_rub_run"), "--scene", scene, "--set", "probe_rate_hz=%g" % PROBE_RATE_HZ,
+                    "--set", "probe_noise_V=%g" % PROBE_NOISE_V, "--csv", prefix + ".csv",
+                    "--probes", prefix + ".p.csv", "--keyphasor", prefix + ".k.csv", "--summary", prefix + ".json",
+                    "--quiet"], check=True)
+    with open(prefix + ".json") as f:
+        summary = json.load(f)
+    det, _ = machine_rub_detector.replay(summary, prefix + ".p.csv", prefix + ".k.csv", prefix + ".csv")
+    return summary, det
+
+
+class RubMonitor(unittest.TestCase):
+    def check_detects(self, name, scene, bound_s, reason):
+        run = Run(scene)
+        delay = run.last.detection_delay
+        rospy.loginfo("%s: first contact %.4f s, first alarm %.4f s (%s), detection delay %.4f s (bound %.4f s)",
+                      name, run.first_contact_s, run.first_contact_s + delay, run.first_reasons, delay, bound_s)
+        self.assertTrue(math.isfinite(run.first_contact_s), "%s: no contact in the run" % name)
+        self.assertTrue(math.isfinite(delay), "%s: no alarm, or no contact event heard" % name)
+        self.assertGreaterEqual(delay, 0.0, "%s: alarm before the first contact" % name)
+        self.assertLessEqual(delay, bound_s, name)
+        if reason:
+            self.assertIn(reason, run.first_reasons.split(","), name)
+        # No alarm message raised before the first contact.
+        early = [a for a in run.alarms if a.rubbing and a.raised_at < run.first_contact_s]
+        self.assertEqual(early, [], name)
+        return run
+
+    def check_silent(self, name, scene):
+        run = Run(scene)
+        self.assertTrue(math.isnan(run.first_contact_s), "%s: the control scene touched" % name)
+        self.assertEqual([a for a in run.alarms if a.rubbing], [], name)
+        self.assertFalse(run.last.rubbing)
+        self.assertTrue(math.isnan(run.last.raised_at))
+        return run
+
+    def test_a_paper_runup(self):
+        scene = os.path.join(CONFIG, "paper_runup.yaml")
+        run = self.check_detects("(a) paper run-up", scene, PAPER_MAX_DELAY_S, "orbit_at_clearance")
+        # The live monitor and the detector replayed on the runner's CSVs agree
+        # on the first alarm to the rounding of the stamps.
+        summary, det = replay(scene, temp_prefix("paper"))
+        self.assertAlmostEqual(summary["first_contact_s"], run.first_contact_s, delta=1e-9)
+        self.assertAlmostEqual(det.first_raised_at - summary["first_contact_s"], run.last.detection_delay, delta=1e-9)
+        # The per-revolution figures: every keyphasor mark up to the verdict's
+        # stamp judged (89 revolutions in the run), forward whirl at the end.
+        with rosbag.Bag(run.bag) as b:
+            marks = [m.time for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/keyphasor"])]
+        self.assertEqual(run.last.revolution, sum(1 for t in marks if t <= run.last.header.stamp.to_sec()))
+        self.assertGreater(run.last.revolution, 80)
+        self.assertEqual(run.last.whirl_direction, 1)
+        self.assertGreater(run.last.forward_1x, 0.0)
+
+    def test_a_control_no_contact(self):
+        # The same run-up in a bore of 6 mm: the orbit peaks at 4.3 mm, no contact.
+        self.check_silent("(a0) paper run-up, 6 mm clearance", scene_file("wide", clearance_m="6.0e-3"))
+
+    def partial(self, **extra):
+        return scene_file("partial", initial_speed_rad_per_s=PARTIAL_SPEED, target_speed_rad_per_s=PARTIAL_SPEED,
+                          end_time_s="2.0", **extra)
+
+    def test_b_partial_rub(self):
+        scene = self.partial(stator_offset_x_m="1.6e-3")
+        run = self.check_detects("(b) partial rub", scene, PARTIAL_MAX_DELAY_S, "orbit_distorted")
+        self.assertLess(max(a.orbit_ratio for a in run.alarms), 0.6)  # never near the designed clearance
+        summary, det = replay(scene, temp_prefix("partial"))
+        self.assertAlmostEqual(det.first_raised_at - summary["first_contact_s"], run.last.detection_delay, delta=1e-9)
+
+    def test_b_control_no_offset(self):
+        # The same start at 60 rad/s in a centred casing: the start's free whirl
+        # takes the orbit to 1.06 mm, no contact, no alarm.
+        self.check_silent("(b0) 60 rad/s, centred casing", self.partial())
+
+    @unittest.skipUnless(MACHINE_RUNUP_ENABLED, "config/machine_runup.yaml is main's (the drive model): enable with "
+                         "MACHINE_RUNUP_ENABLED after merging")
+    def test_c_machine_runup(self):
+        scene = os.path.join(CONFIG, "machine_runup.yaml")
+        self.assertTrue(os.path.exists(scene), scene)
+        run = self.check_detects("(c) motor-driven run-up", scene, MACHINE_RUNUP_MAX_DELAY_S, None)
+        with rosbag.Bag(run.bag) as b:
+            torques = [m.drive_torque for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/state"])]
+        self.assertTrue(any(q != 0.0 for q in torques), "the state's drive_torque is 0 throughout")
+        rospy.loginfo("(c): channels raised over the run: %s",
+                      sorted({r for a in run.alarms for r in a.reasons.split(",") if r}))
+
+    def test_probes_off_fail_loudly(self):
+        p = subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
+                            "controller:=false", "probe_rate_hz:=0"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           text=True, timeout=120)
+        self.assertEqual(p.returncode, 2, p.stdout[-2000:])
+        self.assertIn("probes are disabled: probe_rate_hz = 0 (from /rotor_rub_sim/rotor_rub_sim/probe_rate_hz)",
+                      p.stdout)
+
+    def test_design_data_on_the_monitor_is_an_error(self):
+        # A clearance of the monitor's own would be a second copy that can
+        # disagree with the simulator's: refused before anything else.
+        p = subprocess.run([find_binary("rub_monitor.py"), "__ns:=/no_simulator", "_clearance_m:=0.001"],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+        self.assertEqual(p.returncode, 2, p.stdout[-2000:])
+        self.assertIn("~clearance_m is set on the monitor", p.stdout)
+        # No simulator in its namespace (the first call left its ~clearance_m on the master): said so, status 2.
+        p = subprocess.run([find_binary("rub_monitor.py"), "__ns:=/no_simulator_2"], stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True, timeout=60)
+        self.assertEqual(p.returncode, 2, p.stdout[-2000:])
+        self.assertIn("no parameters under /no_simulator_2/rotor_rub_sim", p.stdout)
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_rub_monitor")
+    rostest.rosrun("rotor_rub_sim", "rub_monitor", RubMonitor, sys.argv)
