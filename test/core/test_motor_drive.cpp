@@ -274,6 +274,29 @@ TEST(MotorDrive, MethodsAgreeOnTheMachineScene) {
   EXPECT_NEAR(sw.back().drive.speed_rad_per_s, 280.0, 1e-3);
 }
 
+TEST(MotorDrive, SpeedCommandsMoveTheReferenceTheMotorFollows) {
+  // A command mid-run (as the node's speed_command) restarts every method
+  // from its own state, spin included, and the PI loop takes the new
+  // reference: down from the run-up to 50 rad/s, and back up to 120.
+  for (const auto method : {core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty}) {
+    core::Scene s = core::load_scene(test::source_path("config/machine_runup.yaml"));
+    s.solver.method = method;
+    s.end_time_s = 6.0;
+    core::Simulation sim(s);
+    test::Collect out;
+    ASSERT_TRUE(sim.advance_to(1.5, out));  // 105 rad/s, rubbing
+    const double before = out.samples.back().drive.speed_rad_per_s;
+    sim.command_speed(50.0, 100.0);
+    ASSERT_TRUE(sim.advance_to(1.5 + 1e-3, out));
+    EXPECT_NEAR(out.samples.back().drive.speed_rad_per_s, before, 0.5);  // continuous: no jump at the command
+    ASSERT_TRUE(sim.advance_to(3.0, out));
+    EXPECT_NEAR(out.samples.back().drive.speed_rad_per_s, 50.0, 1e-3) << core::to_string(method);
+    sim.command_speed(120.0, 100.0);
+    ASSERT_TRUE(sim.advance_to(6.0, out)) << sim.failure()->message;
+    EXPECT_NEAR(out.samples.back().drive.speed_rad_per_s, 120.0, 1e-3) << core::to_string(method);
+  }
+}
+
 TEST(MotorDrive, KeyphasorMarksTheIntegratedSpinAngle) {
   core::Scene s = core::load_scene(test::source_path("config/machine_runup.yaml"));
   s.end_time_s = 3.0;
