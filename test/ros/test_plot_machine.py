@@ -38,22 +38,21 @@ class PlotMachine(unittest.TestCase):
             self.assertGreater(os.path.getsize(path), 10000, name)
 
     def test_runner_csvs_without_torque_columns(self):
+        # A CSV written before the drive model (no drive_torque, friction_torque): speed only.
+        src, dst = self.p + ".csv", temp_prefix("old") + ".csv"
+        with open(src) as f, open(dst, "w") as g:
+            rows = list(csv.reader(f))
+            self.assertEqual(rows[0][-2:], ["drive_torque", "friction_torque"])
+            csv.writer(g).writerows(row[:-2] for row in rows)
         out = temp_prefix("pictures")
-        r = self.plot(out, None, "--summary", self.p + ".json")
+        r = self.plot(out, dst, "--summary", self.p + ".json")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.check_pictures(out)
         self.assertIn("drive (speed only), probes, orbit, bode", r.stdout)
 
     def test_torque_columns_are_drawn_when_present(self):
-        # RUN.csv as the runner with the drive model writes it: two more columns at the end.
-        src, dst = self.p + ".csv", temp_prefix("torque") + ".csv"
-        with open(src) as f, open(dst, "w") as g:
-            rows = list(csv.reader(f))
-            w = csv.writer(g)
-            w.writerow(rows[0] + ["drive_torque", "friction_torque"])
-            for row in rows[1:]:
-                ft = 0.01 * float(row[rows[0].index("friction_force")])
-                w.writerow(row + [0.02 - ft, ft])
+        # RUN.csv as the runner writes it, with the drive's torques.
+        dst = self.p + ".csv"
         out = temp_prefix("pictures_torque")
         r = self.plot(out, dst, "--probe-x-angle-rad", "0.785398163397448", "--probe-y-angle-rad",
                       "2.35619449019234", "--probe-sensitivity", "7874")

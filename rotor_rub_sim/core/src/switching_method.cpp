@@ -172,7 +172,7 @@ class SwitchingMethod final : public ContactMethod {
       // change is not applied, the slip force is).
       ConstrainedDynamics<kStatorDof, kMotor> next = contact_sys_.dynamics;
       next.mode = next_mode_;
-      const auto cn = next.evaluate(x, d);
+      const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
       Sample s = make_sample(model_, t_s, cn.kin, d, cn.normal_force_N, cn.tangential_force_N, true);
       s.sticking = next_mode_.stick;
       return s;

@@ -159,7 +159,8 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 //   v_n+ = -e v_n give P_n = (1 + e) v_n / (W_nn + f s W_nt);
 // * if that would reverse the sliding, the impulse that stops it solves
 //   W_nn P_n - W_nt P_t = (1 + e) v_n, -W_nt P_n + W_tt P_t = -v_slide
-//   (kept when |P_t| <= f P_n, else the sliding one stands).
+//   (kept when |P_t| <= f P_n, else the impulse slides the other way,
+//   P_t = +f s P_n).
 // With W_nt = 0 and W_tt = W_nn = 1/m_eff this is the prescribed drive's law
 // below. W_nn + f s W_nt <= 0 (Painleve's paradox: the friction would pull
 // the bodies together faster than the normal impulse parts them) cannot
@@ -189,6 +190,11 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
       pn = pn_stick;
       pt = pt_stick;
       r.sliding_stopped = true;
+    } else if (w.nn - f * s * w.nt > 0.0) {
+      // Beyond the cone's other edge: the impulse reverses the sliding
+      // (possible only through the coupling W_nt, |v_slide| ~ W_nt v_n / W_nn).
+      pn = (1.0 + e) * vn / (w.nn - f * s * w.nt);
+      pt = f * s * pn;
     }
   }
   r.normal_impulse_N_s = pn;

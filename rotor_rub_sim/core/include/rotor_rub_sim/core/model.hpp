@@ -33,7 +33,7 @@
 //   power balance test checks. The motor: T_m = clamp(J_G A_ref + K_p
 //   (w_ref - w) + K_i z, -T_max, T_max), its integrator z' = (w_ref - w) +
 //   (T_m - T_cmd) / K_p (back-calculation anti-windup: in saturation z
-//   relaxes to (T_max - J_G A_ref - K_p e_w) / K_i instead of winding up),
+//   relaxes to (T_max - J_G A_ref) / K_i instead of winding up),
 //   w_ref, A_ref the speed profile's speed and acceleration.
 // * Gravity: none unless the scene sets gravity_m_per_s2 (acts along -y on
 //   rotor and stator).
