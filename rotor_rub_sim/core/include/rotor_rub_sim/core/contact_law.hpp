@@ -118,7 +118,15 @@ inline double rk4_stable_step_s(const JeffcottModel& m) {
   double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
   // The friction's tangential damper (below) adds the real eigenvalue
   // -c_t / m_eff = -2 omega_c while the contact creeps.
-  if (m.has_friction()) fast = std::max(fast, 2.0);
+  // Under a motor drive the spin shares the tangential impulse: the rate is
+  // c_t W_tt, W_tt <= 1/m_eff + (R_r + e)^2 / J_G (model.hpp).
+  double spin_share = 1.0;
+  if (m.motor()) {
+    const ModelParameters& p = m.parameters();
+    const double lever = p.rotor_radius_m + p.eccentricity_m;
+    spin_share += lever * lever * m.effective_mass_kg() / p.rotor_polar_inertia_kg_m2;
+  }
+  if (m.has_friction()) fast = std::max(fast, 2.0 * spin_share);
   return 2.785 / (fast * omega_c);
 }
 
