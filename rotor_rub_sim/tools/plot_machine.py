@@ -40,6 +40,7 @@ import numpy as np  # noqa: E402
 HERE = os.path.dirname(os.path.realpath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, "..", "examples")]  # installed: one folder; source tree: examples/
 import machine_rub_detector as mrd  # noqa: E402
+from plot_run import contact_spans, shade  # noqa: E402  (one folder: installed and in tools/)
 
 
 def read_columns(path, need, optional=()):
@@ -55,24 +56,6 @@ def read_columns(path, need, optional=()):
     have = [k for k in list(need) + list(optional) if k in header]
     data = np.array([[float(row[header.index(k)]) for k in have] for row in rows]).reshape(-1, len(have))
     return {k: data[:, i] for i, k in enumerate(have)}
-
-
-def contact_spans(t, c):
-    spans, start = [], None
-    for ti, ci in zip(t, c > 0.5):
-        if ci and start is None:
-            start = ti
-        if not ci and start is not None:
-            spans.append((start, ti))
-            start = None
-    if start is not None:
-        spans.append((start, t[-1]))
-    return spans
-
-
-def shade(ax, spans):
-    for a, b in spans:
-        ax.axvspan(a, b, color="0.6", alpha=0.35, lw=0)
 
 
 def design(a, run):
