@@ -10,6 +10,7 @@
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
@@ -546,13 +547,7 @@ class IterationMethod final : public ContactMethod {
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-  if (scene.model.drive_model == DriveModel::kMotor) {
-    if (rigid) return std::make_unique<IterationMethod<0, true>>(scene);
-    return std::make_unique<IterationMethod<2, true>>(scene);
-  }
-  if (rigid) return std::make_unique<IterationMethod<0, false>>(scene);
-  return std::make_unique<IterationMethod<2, false>>(scene);
+  return make_for_scene<IterationMethod>(scene);
 }
 
 }  // namespace rotor_rub::core

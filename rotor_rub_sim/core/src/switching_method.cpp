@@ -10,6 +10,7 @@
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
@@ -442,13 +443,7 @@ class SwitchingMethod final : public ContactMethod {
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-  if (scene.model.drive_model == DriveModel::kMotor) {
-    if (rigid) return std::make_unique<SwitchingMethod<0, true>>(scene);
-    return std::make_unique<SwitchingMethod<2, true>>(scene);
-  }
-  if (rigid) return std::make_unique<SwitchingMethod<0, false>>(scene);
-  return std::make_unique<SwitchingMethod<2, false>>(scene);
+  return make_for_scene<SwitchingMethod>(scene);
 }
 
 }  // namespace rotor_rub::core
