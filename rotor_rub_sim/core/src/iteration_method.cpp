@@ -206,6 +206,8 @@ class IterationMethod final : public ContactMethod {
     if (scene.solver.profile_cost) {
       system_.rhs_time_s = &stats_.rhs_time_s;
       system_.iteration_time_s = &stats_.iteration_time_s;
+      event_time_s_ = &stats_.event_time_s;
+      restart_time_s_ = &stats_.restart_time_s;
     }
   }
 
@@ -217,6 +219,7 @@ class IterationMethod final : public ContactMethod {
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
+    ProfileScope scope(restart_time_s_);
     system_.segment = segment;
     ++stats_.restarts;
     if (pending_.due) {
@@ -236,12 +239,14 @@ class IterationMethod final : public ContactMethod {
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     if (pending_.due) {
       // Deferred from the last step, whose dense output served its samples.
+      ProfileScope scope(restart_time_s_);
       pending_.due = false;
       apply(pending_);
     }
     for (;;) {
       integrator_.do_step(system_, stats_);
       if (system_.engaged) break;
+      ProfileScope scope(event_time_s_);
       // Free step: reject it while it reaches beyond the bore by more than
       // the gap tolerance anywhere (no event location for touchdown in this
       // method: the rejections bisect toward the touch).
@@ -250,6 +255,7 @@ class IterationMethod final : public ContactMethod {
     }
     valid_begin_ = integrator_.t_old();
     valid_end_ = std::min(integrator_.t_new(), t_limit_s);
+    ProfileScope scope(event_time_s_);
     // A friction transition is located even in a step cut short by a drive
     // change: after the restart it would no longer be seen as a crossing.
     if (system_.engaged && locate_friction_transition()) return;
@@ -338,7 +344,7 @@ class IterationMethod final : public ContactMethod {
   }
 
   // The largest penetration of the free step just taken, on its dense
-  // output: at its quarter points and, where the gap's rate falls through
+  // output: at its midpoint and end and, where the gap's rate falls through
   // zero between two of them (a graze inside the step), at the located
   // maximum. The end alone would let a graze inside a step pass through
   // the bore.
@@ -408,8 +414,8 @@ class IterationMethod final : public ContactMethod {
       if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return false;  // the invariant checks decide
       deflated = true;
     }
-    // The quarter points of the step, so that an excursion out of the
-    // regime and back inside one step is not missed.
+    // The midpoint and the end of the step, so that an excursion out of
+    // the regime and back inside one step is not missed.
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const double fi = friction_event(ti);
@@ -527,7 +533,9 @@ class IterationMethod final : public ContactMethod {
     valid_begin_ = valid_end_ = t_s;
   }
 
-  static constexpr int kScanPoints = 4;
+  // The event functions are checked at the step's midpoint and end (see
+  // the switching method's kScanPoints for why two).
+  static constexpr int kScanPoints = 2;
   // As in the switching method: a function is on its surface when its value
   // is what its rate makes in this time.
   static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
@@ -542,6 +550,8 @@ class IterationMethod final : public ContactMethod {
   double valid_begin_ = 0.0, valid_end_ = 0.0;
   Pending pending_;  // a restart (projection, impact, regime) due at pending_.t_s
   RunStats stats_;
+  double* event_time_s_ = nullptr;    // profiling only
+  double* restart_time_s_ = nullptr;  // profiling only
 };
 
 }  // namespace

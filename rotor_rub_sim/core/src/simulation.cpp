@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/iteration_method.hpp"
 #include "rotor_rub_sim/core/penalty_method.hpp"
@@ -193,6 +194,7 @@ bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
         }
       }
       if (method_->step_end() > time_s_) {  // serve the rest of the last step
+        ProfileScope scope(scene_.solver.profile_cost ? &method_->mutable_stats().output_time_s : nullptr);
         deliver_until(std::min(method_->step_end(), target), observer);
         continue;
       }

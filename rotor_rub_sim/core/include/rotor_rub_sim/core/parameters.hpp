@@ -133,7 +133,9 @@ struct SolverSettings {
   // millisecond is chattering, reported as stalled.
   double max_events_per_ms = 200.0;
   // Benchmark only (not a scene key): measure the time spent in derivative
-  // evaluation and force iteration (RunStats::rhs_time_s, iteration_time_s).
+  // evaluation, force iteration, event location, restarts and output
+  // (RunStats::rhs_time_s, iteration_time_s, event_time_s, restart_time_s,
+  // output_time_s).
   bool profile_cost = false;
 };
 
