@@ -17,7 +17,7 @@ namespace {
 
 // A rotor dropped from the centre onto the bore under gravity: no damping,
 // no unbalance, no spin, no friction.
-core::Scene drop_scene(core::Method m, core::StatorModel stator, double restitution) {
+core::Scene drop_scene(const test::Solver& m, core::StatorModel stator, double restitution) {
   core::Scene s = test::with_method(test::paper_scene(), m, 1e-10, 1e-13);
   s.model.stator_model = stator;
   s.model.gravity_m_per_s2 = 20.0;
@@ -64,7 +64,7 @@ constexpr double kSpeedRel = 1e-6;
 
 }  // namespace
 
-class RigidBounce : public ::testing::TestWithParam<core::Method> {};
+class RigidBounce : public ::testing::TestWithParam<test::Solver> {};
 
 TEST_P(RigidBounce, ReboundSequenceAccumulationAndRestForce) {
   const core::Scene s = drop_scene(GetParam(), core::StatorModel::kRigid, 0.5);
@@ -105,9 +105,8 @@ TEST_P(RigidBounce, ReboundSequenceAccumulationAndRestForce) {
   for (const auto& smp : r.out.samples) ASSERT_LE(smp.penetration_m, 1e-11) << smp.t_s;
 }
 
-INSTANTIATE_TEST_SUITE_P(RigidMethods, RigidBounce,
-                         ::testing::Values(core::Method::kSwitching, core::Method::kIteration),
-                         [](const auto& info) { return std::string(core::to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(RigidMethods, RigidBounce, ::testing::ValuesIn(test::rigid_solvers()),
+                         [](const auto& info) { return info.param.name(); });
 
 // The penalty law's rebound ratio equals the scene's e (contact_law.hpp):
 // the first rebound of the drop, within 1 % for e in [0.05, 1]. The
@@ -118,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(RigidMethods, RigidBounce,
 // the ratio of successive closing speeds is the contact's.
 TEST(PenaltyBounce, ReboundRatioIsTheScenesRestitution) {
   for (double e : {0.05, 0.2, 0.5, 0.9, 1.0}) {
-    core::Scene s = drop_scene(core::Method::kPenalty, core::StatorModel::kRigid, e);
+    core::Scene s = drop_scene({core::Method::kPenalty}, core::StatorModel::kRigid, e);
     s.model.contact_stiffness_N_per_m = 1e11;
     s.solver.rtol = 1e-9;
     s.solver.atol = 1e-12;
@@ -138,12 +137,12 @@ TEST(PenaltyBounce, ReboundRatioIsTheScenesRestitution) {
 // is conserved through every impact, rigid and elastic stators. The rigid
 // methods conserve it to their tolerance; the penalty method's contact spring
 // holds energy during contact, so it is compared out of contact only.
-class ElasticImpacts : public ::testing::TestWithParam<std::tuple<core::Method, core::StatorModel>> {};
+class ElasticImpacts : public ::testing::TestWithParam<std::tuple<test::Solver, core::StatorModel>> {};
 
 TEST_P(ElasticImpacts, EnergyIsConserved) {
   const auto [method, stator] = GetParam();
   core::Scene s = drop_scene(method, stator, 1.0);
-  if (method == core::Method::kPenalty) {
+  if (method.method == core::Method::kPenalty) {
     s.solver.rtol = 1e-9;
     s.solver.atol = 1e-12;
   }
@@ -169,7 +168,7 @@ TEST_P(ElasticImpacts, EnergyIsConserved) {
   const double scale = 0.5 * p.rotor_mass_kg * cf.v0 * cf.v0;  // the first impact's kinetic energy
   // Rigid methods at rtol 1e-10: 1e-6 of the impact energy over ~10 impacts;
   // penalty at k_c 1e9 with rtol 1e-9: the contact's own energy error.
-  const double tol = method == core::Method::kPenalty ? 1e-4 : 1e-6;
+  const double tol = method.method == core::Method::kPenalty ? 1e-4 : 1e-6;
   long checked = 0, impacts = r.result.stats.grazes + r.result.stats.touchdowns;
   for (const auto& smp : r.out.samples) {
     if (smp.penetration_m > 0.0) continue;
@@ -181,12 +180,10 @@ TEST_P(ElasticImpacts, EnergyIsConserved) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, ElasticImpacts,
-                         ::testing::Combine(::testing::Values(core::Method::kSwitching, core::Method::kIteration,
-                                                              core::Method::kPenalty),
+                         ::testing::Combine(::testing::ValuesIn(test::all_solvers()),
                                             ::testing::Values(core::StatorModel::kRigid, core::StatorModel::kElastic)),
                          [](const auto& info) {
-                           return std::string(core::to_string(std::get<0>(info.param))) + "_" +
-                                  core::to_string(std::get<1>(info.param));
+                           return std::get<0>(info.param).name() + "_" + core::to_string(std::get<1>(info.param));
                          });
 
 // A free stator (no support): the contact forces are internal, so the total
@@ -197,7 +194,7 @@ INSTANTIATE_TEST_SUITE_P(AllMethods, ElasticImpacts,
 // trapezoid on 200 kHz samples: its error T h^2 k_r |r_r''| / 12 is below
 // 0.2 s x 2.5e-11 s^2 x 2493 N/m x 1e3 m/s^2 / 12 = 1e-8 N s; the momentum is
 // ~0.4 kg x 0.3 m/s, so 1e-7 N s is 1e-6 of it.
-class FreeStator : public ::testing::TestWithParam<core::Method> {};
+class FreeStator : public ::testing::TestWithParam<test::Solver> {};
 
 TEST_P(FreeStator, ContactImpulsesCancel) {
   core::Scene s = test::with_method(test::paper_scene(), GetParam(), 1e-9, 1e-12);
@@ -233,9 +230,8 @@ TEST_P(FreeStator, ContactImpulsesCancel) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllMethods, FreeStator,
-                         ::testing::Values(core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty),
-                         [](const auto& info) { return std::string(core::to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(AllMethods, FreeStator, ::testing::ValuesIn(test::all_solvers()),
+                         [](const auto& info) { return info.param.name(); });
 
 // The violent dry-whirl scenes: constant speed far above the critical speed
 // with high friction. The rigid methods end ok (the run checks the cone and
@@ -332,7 +328,7 @@ INSTANTIATE_TEST_SUITE_P(ViolentScenes, DryWhirl,
 // The trajectory never depends on the output rate: the 1 kHz samples are the
 // same doubles as every 4th of 4 kHz and every 20th of 20 kHz (t_k = k / rate
 // is the same double for all three), for every method.
-class OutputRate : public ::testing::TestWithParam<core::Method> {};
+class OutputRate : public ::testing::TestWithParam<test::Solver> {};
 
 TEST_P(OutputRate, IdenticalDoublesAtEveryRate) {
   std::vector<core::Sample> at[3];
@@ -358,9 +354,8 @@ TEST_P(OutputRate, IdenticalDoublesAtEveryRate) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllMethods, OutputRate,
-                         ::testing::Values(core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty),
-                         [](const auto& info) { return std::string(core::to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(AllMethods, OutputRate, ::testing::ValuesIn(test::all_solvers()),
+                         [](const auto& info) { return info.param.name(); });
 
 // A missed event is loud: a switching run whose event scan is defeated
 // (a settle speed so high that impacts settle while the constraint force is
@@ -414,7 +409,7 @@ TEST(IterationFreeFlight, GrazeInsideAStepIsNotMissed) {
 // At 600 rad/s, friction 0.3 the rotor rolls with F_n ~ 5.1 kN (cone ~1.5 kN);
 // a command to decelerate at 1e6 rad/s^2 adds m_r A R_r ~ 4.2 kN to the stick
 // force.
-class DriveChange : public ::testing::TestWithParam<core::Method> {};
+class DriveChange : public ::testing::TestWithParam<test::Solver> {};
 
 TEST_P(DriveChange, StickForceJumpingOutOfTheConeBreaksAway) {
   core::Scene s = test::with_method(test::paper_scene(), GetParam(), 1e-6, 1e-9);
@@ -437,6 +432,5 @@ TEST_P(DriveChange, StickForceJumpingOutOfTheConeBreaksAway) {
   EXPECT_FALSE(after->sticking) << after->t_s;
 }
 
-INSTANTIATE_TEST_SUITE_P(RigidMethods, DriveChange,
-                         ::testing::Values(core::Method::kSwitching, core::Method::kIteration),
-                         [](const auto& info) { return std::string(core::to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(RigidMethods, DriveChange, ::testing::ValuesIn(test::rigid_solvers()),
+                         [](const auto& info) { return info.param.name(); });

@@ -18,7 +18,7 @@ constexpr double kRelativeTolerance = 1e-5;
 
 // No contact (clearance 1 m), constant speed: the closed-form Jeffcott
 // synchronous response x + i y = m e w^2 / (k - m w^2 + i b w) e^{i w t}.
-class FreeResponse : public testing::TestWithParam<std::tuple<core::Method, core::StatorModel, double>> {};
+class FreeResponse : public testing::TestWithParam<std::tuple<test::Solver, core::StatorModel, double>> {};
 
 TEST_P(FreeResponse, MatchesClosedFormAmplitudeAndPhase) {
   const auto [method, stator, w] = GetParam();
@@ -47,7 +47,6 @@ TEST_P(FreeResponse, MatchesClosedFormAmplitudeAndPhase) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, FreeResponse,
-                         testing::Combine(testing::Values(core::Method::kPenalty, core::Method::kSwitching,
-                                                          core::Method::kIteration),
+                         testing::Combine(testing::ValuesIn(test::all_solvers()),
                                           testing::Values(core::StatorModel::kElastic, core::StatorModel::kRigid),
                                           testing::Values(40.0, 77.2, 150.0)));

@@ -85,6 +85,19 @@ TEST(SceneKeys, CrossKeyRules) {
   EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "switching"}}).find("with method 'penalty' only"),
             std::string::npos);
   EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "penalty"}}), "");
+  EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "iteration"}})
+                .find("accepted for method 'iteration': dopri5"),
+            std::string::npos);
+  // The high-order integrator is the switching method's (the penalty contact
+  // is stiff; the iteration method let a graze through with it).
+  EXPECT_NE(error_of({{"integrator", "rkf78"}, {"method", "penalty"}})
+                .find("'rkf78' is accepted with method 'switching' only; accepted for method 'penalty': "
+                      "dopri5, rosenbrock4, rk4"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of({{"integrator", "rkf78"}, {"method", "iteration"}}).find("accepted for method 'iteration': dopri5"),
+      std::string::npos);
+  EXPECT_EQ(error_of({{"integrator", "rkf78"}, {"method", "switching"}}), "");
   EXPECT_NE(error_of({{"target_speed_rad_per_s", "3000"}}).find("max_speed_rad_per_s"), std::string::npos);
 }
 

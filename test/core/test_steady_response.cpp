@@ -31,7 +31,8 @@ struct Case {
 
 // Runs up at the paper's 70 rad/s^2 to the speed, holds it, and returns the
 // samples of the last 2 s.
-std::vector<core::Sample> hold(const Case& c, core::Method method, double hold_s = 8.0) {
+std::vector<core::Sample> hold(const Case& c, const test::Solver& solver, double hold_s = 8.0) {
+  const core::Method method = solver.method;
   core::Scene s = test::paper_scene();
   s.model.stator_model = c.stator;
   s.model.friction_coefficient = c.friction;
@@ -40,6 +41,7 @@ std::vector<core::Sample> hold(const Case& c, core::Method method, double hold_s
   s.end_time_s = c.speed_rad_per_s / s.speed.acceleration_rad_per_s2 + hold_s;
   s.output_rate_hz = 500.0;
   s.solver.method = method;
+  s.solver.integrator = solver.integrator;
   s.solver.rtol = method == core::Method::kPenalty ? 1e-8 : 1e-9;
   s.solver.atol = s.solver.rtol * 1e-3;
   const test::Run r = test::run(s);
@@ -72,10 +74,11 @@ TEST(SteadyResponse, SynchronousFullRubMatchesTheClosedFormInEveryMethod) {
     // The run-up lands on the branch with the larger normal force (the other
     // one is the unstable middle branch of the jump).
     const core::FullRub& fr = branch.front();
-    for (const auto method : {core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty}) {
+    for (const auto& solver : test::all_solvers()) {
+      const core::Method method = solver.method;
       // Penalty costs ~0.3 s per simulated second here: one case is enough.
       if (method == core::Method::kPenalty && &c != &cases[0]) continue;
-      const auto tail = hold(c, method);
+      const auto tail = hold(c, solver);
       ASSERT_FALSE(tail.empty());
       const double tol_m =
           method == core::Method::kPenalty
@@ -83,12 +86,11 @@ TEST(SteadyResponse, SynchronousFullRubMatchesTheClosedFormInEveryMethod) {
               : kRigidOrbitTol_m;
       const double tol_rel = method == core::Method::kPenalty ? kPenaltyForceRelTol : kRigidForceRelTol;
       for (const auto& s : tail) {
-        ASSERT_TRUE(s.in_contact) << c.name << " " << core::to_string(method) << " t " << s.t_s;
+        ASSERT_TRUE(s.in_contact) << c.name << " " << solver.name() << " t " << s.t_s;
         EXPECT_FALSE(s.sticking);  // it slides forward at w (C + R_r)
-        EXPECT_NEAR(s.kin.rotor_pos.norm(), std::abs(fr.rotor_m), tol_m) << c.name << " " << core::to_string(method);
-        EXPECT_NEAR(s.kin.stator_pos.norm(), std::abs(fr.stator_m), tol_m) << c.name << " " << core::to_string(method);
-        EXPECT_NEAR(s.normal_force_N, fr.normal_force_N, tol_rel * fr.normal_force_N)
-            << c.name << " " << core::to_string(method);
+        EXPECT_NEAR(s.kin.rotor_pos.norm(), std::abs(fr.rotor_m), tol_m) << c.name << " " << solver.name();
+        EXPECT_NEAR(s.kin.stator_pos.norm(), std::abs(fr.stator_m), tol_m) << c.name << " " << solver.name();
+        EXPECT_NEAR(s.normal_force_N, fr.normal_force_N, tol_rel * fr.normal_force_N) << c.name << " " << solver.name();
         // Synchronous: the rotor's phase behind the unbalance is the closed form's.
         const double phase = std::atan2(s.kin.rotor_pos.y(), s.kin.rotor_pos.x()) - s.drive.angle_rad;
         EXPECT_NEAR(std::remainder(phase - std::arg(fr.rotor_m), 2 * M_PI), 0.0, 1e-5) << c.name;
@@ -106,9 +108,9 @@ TEST(SteadyResponse, NoBranchNoSustainedContact) {
   };
   for (const auto& c : cases) {
     ASSERT_TRUE(core::synchronous_full_rub(model_of(c), c.speed_rad_per_s).empty()) << c.name;
-    for (const auto method : {core::Method::kSwitching, core::Method::kIteration}) {
-      const auto tail = hold(c, method);
-      for (const auto& s : tail) ASSERT_FALSE(s.in_contact) << c.name << " " << core::to_string(method);
+    for (const auto& solver : test::rigid_solvers()) {
+      const auto tail = hold(c, solver);
+      for (const auto& s : tail) ASSERT_FALSE(s.in_contact) << c.name << " " << solver.name();
       // ... and runs on the unbalance response.
       const double z = std::abs(core::unbalance_response_m(model_of(c), c.speed_rad_per_s));
       EXPECT_NEAR(tail.back().kin.rotor_pos.norm(), z, 1e-6) << c.name;
@@ -128,7 +130,8 @@ constexpr double kSweepLag_rad_per_s = 0.1;
 
 TEST(SteadyResponse, RubOnsetOnASlowRunUp) {
   for (const double g : {0.0, 9.81}) {
-    for (const auto method : {core::Method::kSwitching, core::Method::kIteration}) {
+    for (const auto& solver : test::rigid_solvers()) {
+      const core::Method method = solver.method;
       core::Scene s = test::paper_scene();
       s.model.gravity_m_per_s2 = g;
       const double onset = core::rub_onset_speed_rad_per_s(s.model);
@@ -137,10 +140,12 @@ TEST(SteadyResponse, RubOnsetOnASlowRunUp) {
       s.speed.target_speed_rad_per_s = onset + 5.0;
       s.end_time_s = s.speed.target_speed_rad_per_s / 0.5;
       s.solver.method = method;
+      s.solver.integrator = solver.integrator;
       s.solver.rtol = 1e-8;
       s.solver.atol = 1e-11;
       const test::Run r = test::run(s);
-      ASSERT_FALSE(r.result.failure.has_value()) << "g " << g << " " << r.result.failure->message;
+      ASSERT_FALSE(r.result.failure.has_value())
+          << "g " << g << " " << solver.name() << " " << r.result.failure->message;
       // Released at the centre under gravity, the rotor drops onto the
       // stator once (a graze at 0.025 s) and then settles on its sag; the
       // onset is the first contact after that transient (decayed by 1e-6
@@ -154,8 +159,8 @@ TEST(SteadyResponse, RubOnsetOnASlowRunUp) {
       }
       ASSERT_TRUE(std::isfinite(t_contact)) << "g " << g;
       const double w_contact = t_contact * 0.5;
-      EXPECT_GT(w_contact, onset) << "g " << g << " " << core::to_string(method);
-      EXPECT_LT(w_contact, onset + kSweepLag_rad_per_s) << "g " << g << " " << core::to_string(method);
+      EXPECT_GT(w_contact, onset) << "g " << g << " " << solver.name();
+      EXPECT_LT(w_contact, onset + kSweepLag_rad_per_s) << "g " << g << " " << solver.name();
     }
   }
   // The paper rotor without gravity: 70.643 rad/s (0.915 of the critical speed).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"

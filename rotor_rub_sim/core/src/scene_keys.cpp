@@ -178,9 +178,11 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(choice<Method, 3>("method", kMethodNames,
                                   "contact method: penalty (I), switching (II), iteration (III)",
                                   [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(choice<Integrator, 3>("integrator", kIntegratorNames,
-                                      "time integrator; rosenbrock4 (stiff) and rk4 (fixed step) for penalty only",
-                                      [](Scene& s) -> Integrator& { return s.solver.integrator; }));
+    t.push_back(choice<Integrator, 4>(
+        "integrator", kIntegratorNames,
+        "time integrator; rosenbrock4 (stiff) and rk4 (fixed step) for penalty only, rkf78 (high order, for "
+        "tight tolerances) for switching only",
+        [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
     t.push_back(real("atol", 1e-16, false, 1.0, "absolute error tolerance per step [m, m/s]",
@@ -297,11 +299,24 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
 }
 
 void validate_scene(const Scene& s) {
-  if (s.solver.integrator != Integrator::kDopri5 && s.solver.method != Method::kPenalty) {
-    // The rigid methods locate events and iterate on dopri5's dense output.
+  // The rigid methods locate events on a dense output: dopri5's own, or
+  // rkf78's Hermite one (switching only: under the iteration method rkf78
+  // let a slow graze with gravity pass 2.3e-9 m beyond the bore at atol
+  // 1e-11, test_steady_response, so it is not offered there until that is
+  // understood); the stiff and fixed-step integrators are for the penalty
+  // method.
+  const bool accepted_here = s.solver.method == Method::kPenalty     ? s.solver.integrator != Integrator::kRkf78
+                             : s.solver.method == Method::kSwitching ? s.solver.integrator == Integrator::kDopri5 ||
+                                                                           s.solver.integrator == Integrator::kRkf78
+                                                                     : s.solver.integrator == Integrator::kDopri5;
+  if (!accepted_here) {
+    const char* accepted = s.solver.method == Method::kPenalty     ? "dopri5, rosenbrock4, rk4"
+                           : s.solver.method == Method::kSwitching ? "dopri5, rkf78"
+                                                                   : "dopri5";
+    const char* only = s.solver.integrator == Integrator::kRkf78 ? "method 'switching'" : "method 'penalty'";
     throw SceneError("scene key 'integrator': value '" + std::string(to_string(s.solver.integrator)) +
-                     "' is accepted with method 'penalty' only; accepted for method '" +
-                     std::string(to_string(s.solver.method)) + "': dopri5");
+                     "' is accepted with " + only + " only; accepted for method '" +
+                     std::string(to_string(s.solver.method)) + "': " + accepted);
   }
   if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
     const double h_max = rk4_stable_step_s(JeffcottModel(s.model));

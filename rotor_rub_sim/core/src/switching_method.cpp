@@ -3,12 +3,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
+#include "rotor_rub_sim/core/dense_rkf78.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -70,11 +72,15 @@ struct EventValues {
   std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
 };
 
-template <int kStatorDof, bool kMotor>
+// kHighOrder: Runge-Kutta-Fehlberg 7(8) with Hermite dense output
+// (integrator rkf78), else Dormand-Prince 5(4) (dopri5).
+template <int kStatorDof, bool kMotor, bool kHighOrder>
 class SwitchingMethod final : public ContactMethod {
  public:
   using FL = FreeLayout<kStatorDof, kMotor>;
   using CL = ContactLayout<kStatorDof, kMotor>;
+  template <class L>
+  using Integrator = std::conditional_t<kHighOrder, DenseRkf78<L>, DenseDopri5<typename L::State>>;
 
   explicit SwitchingMethod(const Scene& scene)
       : model_(scene.model),
@@ -448,8 +454,8 @@ class SwitchingMethod final : public ContactMethod {
   JeffcottModel model_;
   FreeFlightSystem<kStatorDof, kMotor> free_sys_;
   ContactSystem<kStatorDof, kMotor> contact_sys_;
-  DenseDopri5<typename FL::State> free_int_;
-  DenseDopri5<typename CL::State> contact_int_;
+  Integrator<FL> free_int_;
+  Integrator<CL> contact_int_;
   double initial_step_s_;
   double penetration_tolerance_m_;
   ChatterGuard guard_;
@@ -473,10 +479,16 @@ class SwitchingMethod final : public ContactMethod {
   bool end_sample_valid_ = false;
 };
 
+template <int kStatorDof, bool kMotor>
+using SwitchingDopri5 = SwitchingMethod<kStatorDof, kMotor, false>;
+template <int kStatorDof, bool kMotor>
+using SwitchingRkf78 = SwitchingMethod<kStatorDof, kMotor, true>;
+
 }  // namespace
 
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  return make_for_scene<SwitchingMethod>(scene);
+  if (scene.solver.integrator == Integrator::kRkf78) return make_for_scene<SwitchingRkf78>(scene);
+  return make_for_scene<SwitchingDopri5>(scene);
 }
 
 }  // namespace rotor_rub::core
