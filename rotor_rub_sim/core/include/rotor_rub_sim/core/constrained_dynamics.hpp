@@ -61,9 +61,15 @@ struct ConstrainedDynamics {
   };
 
   Kinematics kinematics(const State& x) const {
-    const double c = model->parameters().clearance_m;
-    const double psi = x[L::kAngle], rate = x[L::kAngleRate];
+    const double psi = x[L::kAngle];
     const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
+    return kinematics(x, n, t);
+  }
+
+  // The same, given n and t of the state's psi.
+  Kinematics kinematics(const State& x, const Vec2& n, const Vec2& t) const {
+    const double c = model->parameters().clearance_m;
+    const double rate = x[L::kAngleRate];
     Kinematics k;
     if constexpr (kStatorDof == 2) {
       k.stator_pos = x.template segment<2>(L::kStatorPos);
@@ -109,11 +115,19 @@ struct ConstrainedDynamics {
     } else {
       const DriveState& d = reference;
       Result r;
-      r.kin = kinematics(x);
-      r.drive = d;
       const double c = model->parameters().clearance_m;
-      const double rate = x[L::kAngleRate];
-      const ContactGeometry g = model->contact_geometry(r.kin, d);
+      const double psi = x[L::kAngle], rate = x[L::kAngleRate];
+      // On the bore by construction: the contact frame is psi's (no square
+      // root or division to find it again from the positions).
+      ContactGeometry g;
+      g.normal = Vec2(std::cos(psi), std::sin(psi));
+      g.tangent = Vec2(-g.normal.y(), g.normal.x());
+      g.distance_m = c;
+      g.penetration_m = 0.0;
+      g.normal_velocity_m_per_s = 0.0;
+      g.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * model->parameters().rotor_radius_m;
+      r.kin = kinematics(x, g.normal, g.tangent);
+      r.drive = d;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
       const Vec2 fr = model->rotor_free_force(r.kin, d);
       const Vec2 fs = model->stator_free_force(r.kin);
