@@ -44,6 +44,13 @@ if [ "$MODE" != plot ]; then
     "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/parameter_study.yaml" --repeats 1 \
       "${REF[@]}" --out "$DATA/parameter_study.csv"
   fi
+  # The benchmark, for CVODE's curves on the work-precision chart (the same
+  # model on SUNDIALS CVODE beside ours, timed in one run).
+  if [ "$MODE" = quick ]; then
+    "$BIN/rotor_rub_bench" --scene "$SCENE" --quick --repeats 1 --methods switching,cvode --csv "$DATA/bench.csv"
+  else
+    "$BIN/rotor_rub_bench" --scene "$SCENE" --repeats 7 --csv "$DATA/bench.csv" | tee "$ROOT/docs/bench_paper_runup.txt"
+  fi
   # Table 2: one run at a time so that the shares and times are not disturbed.
   "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \
     --profile "${REF[@]}" "${EXTRA[@]}" --out "$DATA/paper_table2.csv" --no-progress

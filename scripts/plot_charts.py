@@ -5,6 +5,7 @@ traces, without running anything (scripts/make_charts.sh runs the sweeps).
 usage: plot_charts.py --data DIR --traces DIR --out DIR --stamp TEXT
 
   DIR/work_precision.csv, paper_table2.csv, parameter_study.csv  (rotor_rub_sweep)
+  DIR/bench.csv, when there (rotor_rub_bench --csv): CVODE's curves on the work-precision chart
   TRACES/<name>.csv and <name>.json for reference, switching, iteration, penalty (rotor_rub_run)
 Writes work_precision.png, contact_force.png, trajectories.png, parameter_study.png
 and table2.md into OUT. Every chart carries the stamp (scene, cores, date, command).
@@ -21,7 +22,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black"}
+METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black",
+                  "cvode": "tab:purple"}
 BAD_WINDOW_COLOUR = "magenta"  # not a method's colour
 FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invariant_violated": "^",
                 "invalid": "P",
@@ -54,17 +56,22 @@ def curve_key(r):
 
 
 # ---- work-precision -------------------------------------------------------
-def work_precision(rows, out, text):
+def work_precision(rows, out, text, bench_rows=()):
     fig, axes = plt.subplots(1, 2, figsize=(16, 5.8))
     curves = {}
     for r in rows:
         curves.setdefault(curve_key(r), []).append(r)
+    # The same model on SUNDIALS CVODE, from rotor_rub_bench --csv (timed
+    # without output; ours with samples at the scene's 1 kHz).
+    for r in bench_rows:
+        if r["method"] == "cvode":
+            curves.setdefault("CVODE %s (switching's model; rotor_rub_bench)" % r["integrator"], []).append(r)
     styles = ["-", "--", ":", "-."]
     for i, (label, rs) in enumerate(sorted(curves.items())):
         rs.sort(key=lambda r: -fnum(r, "rtol"))
         colour = METHOD_COLOURS.get(rs[0]["method"], "grey")
-        ls = styles[i % len(styles)] if rs[0]["method"] == "penalty" else "-"
-        marker = "o" if rs[0]["integrator"] == "dopri5" else "^"
+        ls = styles[i % len(styles)] if rs[0]["method"] in ("penalty", "cvode") else "-"
+        marker = {"dopri5": "o", "adams": "s", "bdf": "D"}.get(rs[0]["integrator"], "^")
         for ax, xkey in zip(axes, ("wall_time_s", "rhs_evals")):
             ok = [r for r in rs if r["status"] in COMPLETED]
             ax.plot([fnum(r, xkey) for r in ok], [fnum(r, "max_rotor_err_m") for r in ok], ls, marker=marker,
@@ -295,7 +302,8 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     wp = read_csv(os.path.join(a.data, "work_precision.csv"))
-    work_precision(wp, a.out, a.stamp)
+    bench_csv = os.path.join(a.data, "bench.csv")  # rotor_rub_bench --csv, when there
+    work_precision(wp, a.out, a.stamp, read_csv(bench_csv) if os.path.exists(bench_csv) else ())
     names = ["switching", "iteration", "penalty"]
     for line in contact_force(a.traces, names, a.out, a.stamp):
         print(line)

@@ -12,7 +12,7 @@ source "$ROOT/scripts/workspace.sh"
 export PATH="/usr/bin:$PATH"
 mkdir -p "$RESULTS"
 cd "$WS"
-TESTS=(test_core test_runner_cli test_sweep_cli)
+TESTS=(test_core test_runner_cli test_sweep_cli test_cvode_switching)
 # Build the tests and the tools they run, sanitized, with debug info for the reports.
 if ! catkin_make --build build_sanitize -DCATKIN_DEVEL_PREFIX="$WS/devel_sanitize" -Drotor_rub_sim_SANITIZE=ON \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \

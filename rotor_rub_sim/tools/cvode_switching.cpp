@@ -1,0 +1,701 @@
+#include "cvode_switching.hpp"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <type_traits>
+
+#include "rotor_rub_sim/core/chatter_guard.hpp"
+#include "rotor_rub_sim/core/constrained_dynamics.hpp"
+#include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/sample_builder.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+
+// SUNContext arrived in 6.0; 7.0 replaced the error handler (CVodeSetErrHandlerFn).
+static_assert(SUNDIALS_VERSION_MAJOR == 6, "written against the SUNDIALS 6 API (Debian 12: 6.4.1)");
+
+namespace rotor_rub::tools {
+namespace {
+
+using core::ContactEvent;
+using core::DriveState;
+using core::EventKind;
+using core::FrictionMode;
+using core::Kinematics;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The core's "starts on its surface" window (switching_method.cpp).
+constexpr double kOnSurface_s = 10.0 * core::kEventTimeTolerance_s;
+// A restart's first step: this share of the step CVODE would have taken next
+// in the regime it leaves, as the core restarts with the step size it had.
+// CVODE's own estimate bounds the step by 0.1 (|y_i| + atol) / |y_i'| per
+// component, and a component that starts at zero (a normal velocity a
+// plastic impact has just zeroed, a stator at rest) made it 5e-12 s after a
+// graze. The whole step would not do either: the restart is at order 1, whose
+// error constant is far larger than that of the order the step was chosen
+// for; 0.1 is the cut CVODE itself makes after an error test failure.
+// Measured (Adams, rtol 1e-8): the same cost as CVODE's estimate within the
+// +-5 % that rounding alone moves the step count (paper scene: 6812 against
+// 7009 steps), and closer agreement with the core where impacts amplify
+// differences (rolling scene: 8.4e-7 m against 4.1e-6 m).
+constexpr double kRestartStepFactor = 0.1;
+// The gap's rounding: delta - C from positions of size |r_r| + |r_s| + C
+// carries a few eps of that; this many eps of it is the noise floor below
+// which the gap's sign means nothing (~6e-17 m on the paper scene).
+constexpr double kGapNoiseEps = 64.0;
+
+// A CVODE call that failed: its flag, named by CVODE, and CVODE's message.
+class CvodeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// "call: CV_FLAG_NAME (CVODE's last message)".
+std::string describe_failure(const std::string& call, int flag, const std::string& message) {
+  char* name = CVodeGetReturnFlagName(flag);  // malloc'd by CVODE
+  std::string s = call + ": " + (name ? name : "flag " + std::to_string(flag));
+  std::free(name);
+  return message.empty() ? s : s + " (" + message + ")";
+}
+
+// ---- Owners of SUNDIALS' C handles ------------------------------------------
+
+struct ContextOwner {
+  SUNContext ctx = nullptr;
+  ContextOwner() {
+    if (SUNContext_Create(nullptr, &ctx) != 0) throw CvodeError("SUNContext_Create failed");
+  }
+  ~ContextOwner() { SUNContext_Free(&ctx); }
+  ContextOwner(const ContextOwner&) = delete;
+  ContextOwner& operator=(const ContextOwner&) = delete;
+};
+
+struct VectorFree {
+  void operator()(N_Vector v) const { N_VDestroy(v); }
+};
+struct MatrixFree {
+  void operator()(SUNMatrix a) const { SUNMatDestroy(a); }
+};
+struct LinearSolverFree {
+  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
+};
+struct NonlinearSolverFree {
+  void operator()(SUNNonlinearSolver s) const { SUNNonlinSolFree(s); }
+};
+struct CvodeFree {
+  void operator()(void* mem) const { CVodeFree(&mem); }
+};
+using VectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorFree>;
+using MatrixPtr = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixFree>;
+using LinearSolverPtr = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverFree>;
+using NonlinearSolverPtr = std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinearSolverFree>;
+using CvodePtr = std::unique_ptr<void, CvodeFree>;
+
+// CVODE reports errors through this instead of printing them: the run names
+// the last one in its failure. Warnings (t + h == t) are dropped; a step that
+// collapses ends in an error anyway.
+void keep_error(int error_code, const char* /*module*/, const char* function, char* msg, void* data) {
+  if (error_code == CV_WARNING) return;
+  *static_cast<std::string*>(data) = std::string(function) + ": " + msg;
+}
+
+// ---- One CVODE integrator per regime ----------------------------------------
+
+// Root functions, each an event when it rises through 0.
+// Free flight: kGap = delta - C, and kForcedGap = delta - C - (atol + the
+// flight's start penetration): the core's remedy for the stall (a flight that
+// starts at a tangency and never opens the gap is contact once it penetrates
+// by atol). When the gap has been open, kGap fires first.
+// Contact: kLiftoff = -F_n; kFriction = -s v_slide (slip: the sliding stops)
+// or |F_t,stick| - f F_n (stick: the stick force leaves the cone).
+enum RootIndex { kGap = 0, kForcedGap = 1, kLiftoff = 0, kFriction = 1, kRoots = 2 };
+
+// The two regimes' states differ in size (free: rotor and stator; contact:
+// stator and contact angle), so each has its own CVODE memory, created once
+// per run. A switch is then a CVodeReInit of the memory it enters: that keeps
+// every vector, the nonlinear (and linear) solver and the root functions,
+// where re-creating would allocate some 25 vectors and the solvers at every
+// event for nothing in exchange.
+class Integrator {
+ public:
+  Integrator(SUNContext ctx, int size, CVRhsFn rhs, CVRootFn roots, void* user_data, const core::Scene& scene,
+             const CvodeOptions& options, std::string* error)
+      : y_(N_VNew_Serial(size, ctx)), scratch_(N_VNew_Serial(size, ctx)), adams_(options.adams), error_(error) {
+    if (!y_ || !scratch_) throw CvodeError("N_VNew_Serial failed");
+    N_VConst(0.0, y_.get());
+    // Fused vector operations: CVODE's predictor and corrector updates then
+    // make one call per linear combination instead of one per term (the
+    // vectors hold 2 to 8 numbers: the calls are the cost, not the loops).
+    // Measured: 2-4 % faster with Adams, no change with BDF.
+    N_VEnableFusedOps_Serial(y_.get(), SUNTRUE);
+    mem_.reset(CVodeCreate(adams_ ? CV_ADAMS : CV_BDF, ctx));
+    if (!mem_) throw CvodeError("CVodeCreate failed");
+    check(CVodeSetErrHandlerFn(mem(), keep_error, error_), "CVodeSetErrHandlerFn");
+    check(CVodeInit(mem(), rhs, 0.0, y_.get()), "CVodeInit");
+    check(CVodeSetUserData(mem(), user_data), "CVodeSetUserData");
+    check(CVodeSStolerances(mem(), scene.solver.rtol, scene.solver.atol), "CVodeSStolerances");
+    // CVODE's default of 500 steps per call to CVode would stop a run that
+    // used CV_NORMAL; the run's own budget is scene.solver.max_steps.
+    check(CVodeSetMaxNumSteps(mem(), scene.solver.max_steps), "CVodeSetMaxNumSteps");
+    attach_solver(ctx, size);
+    check(CVodeRootInit(mem(), kRoots, roots), "CVodeRootInit");
+    std::array<int, kRoots> rising{1, 1};  // every event function is an event when it rises through 0
+    check(CVodeSetRootDirection(mem(), rising.data()), "CVodeSetRootDirection");
+    check(CVodeSetNoInactiveRootWarn(mem()), "CVodeSetNoInactiveRootWarn");
+  }
+
+  void* mem() const { return mem_.get(); }
+  N_Vector y() const { return y_.get(); }
+  double* state() const { return N_VGetArrayPointer(y_.get()); }
+
+  // Restarts from state() at t_s (order 1: the history is not that of the
+  // new problem), up to stop_s, trying initial_step_s first (0: CVODE's own
+  // estimate). CVODE 6.4.1 forgets a stop time once it has stopped there:
+  // set at every restart.
+  void reinit(double t_s, double stop_s, double initial_step_s, CvodeRun& out) {
+    harvest(out);
+    check(CVodeSetInitStep(mem(), initial_step_s), "CVodeSetInitStep");
+    check(CVodeReInit(mem(), t_s, y_.get()), "CVodeReInit");
+    set_stop(stop_s);
+    ++out.reinits;
+  }
+  void set_stop(double stop_s) { check(CVodeSetStopTime(mem(), stop_s), "CVodeSetStopTime"); }
+  // The step CVODE would try next (after its last step's adjustment).
+  double next_step_s() const {
+    double h = 0.0;
+    check(CVodeGetCurrentStep(mem(), &h), "CVodeGetCurrentStep");
+    return h;
+  }
+
+  // The dense output at t (inside the last step) into a scratch vector.
+  const double* state_at(double t_s) {
+    check(CVodeGetDky(mem(), t_s, 0, scratch_.get()), "CVodeGetDky");
+    return N_VGetArrayPointer(scratch_.get());
+  }
+
+  // Adds the counters since the last (re)initialisation to out: CVodeReInit
+  // sets them back to zero. The linear solver's (BDF) are reset later, by
+  // the first CVode call after it (measured on 6.4.1): read only when steps
+  // were taken since, else they would count the previous interval twice.
+  void harvest(CvodeRun& out) const {
+    long steps = 0, v = 0;
+    check(CVodeGetNumSteps(mem(), &steps), "CVodeGetNumSteps");
+    out.steps += steps;
+    check(CVodeGetNumRhsEvals(mem(), &v), "CVodeGetNumRhsEvals");
+    out.rhs_evals += v;
+    if (!adams_ && steps > 0) {
+      check(CVodeGetNumLinRhsEvals(mem(), &v), "CVodeGetNumLinRhsEvals");
+      out.rhs_evals += v;
+    }
+    check(CVodeGetNumGEvals(mem(), &v), "CVodeGetNumGEvals");
+    out.root_evals += v;
+    check(CVodeGetNumErrTestFails(mem(), &v), "CVodeGetNumErrTestFails");
+    out.error_test_failures += v;
+    check(CVodeGetNumStepSolveFails(mem(), &v), "CVodeGetNumStepSolveFails");
+    out.nonlinear_failures += v;
+  }
+
+  void check(int flag, const char* call) const {
+    if (flag < 0) throw CvodeError(describe_failure(call, flag, *error_));
+  }
+
+ private:
+  void attach_solver(SUNContext ctx, int size) {
+    if (adams_) {
+      // Non-stiff: the corrector by fixed-point iteration, no Jacobian.
+      nls_.reset(SUNNonlinSol_FixedPoint(y_.get(), 0, ctx));
+      if (!nls_) throw CvodeError("SUNNonlinSol_FixedPoint failed");
+      check(CVodeSetNonlinearSolver(mem(), nls_.get()), "CVodeSetNonlinearSolver");
+      return;
+    }
+    // BDF: CVODE's default Newton iteration on a dense Jacobian by difference
+    // quotients (size RHS evaluations each, counted in rhs_evals).
+    matrix_.reset(SUNDenseMatrix(size, size, ctx));
+    linear_solver_.reset(SUNLinSol_Dense(y_.get(), matrix_.get(), ctx));
+    if (!matrix_ || !linear_solver_) throw CvodeError("SUNDenseMatrix/SUNLinSol_Dense failed");
+    check(CVodeSetLinearSolver(mem(), linear_solver_.get(), matrix_.get()), "CVodeSetLinearSolver");
+  }
+
+  // Members are destroyed in reverse: the CVODE memory first, then the
+  // solvers and vectors it uses (CVodeFree frees neither).
+  VectorPtr y_, scratch_;
+  MatrixPtr matrix_;
+  LinearSolverPtr linear_solver_;
+  NonlinearSolverPtr nls_;
+  CvodePtr mem_;
+  bool adams_;
+  std::string* error_;
+};
+
+// ---- The switching method on CVODE ------------------------------------------
+
+enum class Regime { kFree, kContact };
+
+struct RootValues {
+  std::array<double, kRoots> value{};
+  std::array<double, kRoots> rate{kNaN, kNaN};  // d value / dt where known
+};
+
+// How each root function starts its regime.
+// * A function that starts on its surface with a known rate into its own
+//   side (a rebound, a slip from rest) is handed to CVODE deflated,
+//   value / (t - t_start), whose value at t_start is that rate: CVODE sees it
+//   strictly negative from the start, so the crossing back is found however
+//   early it comes (the undeflated function starts at +0 and may return to +
+//   within CVODE's first step, a sign change CVODE cannot see). The core does
+//   the same (switching_method.cpp, crossing()).
+// * The free flight's gap must be seen below its noise floor before a
+//   crossing counts (armed). CVODE arms on any negative value at a step end,
+//   and a flight that starts at a tangency (after a lift-off, or a plastic
+//   touch that does not stay: normal velocity 0, the gap opening as t^2 or
+//   t^3) spends its first steps inside the gap's rounding, where the sign is
+//   noise: CVODE then located spurious grazes (2 on the rolling scene, 6
+//   within 2e-11 s on another run). The core arms at its scan points too,
+//   but restarts with the step it had, long enough to leave the noise.
+//   Until armed, CVODE gets min(gap, -noise): never a crossing, and equal to
+//   the gap at the step end where it arms, so CVODE's stored value there
+//   stays right. A flight that never opens the gap is kForcedGap's.
+struct RootStart {
+  double t_s = 0.0;
+  std::array<bool, kRoots> deflated{};
+  std::array<double, kRoots> rate{};
+  double forced_gap_threshold_m = 0.0;
+  double gap_noise_m = 0.0;
+  bool gap_armed = true;
+};
+
+template <int kStatorDof>
+class CvodeSwitching {
+ public:
+  using FL = core::FreeLayout<kStatorDof>;
+  using CL = core::ContactLayout<kStatorDof>;
+  using FreeState = typename FL::State;
+  using ContactState = typename CL::State;
+
+  CvodeSwitching(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, SUNContext ctx,
+                 CvodeRun& out)
+      : scene_(scene),
+        model_(scene.model),
+        profile_(scene.speed),
+        guard_(scene.solver.max_events_per_ms),
+        sample_rate_hz_(sample_rate_hz),
+        out_(out),
+        free_(ctx, FL::kSize, free_rhs, free_roots, this, scene, options, &cvode_error_),
+        contact_(ctx, CL::kSize, contact_rhs, contact_roots, this, scene, options, &cvode_error_) {
+    dynamics_.model = &model_;
+    if (sample_rate_hz_ > 0.0) {
+      out_.samples.reserve(static_cast<std::size_t>(std::floor(scene.end_time_s * sample_rate_hz_)) + 1);
+    }
+  }
+
+  void run() {
+    next_segment(0.0);
+    restart_step_s_ = 0.0;  // at rest, centred: CVODE's estimate is sound here
+    enter_free(0.0, model_.initial_kinematics(profile_.at(0.0)));
+    double t_s = 0.0;
+    long calls = 0;
+    while (t_s < scene_.end_time_s) {
+      if (++calls > scene_.solver.max_steps) {
+        throw core::MethodFailure(core::FailureClass::kStalled, t_s,
+                                  "step budget of " + std::to_string(scene_.solver.max_steps) + " steps spent");
+      }
+      t_s = advance();
+    }
+    free_.harvest(out_);
+    contact_.harvest(out_);
+  }
+
+ private:
+  Integrator& active() { return regime_ == Regime::kFree ? free_ : contact_; }
+
+  // One CVODE step (CV_ONE_STEP: every step comes back here, for the in-step
+  // graze check and the samples), then what it ended on. Returns the time
+  // the run has reached.
+  double advance() {
+    Integrator& it = active();
+    double t_ret = 0.0;
+    const int flag = CVode(it.mem(), stop_s_, it.y(), &t_ret, CV_ONE_STEP);
+    if (flag < 0) throw CvodeError(describe_failure("CVode", flag, cvode_error_));
+    if (flag == CV_ROOT_RETURN) {
+      std::array<int, kRoots> found{};
+      it.check(CVodeGetRootInfo(it.mem(), found.data()), "CVodeGetRootInfo");
+      // Simultaneous roots: the lower index first, as the core's scan does
+      // (the gap or lift-off before friction).
+      const int k = found[0] != 0 ? 0 : 1;
+      emit_samples(t_ret);
+      on_event(k, t_ret, it.state());
+      return t_ret;
+    }
+    if (regime_ == Regime::kFree) {
+      const double te = after_free_step(t_ret, it.state());
+      if (te < kInf) {
+        emit_samples(te);
+        on_event(kGap, te, it.state_at(te));
+        return te;
+      }
+    }
+    emit_samples(t_ret);
+    if (flag == CV_TSTOP_RETURN && t_ret < scene_.end_time_s) change_segment(t_ret);
+    return t_ret;
+  }
+
+  // ---- Right-hand sides and root functions (no allocation: fixed-size Eigen
+  // states on the stack, mapped onto the N_Vectors' arrays) ----
+
+  static int free_rhs(double t_s, N_Vector y, N_Vector ydot, void* data) {
+    const auto& self = *static_cast<const CvodeSwitching*>(data);
+    const FreeState x = Eigen::Map<const FreeState>(N_VGetArrayPointer(y));
+    Eigen::Map<FreeState> dxdt(N_VGetArrayPointer(ydot));
+    const Kinematics k = core::kinematics_of<kStatorDof>(x);
+    const DriveState d = self.segment_.at(t_s);
+    dxdt.template segment<2>(FL::kRotorPos) = k.rotor_vel;
+    dxdt.template segment<2>(FL::kRotorVel) = self.model_.rotor_free_force(k, d) * self.model_.inv_rotor_mass();
+    if constexpr (kStatorDof == 2) {
+      dxdt.template segment<2>(FL::kStatorPos) = k.stator_vel;
+      dxdt.template segment<2>(FL::kStatorVel) = self.model_.stator_free_force(k) * self.model_.inv_stator_mass();
+    }
+    return 0;
+  }
+
+  // Reduced coordinates (stator, contact angle psi): r_r = r_s + C n(psi), so
+  // |r_r - r_s| = C holds exactly at every instant, by construction; nothing
+  // drifts and nothing needs stabilising. That is stronger than Baumgarte
+  // stabilisation, which only damps the drift of a constraint written on the
+  // accelerations of the full coordinates.
+  static int contact_rhs(double t_s, N_Vector y, N_Vector ydot, void* data) {
+    const auto& self = *static_cast<const CvodeSwitching*>(data);
+    const ContactState x = Eigen::Map<const ContactState>(N_VGetArrayPointer(y));
+    ContactState dxdt;
+    self.dynamics_.derivative(x, self.segment_.at(t_s), dxdt);
+    Eigen::Map<ContactState>(N_VGetArrayPointer(ydot)) = dxdt;
+    return 0;
+  }
+
+  static int free_roots(double t_s, N_Vector y, double* g, void* data) {
+    const auto& self = *static_cast<const CvodeSwitching*>(data);
+    self.deflate(self.free_values(Eigen::Map<const FreeState>(N_VGetArrayPointer(y)), t_s), t_s, g);
+    return 0;
+  }
+
+  static int contact_roots(double t_s, N_Vector y, double* g, void* data) {
+    const auto& self = *static_cast<const CvodeSwitching*>(data);
+    self.deflate(self.contact_values(Eigen::Map<const ContactState>(N_VGetArrayPointer(y)), t_s), t_s, g);
+    return 0;
+  }
+
+  void deflate(const RootValues& v, double t_s, double* g) const {
+    for (int k = 0; k < kRoots; ++k) {
+      if (!start_.deflated[k]) {
+        g[k] = v.value[k];
+      } else {
+        g[k] = t_s > start_.t_s ? v.value[k] / (t_s - start_.t_s) : start_.rate[k];
+      }
+    }
+    if (regime_ == Regime::kFree && !start_.gap_armed) g[kGap] = std::min(v.value[kGap], -start_.gap_noise_m);
+  }
+
+  RootValues free_values(const FreeState& x, double t_s) const {
+    const Kinematics k = core::kinematics_of<kStatorDof>(x);
+    const core::ContactGeometry g = model_.contact_geometry(k, segment_.at(t_s));
+    RootValues v;
+    v.value[kGap] = g.penetration_m;
+    v.rate[kGap] = g.normal_velocity_m_per_s;
+    v.value[kForcedGap] = g.penetration_m - start_.forced_gap_threshold_m;
+    return v;
+  }
+
+  RootValues contact_values(const ContactState& x, double t_s) const {
+    const auto c = dynamics_.evaluate(x, segment_.at(t_s));
+    RootValues v;
+    v.value[kLiftoff] = -c.normal_force_N;
+    const FrictionMode& mode = dynamics_.mode;
+    if (mode.stick) {
+      v.value[kFriction] = std::abs(c.stick_force_N) - model_.parameters().friction_coefficient * c.normal_force_N;
+    } else if (model_.has_friction()) {
+      v.value[kFriction] = -mode.slip_sign * c.sliding_velocity_m_per_s;
+      v.rate[kFriction] = -mode.slip_sign * c.sliding_acc_m_per_s2;
+    } else {
+      v.value[kFriction] = -1.0;  // frictionless: no friction regime to end
+    }
+    return v;
+  }
+
+  RootValues values_at_state(const double* y, double t_s) const {
+    if (regime_ == Regime::kFree) return free_values(Eigen::Map<const FreeState>(y), t_s);
+    return contact_values(Eigen::Map<const ContactState>(y), t_s);
+  }
+
+  // ---- Events (what follows each: SwitchingMethod::on_event) ----
+
+  void on_event(int k, double te, const double* y) {
+    guard_.record(te);
+    ++out_.events;
+    restart_step_s_ = kRestartStepFactor * active().next_step_s();
+    if (regime_ == Regime::kFree) {
+      on_free_event(te, Eigen::Map<const FreeState>(y));
+    } else {
+      on_contact_event(k, te, Eigen::Map<const ContactState>(y));
+    }
+  }
+
+  // Touchdown or graze: the impact law, then sustained contact if the impact
+  // settles and the constraint force presses.
+  void on_free_event(double te, const FreeState& x) {
+    const DriveState d = segment_.at(te);
+    Kinematics k = core::kinematics_of<kStatorDof>(x);
+    const core::ContactGeometry g = model_.contact_geometry(k, d);
+    ContactEvent e;
+    e.t_s = te;
+    bool settles = true, at_rest = false;
+    if (g.normal_velocity_m_per_s > 0.0) {
+      const core::ImpactResult ir = core::apply_impact(model_, g, d, scene_.solver.atol, k);
+      settles = ir.settles;
+      at_rest = ir.sliding_stopped;
+      e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
+      e.impulse_N_s = ir.normal_impulse_N_s;
+    }
+    if (settles) {
+      const ContactState xc = dynamics_.reduce(k);
+      const auto c = dynamics_.evaluate(xc, d);
+      if (c.normal_force_N > 0.0) {
+        e.kind = EventKind::kTouchdown;
+        out_.events_found.push_back(e);
+        const double cone = model_.parameters().friction_coefficient * c.stick_normal_force_N;
+        enter_contact(te, xc,
+                      core::select_friction_mode(c.sliding_velocity_m_per_s, at_rest || !model_.has_friction(),
+                                                 c.stick_force_N, cone));
+        return;
+      }
+    }
+    e.kind = EventKind::kGraze;
+    out_.events_found.push_back(e);
+    enter_free(te, k);
+  }
+
+  // Lift-off, or a friction transition (the contact goes on).
+  void on_contact_event(int k, double te, const ContactState& x) {
+    if (k == kLiftoff) {
+      out_.events_found.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
+      enter_free(te, dynamics_.kinematics(x));
+      return;
+    }
+    const auto c = dynamics_.evaluate(x, segment_.at(te));
+    FrictionMode next;
+    if (dynamics_.mode.stick) {  // breakaway: slide against the stick force
+      next.slip_sign = c.stick_force_N > 0.0 ? -1.0 : 1.0;
+    } else {  // the sliding stopped: stick, or slide on the other way
+      const double cone = model_.parameters().friction_coefficient * c.stick_normal_force_N;
+      next = core::select_friction_mode(0.0, true, c.stick_force_N, cone);
+    }
+    enter_contact(te, x, next);
+  }
+
+  void enter_free(double t_s, const Kinematics& k) {
+    regime_ = Regime::kFree;
+    FreeState x;
+    core::store_kinematics<kStatorDof>(k, x);
+    Eigen::Map<FreeState>(free_.state()) = x;
+    restart(free_, t_s);
+    begin_regime(t_s, free_.state());
+  }
+
+  void enter_contact(double t_s, ContactState x, const FrictionMode& mode) {
+    regime_ = Regime::kContact;
+    dynamics_.mode = mode;
+    if (mode.stick) {
+      // Rolling: v_slide = C psi' + w R_r = 0 exactly.
+      const core::ModelParameters& p = model_.parameters();
+      x[CL::kAngleRate] = -segment_.at(t_s).speed_rad_per_s * p.rotor_radius_m / p.clearance_m;
+    }
+    Eigen::Map<ContactState>(contact_.state()) = x;
+    restart(contact_, t_s);
+    begin_regime(t_s, contact_.state());
+  }
+
+  // An event located at the drive's segment end (CVODE's stop time) was
+  // found under the ending segment and carries over (as in the core); the
+  // new regime starts under the next segment (CVODE refuses a stop time at
+  // the start).
+  void restart(Integrator& it, double t_s) {
+    if (t_s >= stop_s_) next_segment(t_s);
+    it.reinit(t_s, stop_s_, restart_step_s_, out_);
+  }
+
+  void next_segment(double t_s) {
+    segment_ = profile_.segment_at(t_s);
+    stop_s_ = std::min(profile_.next_break_after(t_s), scene_.end_time_s);
+  }
+
+  // Which root functions start deflated (RootStart), and the free flight's
+  // forced-contact threshold, from the values at the regime's start.
+  void begin_regime(double t_s, const double* y) {
+    start_ = RootStart{};
+    start_.t_s = t_s;
+    if (regime_ == Regime::kFree) {
+      const FreeState x = Eigen::Map<const FreeState>(y);
+      const Kinematics k = core::kinematics_of<kStatorDof>(x);
+      const RootValues free = free_values(x, t_s);
+      start_.forced_gap_threshold_m = scene_.solver.atol + std::max(0.0, free.value[kGap]);
+      start_.gap_noise_m = kGapNoiseEps * std::numeric_limits<double>::epsilon() *
+                           (k.rotor_pos.norm() + k.stator_pos.norm() + model_.parameters().clearance_m);
+      step_begin_ = {t_s, free.value[kGap], free.rate[kGap]};
+    }
+    const RootValues v = values_at_state(y, t_s);
+    for (int k = 0; k < kRoots; ++k) {
+      const double rate = v.rate[k];
+      start_.deflated[k] = !(v.value[k] < 0.0) && rate < 0.0 && std::abs(v.value[k]) <= -rate * kOnSurface_s;
+      start_.rate[k] = rate;
+    }
+    if (regime_ == Regime::kFree) {
+      // Deflated only if the rate leaves the noise within the window.
+      start_.deflated[kGap] = start_.deflated[kGap] && -v.rate[kGap] * kOnSurface_s >= start_.gap_noise_m;
+      start_.gap_armed = start_.deflated[kGap] || v.value[kGap] < -start_.gap_noise_m;
+    }
+  }
+
+  // After a free-flight step ending at t1: the gap is armed where it is below
+  // its noise floor (RootStart), and the core's third way to a touchdown
+  // (switching_method.cpp, crossing()) is checked: a touch that enters and
+  // leaves the bore inside one step, the gap negative at both ends, where
+  // CVODE sees no sign change. The gap's rate falls through zero in between
+  // (a maximum); located on the dense output, and the gap there decides.
+  // Returns the touchdown time, or infinity.
+  double after_free_step(double t1, const double* y1) {
+    const RootValues v1 = free_values(Eigen::Map<const FreeState>(y1), t1);
+    const GapAt begin = step_begin_;
+    step_begin_ = {t1, v1.value[kGap], v1.rate[kGap]};
+    const bool armed_at_begin = start_.gap_armed;
+    start_.gap_armed = armed_at_begin || v1.value[kGap] < -start_.gap_noise_m;
+    if (!(armed_at_begin && begin.gap_m < 0.0 && v1.value[kGap] < 0.0 && begin.rate > 0.0 && v1.rate[kGap] < 0.0)) {
+      return kInf;
+    }
+    core::RunStats located;
+    auto values = [this](double t) { return free_values(Eigen::Map<const FreeState>(free_.state_at(t)), t); };
+    auto falling_rate = [&values](double t) { return -values(t).rate[kGap]; };
+    const double tm = core::locate_event(falling_rate, begin.t_s, -begin.rate, t1, -v1.rate[kGap], located);
+    const double gm = values(tm).value[kGap];
+    double te = kInf;
+    if (gm >= 0.0) {
+      auto gap = [&values](double t) { return values(t).value[kGap]; };
+      te = core::locate_event(gap, begin.t_s, begin.gap_m, tm, gm, located);
+    }
+    out_.root_evals += located.root_iterations;
+    return te;
+  }
+
+  // A drive segment ends at t_s (CVODE stopped there): the forces' m e A and
+  // A R_r terms jump, so the integration restarts under the new segment, and
+  // a root function that the jump carried from below zero to its far side is
+  // an event now (the core's change_segment()).
+  void change_segment(double t_s) {
+    Integrator& it = active();
+    const RootValues before = values_at_state(it.state(), t_s);
+    next_segment(t_s);
+    const RootValues after = values_at_state(it.state(), t_s);
+    for (int k = 0; k < kRoots; ++k) {
+      if (before.value[k] < 0.0 && after.value[k] >= 0.0) {
+        on_event(k, t_s, it.state());
+        return;
+      }
+    }
+    it.reinit(t_s, stop_s_, kRestartStepFactor * it.next_step_s(), out_);
+  }
+
+  // ---- Samples (error runs only) ----
+
+  void emit_samples(double t_limit_s) {
+    if (!(sample_rate_hz_ > 0.0)) return;
+    for (;;) {
+      const double tk = static_cast<double>(next_sample_) / sample_rate_hz_;
+      if (tk > t_limit_s || tk > scene_.end_time_s) return;
+      out_.samples.push_back(sample_at(tk));
+      ++next_sample_;
+    }
+  }
+
+  core::Sample sample_at(double t_s) {
+    const DriveState d = segment_.at(t_s);
+    const double* y = active().state_at(t_s);
+    if (regime_ == Regime::kFree) {
+      const Kinematics k = core::kinematics_of<kStatorDof>(FreeState(Eigen::Map<const FreeState>(y)));
+      return core::make_sample(model_, t_s, k, d, 0.0, 0.0, false);
+    }
+    const auto c = dynamics_.evaluate(Eigen::Map<const ContactState>(y), d);
+    core::Sample s = core::make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
+    s.sticking = dynamics_.mode.stick;
+    return s;
+  }
+
+  struct GapAt {
+    double t_s = 0.0, gap_m = 0.0, rate = 0.0;
+  };
+
+  const core::Scene& scene_;
+  core::JeffcottModel model_;
+  core::SpeedProfile profile_;
+  core::ConstrainedDynamics<kStatorDof> dynamics_;
+  core::ChatterGuard guard_;
+  double sample_rate_hz_;
+  CvodeRun& out_;
+  std::string cvode_error_;
+  Integrator free_, contact_;
+  core::SpeedSegment segment_;
+  double stop_s_ = 0.0;
+  double restart_step_s_ = 0.0;  // the first step to try after the next restart
+  Regime regime_ = Regime::kFree;
+  RootStart start_;
+  GapAt step_begin_;  // the gap and its rate where the current step began
+  long next_sample_ = 0;
+};
+
+template <int kStatorDof>
+void run_with(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, CvodeRun& out) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    const ContextOwner context;
+    CvodeSwitching<kStatorDof> method(scene, sample_rate_hz, options, context.ctx, out);
+    method.run();
+  } catch (const CvodeError& e) {
+    out.failure = e.what();
+  } catch (const core::MethodFailure& e) {
+    char at[64];
+    std::snprintf(at, sizeof at, " at t = %.9g s", e.time_s);
+    out.failure = std::string(core::to_string(e.failure_class)) + at + ": " + e.what();
+  }
+  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+}
+
+}  // namespace
+
+CvodeRun run_cvode_switching(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options) {
+  CvodeRun out;
+  if (scene.model.drive_model != core::DriveModel::kPrescribed) {
+    out.failure = "cvode contender: prescribed drive only";
+    return out;
+  }
+  if (scene.model.stator_model == core::StatorModel::kRigid) {
+    run_with<0>(scene, sample_rate_hz, options, out);
+  } else {
+    run_with<2>(scene, sample_rate_hz, options, out);
+  }
+  return out;
+}
+
+}  // namespace rotor_rub::tools
