@@ -65,7 +65,8 @@ def work_precision(rows, out, text, bench_rows=()):
     # without output; ours with samples at the scene's 1 kHz).
     for r in bench_rows:
         if r["method"] == "cvode":
-            curves.setdefault("CVODE %s (switching's model; rotor_rub_bench)" % r["integrator"], []).append(r)
+            curves.setdefault("CVODE %s (switching's model; rotor_rub_bench: timed without output, one run at a "
+                              "time)" % r["integrator"], []).append(r)
     styles = ["-", "--", ":", "-."]
     for i, (label, rs) in enumerate(sorted(curves.items())):
         rs.sort(key=lambda r: -fnum(r, "rtol"))

@@ -21,7 +21,9 @@
 #include <vector>
 
 #include "cli_options.hpp"
+#ifdef ROTOR_RUB_HAVE_CVODE
 #include "cvode_switching.hpp"
+#endif
 #include "package_paths.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
@@ -67,8 +69,13 @@ struct Row {
   std::string status;
 
   double step_pct() const { return 100.0 - rhs_pct - iter_pct - event_pct - restart_pct - output_pct; }
-  void set_errors(const TrajectoryError& e, double first_contact, double ref_first_contact) {
-    max_err_m = e.max_rotor_x_m;
+  // The errors of a run sampled like the reference; a run that delivered
+  // fewer samples (it failed on the way) is failed, whatever its prefix.
+  void set_errors(const TrajectoryError& e, double first_contact, double ref_first_contact, std::size_t samples,
+                  std::size_t ref_samples, const char* failure) {
+    if (failure) status = failure;
+    if (samples != ref_samples && status == "ok") status = "short";
+    max_err_m = e.max_rotor_m;
     rms_err_m = e.rms_rotor_x_m;
     max_stator_err_m = e.max_stator_m;
     first_contact_err_s = std::abs(first_contact - ref_first_contact);
@@ -88,7 +95,7 @@ struct Row {
 void print_header() {
   std::printf("%-9s %-11s %7s %7s | %9s %9s %8s %7s %8s %9s %5s | %5s %5s %5s %5s %5s %5s | %9s %9s %9s | %9s\n",
               "method", "integrator", "rtol", "atol", "wall[ms]", "quiet[ms]", "steps", "rej", "rhs", "iter", "rst",
-              "rhs%", "iter%", "evt%", "rst%", "out%", "step%", "max|dx_r|", "rms dx_r", "max|dr_s|", "dt_first");
+              "rhs%", "iter%", "evt%", "rst%", "out%", "step%", "max|dr_r|", "rms dx_r", "max|dr_s|", "dt_first");
 }
 
 // Per error bound: the cheapest completed row of each method and integrator
@@ -130,7 +137,7 @@ bool write_csv(const std::string& path, const std::vector<Row>& rows) {
   std::ofstream f(path);
   f << "method,integrator,rtol,atol,status,wall_time_s,quiet_wall_time_s,steps,rejected_steps,rhs_evals,root_"
        "iterations,restarts,"
-       "rhs_share,iteration_share,event_share,restart_share,output_share,max_rotor_err_m,rms_rotor_err_m,"
+       "rhs_share,iteration_share,event_share,restart_share,output_share,max_rotor_err_m,rms_rotor_x_err_m,"
        "max_stator_err_m,first_contact_err_s\n";
   f.precision(6);
   for (const Row& r : rows) {
@@ -271,8 +278,9 @@ int main(int argc, char** argv) {
     Scene es = s;
     es.output_rate_hz = error_rate_hz;
     Collect run;
-    run_scene(es, run);
-    row.set_errors(compare_trajectories(run.samples, ref.samples), first_contact_s(run.events), ref_first_contact_s);
+    const RunResult er = run_scene(es, run);
+    row.set_errors(compare_trajectories(run.samples, ref.samples), first_contact_s(run.events), ref_first_contact_s,
+                   run.samples.size(), ref.samples.size(), er.failure ? to_string(er.failure->failure_class) : nullptr);
 
     Scene ps = s;
     ps.solver.profile_cost = true;
@@ -290,6 +298,9 @@ int main(int argc, char** argv) {
 
   // The same model on SUNDIALS CVODE (tools/cvode_switching.hpp), at the same
   // tolerances, timed without output; its error from a run sampled like ours.
+#ifndef ROTOR_RUB_HAVE_CVODE
+  if (wanted("cvode")) std::printf("cvode: not built (SUNDIALS CVODE, libsundials-dev, was missing at build time)\n");
+#else
   if (wanted("cvode")) {
     for (const bool adams : {true, false}) {
       for (const auto& [r, a] : tolerances) {
@@ -311,13 +322,14 @@ int main(int argc, char** argv) {
         row.status = timed.failure ? "failed" : "ok";
         const auto er = rotor_rub::tools::run_cvode_switching(s, error_rate_hz, options);
         row.set_errors(compare_trajectories(er.samples, ref.samples), first_contact_s(er.events_found),
-                       ref_first_contact_s);
+                       ref_first_contact_s, er.samples.size(), ref.samples.size(), er.failure ? "failed" : nullptr);
         row.print();
         if (timed.failure) std::printf("  cvode: %s\n", timed.failure->c_str());
         rows.push_back(row);
       }
     }
   }
+#endif
   print_cheapest(rows);
   if (!csv_path.empty() && !write_csv(csv_path, rows)) {
     std::cerr << "rotor_rub_bench: cannot write --csv " << csv_path << "\n";

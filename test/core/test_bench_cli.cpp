@@ -2,14 +2,18 @@
 // directory (package_paths, which the bench and the sweep use for their
 // default scene).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "package_paths.hpp"
@@ -34,7 +38,9 @@ void expect_usage(const Result& r, std::initializer_list<const char*> parts) {
 TEST(BenchCli, HelpDescribesEveryOption) {
   const Result r = bench("--help");
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(rotor_rub::test::missing_options(r.out, {"--scene", "--repeats", "--error-rate", "--quick", "--help"}), "")
+  EXPECT_EQ(rotor_rub::test::missing_options(
+                r.out, {"--scene", "--repeats", "--error-rate", "--quick", "--methods", "--csv", "--help"}),
+            "")
       << r.out;
   EXPECT_NE(r.out.find("[Hz]"), std::string::npos) << r.out;
 }
@@ -47,6 +53,49 @@ TEST(BenchCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   expect_usage(bench("--repeats 0"), {"--repeats", "value 0", "out of range"});
   expect_usage(bench("--scene /nonexistent_scene.yaml"), {"--scene", "/nonexistent_scene.yaml"});
   expect_usage(bench("--fast"), {"unknown option '--fast'"});
+  expect_usage(bench("--methods switching,rk45"), {"--methods", "rk45"});
+}
+
+// The rows a user compares: both switching integrators and CVODE beside them
+// on a 1.5 s run (through the first contact), in the table, in the CSV the
+// charts read, and CVODE's ratio against ours measured in the same run.
+TEST(BenchCli, MethodsAndCsvWithCvodeBesideUs) {
+  const std::string scene = "/tmp/rotor_rub_bench_short." + std::to_string(::getpid()) + ".yaml";
+  const std::string csv = scene + ".csv";
+  std::ofstream(scene) << "end_time_s: 1.5\n";
+  const Result r = bench("--scene " + scene + " --quick --repeats 1 --methods switching,cvode --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.find("\niteration "), std::string::npos) << r.out;  // no iteration row
+  EXPECT_NE(r.out.find("CVODE (adams) / ours (switching "), std::string::npos) << r.out;
+  std::ifstream in(csv);
+  std::string header, line;
+  ASSERT_TRUE(std::getline(in, header));
+  EXPECT_EQ(header.rfind("method,integrator,rtol,atol,status,wall_time_s,quiet_wall_time_s,steps,", 0), 0u) << header;
+  EXPECT_NE(header.find(",max_rotor_err_m,"), std::string::npos) << header;
+  auto fields = [](const std::string& text) {
+    std::vector<std::string> f;
+    std::stringstream ss(text);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    return f;
+  };
+  const auto names = fields(header);
+  const auto err_col = std::find(names.begin(), names.end(), "max_rotor_err_m") - names.begin();
+  int rows = 0, cvode = 0, rkf78 = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    cvode += line.rfind("cvode,", 0) == 0;
+    rkf78 += line.rfind("switching,rkf78,", 0) == 0;
+    EXPECT_NE(line.find(",ok,"), std::string::npos) << line;
+    const auto f = fields(line);
+    ASSERT_EQ(f.size(), names.size()) << line;
+    const double err = std::stod(f[err_col]);  // measured, and below the clearance
+    EXPECT_TRUE(err >= 0.0 && err < 1e-3) << line;
+  }
+  EXPECT_EQ(rows, 8);  // two tolerances x (dopri5, rkf78, Adams, BDF)
+  EXPECT_EQ(cvode, 4);
+  EXPECT_EQ(rkf78, 2);
+  std::remove(scene.c_str());
+  std::remove(csv.c_str());
 }
 
 // The default scene is the package's from any directory: here /tmp. The

@@ -174,10 +174,12 @@ TEST(CvodeSwitching, RollingStartsWhereCoreSwitchingRolls) {
   const Collect ref = core_reference(s);
   const tools::CvodeRun run = expect_agreement(s, ref, true, kRollingAgreement_m);
   expect_same_event_kinds(run.events_found, ref.events);
-  // One friction transition (slip to stick), the same samples rolling.
+  // One friction transition (slip to stick).
   EXPECT_EQ(run.events - static_cast<long>(run.events_found.size()), 1);
   EXPECT_GT(sticking(ref.samples), 1000);
-  EXPECT_EQ(sticking(run.samples), sticking(ref.samples));
+  // The same samples rolling, but one: the stick onsets agree to ~1e-7 s,
+  // which may move one 1e-4 s sample across it on another build.
+  EXPECT_NEAR(sticking(run.samples), sticking(ref.samples), 1);
 }
 
 TEST(CvodeSwitching, SamplesDoNotChangeTheIntegration) {

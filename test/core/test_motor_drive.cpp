@@ -264,7 +264,7 @@ TEST(MotorDrive, MethodsAgreeOnTheMachineScene) {
     }
     // Measured: iteration 2e-9 m, 5e-7 rad/s; switching on rkf78 (the spin
     // angle and speed interpolated as a pair, the controller's integral
-    // alone) 9e-10 m, 5e-7 rad/s at rtol 1e-10; penalty 3e-6 m, 5e-3 rad/s.
+    // alone) 9e-10 m, 5e-7 rad/s (rotor_rub_run at rtol 1e-10); penalty 3e-6 m, 5e-3 rad/s.
     const bool penalty = solvers[m].method == core::Method::kPenalty;
     EXPECT_LT(orbit, penalty ? 4e-5 : 1e-7) << solvers[m].name();
     EXPECT_LT(speed, penalty ? 0.05 : 1e-4) << solvers[m].name();

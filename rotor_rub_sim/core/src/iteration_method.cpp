@@ -415,8 +415,8 @@ class IterationMethod final : public ContactMethod {
       if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return false;  // the invariant checks decide
       deflated = true;
     }
-    // The midpoint and the end of the step, so that an excursion out of
-    // the regime and back inside one step is not missed.
+    // The midpoint and the end of the step: an excursion out of the regime
+    // and back between two of them would be missed (kScanPoints).
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const double fi = friction_event(ti);

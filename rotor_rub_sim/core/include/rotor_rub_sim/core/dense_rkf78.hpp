@@ -1,7 +1,8 @@
 // Runge-Kutta-Fehlberg 7(8) with step-size control, from Boost.Odeint, and a
 // dense output for it: for tight tolerances, where Dormand-Prince 5(4) needs
-// many short steps (on the paper scene at rtol 1e-7 it takes well under half
-// the derivative evaluations). Same interface as DenseDopri5.
+// many short steps (on the paper run-up at rtol 1e-6 it takes 13 488
+// derivative evaluations where dopri5 takes 24 364, rotor_rub_bench). The
+// interface of DenseDopri5 but set_dt(), which only the penalty method uses.
 //
 // Odeint gives this pair no continuous extension, so the dense output is
 // Hermite interpolation on the step's ends, which the mechanical structure
@@ -60,9 +61,9 @@ class DenseRkf78 {
   static constexpr int kStagesPerAttempt = 12;
   // The central difference's step for the state's second derivative [s]:
   // its truncation error is (kJerkStep_s w)^2 / 6 of the jerk (1.5e-8 at
-  // 300 rad/s); its rounding error 1e-16 |x| / (kJerkStep_s |x'|) (2e-12 for
+  // 300 rad/s); its rounding error 1e-16 |x| / (kJerkStep_s |x'|) (1e-9 for
   // a contact angle of 3000 rad turning at 300 rad/s; a one-sided 1e-9 s
-  // difference lost 2e-6 there, which moved a steady rub's F_n by 1e-6).
+  // difference lost 1e-6 there, which moved a steady rub's F_n by 1e-6).
   static constexpr double kJerkStep_s = 1e-6;
 
   // The error is measured as in DenseDopri5: atol + rtol |x| per component.
@@ -139,21 +140,23 @@ class DenseRkf78 {
     const double s2 = s * s, s3 = s2 * s, s4 = s3 * s, s5 = s4 * s, s6 = s5 * s, s7 = s6 * s;
     // Degree-7 Hermite basis: the weights of q, h v, h^2 a, h^3 j at the
     // start (0) and the end (1), and their d/ds for the velocities.
-    const double q0 = 1 - 35 * s4 + 84 * s5 - 70 * s6 + 20 * s7, v0 = s - 20 * s4 + 45 * s5 - 36 * s6 + 10 * s7,
+    const double q1 = 35 * s4 - 84 * s5 + 70 * s6 - 20 * s7, v0 = s - 20 * s4 + 45 * s5 - 36 * s6 + 10 * s7,
                  a0 = 0.5 * s2 - 5 * s4 + 10 * s5 - 7.5 * s6 + 2 * s7,
-                 j0 = s3 / 6 - 2 * s4 / 3 + s5 - 2 * s6 / 3 + s7 / 6, q1 = 1 - q0,
-                 v1 = -15 * s4 + 39 * s5 - 34 * s6 + 10 * s7, a1 = 2.5 * s4 - 7 * s5 + 6.5 * s6 - 2 * s7,
-                 j1 = -s4 / 6 + s5 / 2 - s6 / 2 + s7 / 6;
+                 j0 = s3 / 6 - 2 * s4 / 3 + s5 - 2 * s6 / 3 + s7 / 6, v1 = -15 * s4 + 39 * s5 - 34 * s6 + 10 * s7,
+                 a1 = 2.5 * s4 - 7 * s5 + 6.5 * s6 - 2 * s7, j1 = -s4 / 6 + s5 / 2 - s6 / 2 + s7 / 6;
     const double dq0 = -140 * s3 + 420 * s4 - 420 * s5 + 140 * s6, dv0 = 1 - 80 * s3 + 225 * s4 - 216 * s5 + 70 * s6,
                  da0 = s - 20 * s3 + 50 * s4 - 45 * s5 + 14 * s6,
-                 dj0 = 0.5 * s2 - 8 * s3 / 3 + 5 * s4 - 4 * s5 + 7 * s6 / 6, dq1 = -dq0,
+                 dj0 = 0.5 * s2 - 8 * s3 / 3 + 5 * s4 - 4 * s5 + 7 * s6 / 6,
                  dv1 = -60 * s3 + 195 * s4 - 204 * s5 + 70 * s6, da1 = 10 * s3 - 35 * s4 + 39 * s5 - 14 * s6,
                  dj1 = -2 * s3 / 3 + 2.5 * s4 - 3 * s5 + 7 * s6 / 6;
     const double hh = h * h, hhh = hh * h;
     for (const auto& [q, v] : pairs_) {
-      x[q] = q0 * x_old_[q] + h * v0 * x_old_[v] + hh * a0 * dxdt_old_[v] + hhh * j0 * ddx_old_[v] + q1 * x_new_[q] +
-             h * v1 * x_new_[v] + hh * a1 * dxdt_new_[v] + hhh * j1 * ddx_new_[v];
-      x[v] = (dq0 * x_old_[q] + dq1 * x_new_[q]) / h + dv0 * x_old_[v] + dv1 * x_new_[v] +
+      // q0 q_old + q1 q_new with q0 = 1 - q1, as q_old + q1 (q_new - q_old).
+      x[q] = x_old_[q] + q1 * (x_new_[q] - x_old_[q]) + h * v0 * x_old_[v] + hh * a0 * dxdt_old_[v] +
+             hhh * j0 * ddx_old_[v] + h * v1 * x_new_[v] + hh * a1 * dxdt_new_[v] + hhh * j1 * ddx_new_[v];
+      // dq1 = -dq0: the difference first, so that an angle that keeps
+      // growing (psi, phi) does not lose eps |q| / h to cancellation.
+      x[v] = dq0 * (x_old_[q] - x_new_[q]) / h + dv0 * x_old_[v] + dv1 * x_new_[v] +
              h * (da0 * dxdt_old_[v] + da1 * dxdt_new_[v]) + hh * (dj0 * ddx_old_[v] + dj1 * ddx_new_[v]);
     }
     // Quintic Hermite for first-order states: z, h z', h^2 z'' at both ends.

@@ -68,7 +68,7 @@ struct RunStats {
   double rhs_time_s = 0.0;        // profile_cost only: in derivative evaluation, iteration included
   double iteration_time_s = 0.0;  // profile_cost only: in the normal force iteration
   double event_time_s = 0.0;      // profile_cost only: event scan, location and handling (impact law), no RHS
-  double restart_time_s = 0.0;    // profile_cost only: entering the next regime, integrator restarts
+  double restart_time_s = 0.0;    // profile_cost only: entering the next regime, restarts (their RHS in rhs too)
   double output_time_s = 0.0;     // profile_cost only: samples, keyphasor and probes delivered, with their checks
   double max_constraint_violation_m = 0.0;          // rigid methods: max |delta - C| in contact at step ends
   double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
