@@ -103,7 +103,7 @@ void print_header() {
 // ratio measured in this run.
 void print_cheapest(const std::vector<Row>& rows) {
   for (const double bound : {1e-5, 1e-6, 1e-7}) {
-    std::printf("\ncheapest within %.0e m (max |dx_r|): rtol, wall with samples / quiet, error\n", bound);
+    std::printf("\ncheapest within %.0e m (max |r_r - r_r,ref|): rtol, wall with samples / quiet, error\n", bound);
     const Row* ours = nullptr;
     const Row* cvode = nullptr;
     std::vector<std::string> seen;
