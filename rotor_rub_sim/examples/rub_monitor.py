@@ -34,6 +34,7 @@ setting by its name (machine_rub_detector.SETTINGS: ~window_s 0.02,
 ~touch_ratio 0.995, ~revolutions 4, ~distortion_raise 0.1,
 ~torque_rise_Nm 0.005, ...). A reset of the simulator (its times start
 again) starts a new detector."""
+import heapq
 import math
 import os
 import re
@@ -133,6 +134,14 @@ class RubMonitor(object):
         self.reached = {"probes": 0.0, "drive": 0.0}
         self.speed = 0.0
         self.was_rubbing = False
+        # Readings not yet fed: each stream arrives on its own connection, so
+        # the drive can run ahead of the probes (or back); the detector is fed
+        # in simulated-time order up to where both have arrived, as replay()
+        # feeds it (ties: probes, keyphasor, drive). Fed as they came, a drive
+        # reading ahead of the probes could raise drive_braking before the
+        # orbit channel saw the same instant (a CI run did).
+        self.pending = []
+        self.pending_seq = 0
 
     def accept(self, stream, key):
         """False for a message of a run already replaced. A stream whose key
@@ -164,16 +173,22 @@ class RubMonitor(object):
             if e.kind in (ContactEvent.TOUCHDOWN, ContactEvent.GRAZE) and math.isnan(self.first_contact_s):
                 self.first_contact_s = e.time
 
+    def queue(self, t, order, feed):
+        heapq.heappush(self.pending, (t, order, self.pending_seq, feed))
+        self.pending_seq += 1
+
     def on_keyphasor(self, k):
         with self.lock:
             if self.accept("keyphasor", k.revolution):
-                self.detector.feed_keyphasor(k.time, k.revolution, k.speed)
+                d = self.detector
+                self.queue(k.time, 1, lambda: d.feed_keyphasor(k.time, k.revolution, k.speed))
                 self.after(k.header, None, k.time)
 
     def on_probes(self, p):
         with self.lock:
             if self.accept("probes", p.time):
-                self.detector.feed_probes(p.time, p.x, p.y)
+                d = self.detector
+                self.queue(p.time, 0, lambda: d.feed_probes(p.time, p.x, p.y))
                 self.after(p.header, "probes", p.time)
 
     def on_state(self, s):
@@ -181,7 +196,8 @@ class RubMonitor(object):
         with self.lock:
             if self.accept("drive", s.sample_index):
                 self.speed = s.speed
-                self.detector.feed_drive(t, s.speed, s.drive_torque)  # the drive's readings only
+                d = self.detector
+                self.queue(t, 2, lambda: d.feed_drive(t, s.speed, s.drive_torque))  # the drive's readings only
                 self.after(s.header, "drive", t)
 
     def after(self, header, stream, t):
@@ -191,6 +207,8 @@ class RubMonitor(object):
         if stream:
             self.reached[stream] = t
         self.latest_t = min(self.reached.values())
+        while self.pending and self.pending[0][0] <= self.latest_t:
+            heapq.heappop(self.pending)[3]()
         now = d.rubbing
         if now != self.was_rubbing or self.latest_t >= self.next_publish_s:
             self.publish(header)
