@@ -12,6 +12,7 @@
 #include <boost/numeric/odeint/stepper/rosenbrock4_controller.hpp>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 #include "rotor_rub_sim/core/run_types.hpp"
@@ -123,5 +124,10 @@ class DenseRosenbrock4 {
   State x_old_, x_new_;
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
 };
+
+template <class Integrator>
+struct is_implicit : std::false_type {};
+template <class State>
+struct is_implicit<DenseRosenbrock4<State>> : std::true_type {};
 
 }  // namespace rotor_rub::core

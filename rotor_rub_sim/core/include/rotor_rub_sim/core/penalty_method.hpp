@@ -1,7 +1,9 @@
 // Method I: the contact as a stiff spring k_c with a damper consistent with
-// the restitution (contact_law.hpp), acting while delta > C. One set of
-// equations, no events needed to integrate; touchdown and lift-off are located
-// on the dense output for reporting only.
+// the restitution (contact_law.hpp), acting while delta > C and pushing.
+// With an explicit integrator, one set of equations (the clamped law); touchdown
+// and lift-off are located on the dense output for reporting only. With the
+// implicit one, the law's smooth pieces are integrated one at a time and the
+// kinks between them located and restarted at (penalty_law.hpp).
 #pragma once
 
 #include <memory>

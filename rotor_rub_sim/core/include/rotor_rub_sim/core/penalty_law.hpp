@@ -1,0 +1,109 @@
+// The penalty method's contact law (contact_law.hpp) split into the smooth
+// pieces an integrator can take, and the edges between them.
+//
+// The clamped law
+//   F_n = max(0, k_c (delta - C) + c_c delta')  while delta > C, else 0,
+//   F_t = -clamp(c_t v_slide, -f F_n, f F_n)
+// is continuous in the state except at touchdown (F_n jumps to c_c delta'),
+// and its derivative jumps where F_n returns to 0 and at the two edges of the
+// friction cap. An integrator stepping across such a kink loses its order:
+// its error estimate no longer shrinks with the step, so the controller
+// rejects and shrinks until it stalls (Rosenbrock 4 at rtol 1e-8 on the paper
+// scene, 6e-15 s at the first touchdown) and explicit methods waste
+// rejections. The method therefore integrates one smooth piece (a mode) at a
+// time, with its law extended smoothly past the edge, locates the edge on the
+// dense output and restarts there, as the switching method does for its
+// regimes. Inside a mode the force equals the clamped law's, so the solution
+// is the clamped law's; only the numerics change.
+//
+// The mode is a function of the signs of three continuous edge functions [N]:
+//   pressed = min(k_c p, k_c p + c_c p') > 0   (p = delta - C): F_n > 0
+//   upper   = c_t v_slide - f F_n > 0           : slipping, F_t = -f F_n
+//   lower   = -c_t v_slide - f F_n > 0          : slipping, F_t = +f F_n
+// neither upper nor lower: the damper's linear range, F_t = -c_t v_slide
+// (the law's stick, a creep at |F_t| / c_t). Without friction the tangential
+// force is 0 and the friction edges are not watched. Every edge is crossed
+// transversally (the force is continuous across the edges where F_n = 0 and
+// at the cap), so the modes do not chatter.
+#pragma once
+
+#include <algorithm>
+#include <array>
+
+#include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/model.hpp"
+
+namespace rotor_rub::core {
+
+struct PenaltyMode {
+  bool pressed = false;
+  int slip = 0;  // +1: F_t = -f F_n; -1: F_t = +f F_n; 0: the linear range (or no friction)
+  bool operator==(const PenaltyMode& o) const { return pressed == o.pressed && slip == o.slip; }
+  bool operator!=(const PenaltyMode& o) const { return !(*this == o); }
+};
+
+enum PenaltyEdge { kPressedEdge = 0, kUpperEdge = 1, kLowerEdge = 2, kPenaltyEdges = 3 };
+using PenaltyEdgeValues = std::array<double, kPenaltyEdges>;  // [N]
+
+struct PenaltyLaw {
+  double stiffness_N_per_m = 0.0;
+  double damping_N_s_per_m = 0.0;
+  double friction_coefficient = 0.0;
+  double tangential_damping_N_s_per_m = 0.0;
+
+  PenaltyLaw() = default;
+  explicit PenaltyLaw(const JeffcottModel& m)
+      : stiffness_N_per_m(m.parameters().contact_stiffness_N_per_m),
+        damping_N_s_per_m(contact_damping_N_s_per_m(m)),
+        friction_coefficient(m.parameters().friction_coefficient),
+        tangential_damping_N_s_per_m(::rotor_rub::core::tangential_damping_N_s_per_m(m)) {}
+
+  bool has_friction() const { return friction_coefficient > 0.0; }
+
+  // The spring-dashpot force, unclamped: the pressed mode's smooth extension.
+  double spring_dashpot_N(const ContactGeometry& g) const {
+    return stiffness_N_per_m * g.penetration_m + damping_N_s_per_m * g.normal_velocity_m_per_s;
+  }
+
+  // The clamped law (what every sample reports).
+  double normal(const ContactGeometry& g) const {
+    if (g.penetration_m <= 0.0) return 0.0;
+    return std::max(0.0, spring_dashpot_N(g));
+  }
+  double tangential(const ContactGeometry& g, double normal_N) const {
+    return penalty_friction_N(friction_coefficient, normal_N, tangential_damping_N_s_per_m,
+                              g.sliding_velocity_m_per_s);
+  }
+
+  // The law of one mode, smooth in the state.
+  double normal(const ContactGeometry& g, const PenaltyMode& mode) const {
+    return mode.pressed ? spring_dashpot_N(g) : 0.0;
+  }
+  double tangential(const ContactGeometry& g, double normal_N, const PenaltyMode& mode) const {
+    if (!mode.pressed || !has_friction()) return 0.0;
+    if (mode.slip != 0) return -mode.slip * friction_coefficient * normal_N;
+    return -tangential_damping_N_s_per_m * g.sliding_velocity_m_per_s;
+  }
+
+  PenaltyEdgeValues edges(const ContactGeometry& g) const {
+    const double spring_N = stiffness_N_per_m * g.penetration_m;
+    const double fn = spring_dashpot_N(g);
+    const double damper_N = tangential_damping_N_s_per_m * g.sliding_velocity_m_per_s;
+    const double cap_N = friction_coefficient * fn;
+    return {std::min(spring_N, fn), damper_N - cap_N, -damper_N - cap_N};
+  }
+
+  PenaltyMode mode_of(const PenaltyEdgeValues& e) const {
+    PenaltyMode m;
+    m.pressed = e[kPressedEdge] > 0.0;
+    if (m.pressed && has_friction()) m.slip = e[kUpperEdge] > 0.0 ? 1 : (e[kLowerEdge] > 0.0 ? -1 : 0);
+    return m;
+  }
+
+  // Whether a sign change of edge k can change the mode `from`.
+  bool watched(int k, const PenaltyMode& from) const {
+    return k == kPressedEdge || (from.pressed && has_friction());
+  }
+};
+
+}  // namespace rotor_rub::core
