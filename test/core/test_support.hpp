@@ -66,6 +66,7 @@ inline std::vector<Solver> rigid_solvers() {
 inline std::vector<Solver> all_solvers() {
   std::vector<Solver> v = rigid_solvers();
   v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
+  v.push_back({core::Method::kPenalty, core::Integrator::kRosenbrock4});
   return v;
 }
 

@@ -38,6 +38,7 @@ namespace rotor_rub::core {
 struct PenaltyMode {
   bool pressed = false;
   int slip = 0;  // +1: F_t = -f F_n; -1: F_t = +f F_n; 0: the linear range (or no friction)
+  bool clamped = false;  // a fallback step on the clamped law itself (penalty_method.cpp)
   bool operator==(const PenaltyMode& o) const { return pressed == o.pressed && slip == o.slip; }
   bool operator!=(const PenaltyMode& o) const { return !(*this == o); }
 };

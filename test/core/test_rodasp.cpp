@@ -1,0 +1,187 @@
+// The stiff integrator (dense_rodasp.hpp) on closed forms, and against
+// Boost.Odeint's rosenbrock4 it replaced: order on a non-autonomous forced
+// oscillator and on the Prothero-Robinson problem (the contact's slow mode),
+// dense output between the steps, and the penalty method through the paper
+// scene's contacts at every tolerance from 1e-3 to 1e-10.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <boost/numeric/odeint.hpp>
+#include <cmath>
+
+#include "rotor_rub_sim/core/dense_rodasp.hpp"
+#include "rotor_rub_sim/core/simulation.hpp"
+#include "test_support.hpp"
+
+namespace rotor_rub {
+namespace {
+
+using core::DenseRodasp;
+
+// Prothero-Robinson: y' = lambda (y - sin(w t)) + w cos(w t), y(0) = 0, whose
+// solution is sin(w t) for every lambda. lambda -1e4 and w 100 rad/s put
+// h |lambda| between 1 and 100 at these tolerances: the paper scene's
+// contact (slow mode -6.3e3 1/s, whirl ~280 rad/s).
+constexpr double kLambda = -1e4;
+constexpr double kOmega = 100.0;
+using State1 = Eigen::Matrix<double, 1, 1>;
+struct ProtheroRobinson {
+  void operator()(const State1& y, State1& dy, double t) const {
+    dy[0] = kLambda * (y[0] - std::sin(kOmega * t)) + kOmega * std::cos(kOmega * t);
+  }
+};
+
+struct Outcome {
+  long steps = 0;
+  double max_error = 0.0;    // at the steps' ends
+  double dense_error = 0.0;  // at the dense output between them
+};
+
+template <class System, class State, class Exact>
+Outcome integrate(const System& sys_in, State x, double tol, double t_end, Exact exact) {
+  System sys = sys_in;
+  DenseRodasp<State> integ(tol, tol, 1e-14, 10'000'000);
+  core::RunStats stats;
+  integ.initialize(sys, x, 0.0, 1e-5, stats);
+  Outcome o;
+  while (integ.t_new() < t_end) {
+    integ.do_step(sys, stats);
+    for (double s : {0.25, 0.5, 0.75, 1.0}) {
+      const double t = integ.t_old() + s * (integ.t_new() - integ.t_old());
+      State xi;
+      integ.state_at(t, xi);
+      const double e = (xi - exact(t)).template lpNorm<Eigen::Infinity>();
+      (s == 1.0 ? o.max_error : o.dense_error) = std::max(s == 1.0 ? o.max_error : o.dense_error, e);
+    }
+  }
+  o.steps = stats.steps;
+  return o;
+}
+
+// Steps grow by 10^(3/4) = 5.6 over three decades of tolerance at order 4
+// (error estimate h^4); at order 1 by 10^(3/2) = 32. Measured: 5.2 on the
+// non-stiff oscillator. The bound 8 leaves room for the controller's rounding.
+constexpr double kOrderFourStepGrowth = 8.0;
+// On Prothero-Robinson at h |lambda| from 46 down to 3, RODASP's steps grow
+// 14x (measured; partial order reduction remains in this transition range),
+// odeint's rosenbrock4's 66x (605k steps at 1e-8 against RODASP's 3044).
+constexpr double kProtheroRobinsonStepGrowth = 20.0;
+// At the steps' ends the global error stays near the tolerance (measured
+// 0.74 to 1.08 tol on both problems).
+constexpr double kGlobalErrorPerTol = 3.0;
+// The third-order continuous extension between steps: 3.2 to 3.4 tol on the
+// oscillator (measured); on the stiff problem at h |lambda| ~ 46 it is the
+// weak point: 64 tol at 1e-5, 8.8 tol at 1e-8 (measured).
+constexpr double kDenseErrorPerTol = 10.0;
+constexpr double kStiffDenseErrorPerTol = 100.0;
+
+TEST(Rodasp, ProtheroRobinsonStepsAndErrors) {
+  auto exact = [](double t) { return State1(std::sin(kOmega * t)); };
+  const Outcome loose = integrate(ProtheroRobinson{}, State1(0.0), 1e-5, 1.0, exact);
+  const Outcome tight = integrate(ProtheroRobinson{}, State1(0.0), 1e-8, 1.0, exact);
+  EXPECT_LT(static_cast<double>(tight.steps) / loose.steps, kProtheroRobinsonStepGrowth)
+      << loose.steps << " -> " << tight.steps << " steps";
+  EXPECT_LT(loose.max_error, kGlobalErrorPerTol * 1e-5);
+  EXPECT_LT(tight.max_error, kGlobalErrorPerTol * 1e-8);
+  EXPECT_LT(loose.dense_error, kStiffDenseErrorPerTol * 1e-5);
+  EXPECT_LT(tight.dense_error, kStiffDenseErrorPerTol * 1e-8);
+}
+
+// A forced, damped oscillator with a chirp-free forcing cos(W t) from rest:
+// x'' + 2 z w x' + w^2 x = cos(W t). Closed form: the steady part
+// (A cos W t + B sin W t) plus the homogeneous part that starts it from rest.
+struct Forced {
+  static constexpr double w = 80.0, z = 0.01, W = 130.0;
+  void operator()(const Eigen::Vector2d& x, Eigen::Vector2d& dx, double t) const {
+    dx[0] = x[1];
+    dx[1] = std::cos(W * t) - 2 * z * w * x[1] - w * w * x[0];
+  }
+  static Eigen::Vector2d exact(double t) {
+    const double den = (w * w - W * W) * (w * w - W * W) + (2 * z * w * W) * (2 * z * w * W);
+    const double A = (w * w - W * W) / den, B = 2 * z * w * W / den;
+    const double wd = w * std::sqrt(1 - z * z), s = z * w;
+    // x_h = e^{-s t}(C cos wd t + D sin wd t), x(0) = 0, x'(0) = 0.
+    const double C = -A, D = (s * C - B * W) / wd;
+    const double e = std::exp(-s * t);
+    const double xh = e * (C * std::cos(wd * t) + D * std::sin(wd * t));
+    const double vh = e * ((-s * C + wd * D) * std::cos(wd * t) + (-s * D - wd * C) * std::sin(wd * t));
+    return {A * std::cos(W * t) + B * std::sin(W * t) + xh, -A * W * std::sin(W * t) + B * W * std::cos(W * t) + vh};
+  }
+};
+
+TEST(Rodasp, FourthOrderOnANonAutonomousOscillator) {
+  const Outcome loose = integrate(Forced{}, Eigen::Vector2d::Zero().eval(), 1e-6, 1.0, Forced::exact);
+  const Outcome tight = integrate(Forced{}, Eigen::Vector2d::Zero().eval(), 1e-9, 1.0, Forced::exact);
+  EXPECT_LT(static_cast<double>(tight.steps) / loose.steps, kOrderFourStepGrowth)
+      << loose.steps << " -> " << tight.steps << " steps";
+  // The amplitude is ~1e-4 m, so atol = tol governs.
+  EXPECT_LT(loose.max_error, kGlobalErrorPerTol * 1e-6);
+  EXPECT_LT(tight.max_error, kGlobalErrorPerTol * 1e-9);
+  EXPECT_LT(loose.dense_error, kDenseErrorPerTol * 1e-6);
+  EXPECT_LT(tight.dense_error, kDenseErrorPerTol * 1e-9);
+}
+
+// Why odeint's rosenbrock4 went: on the same Prothero-Robinson problem its
+// steps grow like a first-order method's (its d4 has the wrong sign; with it
+// corrected, RODAS still loses order there). If a future Boost fixes both,
+// this test fails and the choice should be measured again.
+TEST(Rodasp, OdeintRosenbrock4LosesOrderWhereRodaspDoesNot) {
+  namespace odeint = boost::numeric::odeint;
+  using V = boost::numeric::ublas::vector<double>;
+  using M = boost::numeric::ublas::matrix<double>;
+  auto steps_of = [](double tol) {
+    auto f = [](const V& y, V& dy, double t) {
+      dy[0] = kLambda * (y[0] - std::sin(kOmega * t)) + kOmega * std::cos(kOmega * t);
+    };
+    auto jac = [](const V&, M& J, double t, V& dfdt) {
+      J(0, 0) = kLambda;
+      dfdt[0] = -kLambda * kOmega * std::cos(kOmega * t) - kOmega * kOmega * std::sin(kOmega * t);
+    };
+    odeint::rosenbrock4_controller<odeint::rosenbrock4<double>> c(tol, tol);
+    V y(1);
+    y[0] = 0.0;
+    double t = 0.0, dt = 1e-5;
+    long steps = 0;
+    while (t < 1.0) {
+      dt = std::min(dt, 1.0 - t);
+      if (c.try_step(std::make_pair(f, jac), y, t, dt) == odeint::success) ++steps;
+    }
+    return steps;
+  };
+  const double odeint_growth = static_cast<double>(steps_of(1e-8)) / steps_of(1e-5);
+  auto exact = [](double t) { return State1(std::sin(kOmega * t)); };
+  const double rodasp_growth =
+      static_cast<double>(integrate(ProtheroRobinson{}, State1(0.0), 1e-8, 1.0, exact).steps) /
+      integrate(ProtheroRobinson{}, State1(0.0), 1e-5, 1.0, exact).steps;
+  EXPECT_GT(odeint_growth, kOrderFourStepGrowth);
+  EXPECT_LT(rodasp_growth, odeint_growth / 1.5);
+}
+
+// The penalty method on the stiff integrator through the paper scene's first
+// contacts (touchdown 1.1129 s, a graze at 1.1141 s whose force the loose
+// tolerances cannot resolve) at both ends of the tolerance range: no stall,
+// and the same orbit as the explicit integrator at a tight tolerance.
+TEST(Rodasp, PenaltyRunsAtEveryToleranceThroughTheFirstContacts) {
+  core::Scene base = test::paper_scene();
+  base.end_time_s = 1.3;
+  const test::Run ref = test::run(test::with_method(base, test::Solver{core::Method::kPenalty, core::Integrator::kDopri5}, 1e-9, 1e-12));
+  ASSERT_FALSE(ref.result.failure.has_value());
+  for (double rtol : {1e-3, 1e-6, 1e-10}) {
+    const test::Run r =
+        test::run(test::with_method(base, test::Solver{core::Method::kPenalty, core::Integrator::kRosenbrock4}, rtol, rtol * 1e-3));
+    ASSERT_FALSE(r.result.failure.has_value()) << "rtol " << rtol;
+    ASSERT_EQ(r.out.samples.size(), ref.out.samples.size());
+    double max_dr = 0.0;
+    for (size_t i = 0; i < r.out.samples.size(); ++i)
+      max_dr = std::max(max_dr, (r.out.samples[i].kin.rotor_pos - ref.out.samples[i].kin.rotor_pos).norm());
+    // rtol 1e-6 and 1e-10: the orbit (radius 2e-3 m) to 50 rtol of it
+    // (measured below 1e-7 m at 1e-6). At rtol 1e-3 the position error
+    // allowed per step (3e-6 m) is 300 times the contact's penetration, the
+    // graze at 1.1141 s is not resolved and the orbit's phase drifts
+    // (2.6e-4 m, measured): there the claim is only that the run finishes.
+    if (rtol < 1e-3) EXPECT_LT(max_dr, std::max(50.0 * rtol * 2e-3, 1e-9)) << "rtol " << rtol;
+  }
+}
+
+}  // namespace
+}  // namespace rotor_rub
