@@ -1,6 +1,8 @@
 #include "rotor_rub_sim/core/penalty_method.hpp"
 
+#include <array>
 #include <limits>
+#include <utility>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
@@ -17,10 +19,10 @@ namespace {
 // kModeLocked: the field of one mode (penalty_law.hpp), for the implicit
 // integrator, whose steps the kinks would otherwise cut down; else the
 // clamped law itself, for the explicit ones, whose steps the contact's
-// stiffness bounds far below any kink's effect (dopri5 took the same steps,
-// within 0.1 %, either way at rtol 1e-7 to 1e-10 on the paper scene), and
+// stiffness bounds far below any kink's effect (dopri5 took the same steps to
+// the digit either way at rtol 1e-3, 1e-5 and 1e-7 on the paper scene), and
 // which at loose tolerances hop across the edges every few steps (at rtol
-// 1e-3 the position error allowed is 250 times the penetration): the clamp
+// 1e-3 the position error allowed is about 400 times the penetration, 3e-6 m against 8e-9 m): the clamp
 // absorbs that noise where restarts would multiply it (182k restarts and
 // 2.8 times the time, measured).
 template <int kStatorDof, bool kMotor, bool kModeLocked>
@@ -94,13 +96,19 @@ class PenaltyMethod final : public ContactMethod {
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
     system_.segment = segment;
+    crossed_edge_ = -1;
+    fallback_ = false;
     restart(t_s, k, initial_step_s_);
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
     State x;
+    end_step_at(t_s);
     integrator_.state_at(t_s, x);
     system_.segment = segment;
+    // A mode change due exactly here carries over; one later in the step is
+    // found again after the restart.
+    if (!(pending_ && valid_end_ == t_s)) crossed_edge_ = -1;
     restart(t_s, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
     ++stats_.restarts;
   }
@@ -108,12 +116,13 @@ class PenaltyMethod final : public ContactMethod {
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     if (pending_) {
       // The mode changed at the end of the last step: restart there, in the
-      // new mode, keeping the step size the controller had reached.
+      // new mode, keeping the step size the controller had reached (a
+      // fallback keeps the step that found its edge instead).
       ProfileScope scope(restart_time_s_);
-      pending_ = false;
       State x;
+      end_step_at(valid_end_);
       integrator_.state_at(valid_end_, x);
-      restart(valid_end_, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
+      restart(valid_end_, kinematics_of<kStatorDof, kMotor>(x), fallback_ ? fallback_dt_s_ : integrator_.dt());
       ++stats_.restarts;
     }
     integrator_.do_step(system_, stats_);
@@ -128,7 +137,8 @@ class PenaltyMethod final : public ContactMethod {
       if (!kModeLocked || system_.mode.clamped) {
         report_contact_change(prev_t, prev, ti, cur, events);
       } else if (system_.law.mode_of(cur) != system_.mode) {
-        on_edge(earliest_crossing(prev_t, prev, ti, cur), events);
+        const auto [te, edge] = earliest_crossing(prev_t, prev, ti, cur);
+        on_edge(te, edge, events);
         return;
       }
       prev_t = ti;
@@ -136,8 +146,9 @@ class PenaltyMethod final : public ContactMethod {
     }
     valid_end_ = t1;
     edges_end_ = prev;
-    // One step on the clamped law (below) is enough to leave the edge; the
-    // next step restarts in the mode of the state it reached.
+    edges_in_row_ = 0;
+    // A fallback step (on_edge()) on the clamped law ends here: the next
+    // restarts in the mode of the state it reached.
     if (kModeLocked && system_.mode.clamped) pending_ = true;
     if (system_.law.mode_of(edges_end_).pressed) {
       const ContactGeometry g = geometry_at(valid_end_);
@@ -175,10 +186,28 @@ class PenaltyMethod final : public ContactMethod {
   // bounds them) and their field is the clamped law: the end point is enough.
   static constexpr int kScanPoints = kModeLocked ? 2 : 1;
   static constexpr double kNoProgress = 1e-9;  // of the step: an edge at its start
+  static constexpr int kMaxEdgesInRow = 64;
 
+  // The implicit integrator restarts from a step's end (DenseRodasp::end_step_at).
+  void end_step_at(double t_s) {
+    if constexpr (kModeLocked) integrator_.end_step_at(system_, t_s, stats_);
+  }
+
+  // Restarts at t_s from state k. After an edge (crossed_edge_ >= 0) the
+  // mode is the one the crossing located on the dense output leads to: the
+  // step to t_s taken again (end_step_at) may end a rounding short of the
+  // edge (measured: 5e-15 m of penetration short of a touchdown), and
+  // deciding the mode from that state would find the same edge again at
+  // once, a few times, and end in a fallback. The edge's value is taken as
+  // on its new side, so only a crossing back is seen.
   void restart(double t_s, const Kinematics& k, double dt_s) {
+    pending_ = false;
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     edges_end_ = system_.law.edges(model_.contact_geometry(k, d));
+    if (crossed_edge_ >= 0 && (edges_end_[crossed_edge_] > 0.0) != crossed_to_positive_) {
+      edges_end_[crossed_edge_] = crossed_to_positive_ ? std::numeric_limits<double>::denorm_min() : 0.0;
+    }
+    crossed_edge_ = -1;
     system_.mode = system_.law.mode_of(edges_end_);
     system_.mode.clamped = fallback_;
     fallback_ = false;
@@ -188,18 +217,25 @@ class PenaltyMethod final : public ContactMethod {
     valid_end_ = t_s;
   }
 
-  // The earliest sign change in (t0, t1] of an edge that bounds the mode.
-  double earliest_crossing(double t0, const PenaltyEdgeValues& e0, double t1, const PenaltyEdgeValues& e1) {
+  // The earliest sign change in (t0, t1] of an edge that bounds the mode, and the edge.
+  std::pair<double, int> earliest_crossing(double t0, const PenaltyEdgeValues& e0, double t1,
+                                           const PenaltyEdgeValues& e1) {
     double first = t1;
+    int edge = -1;
     for (int k = 0; k < kPenaltyEdges; ++k) {
       if (!system_.law.watched(k, system_.mode) || (e0[k] > 0.0) == (e1[k] > 0.0)) continue;
       auto f = [this, k](double t) { return signed_edge(edges_at(t)[k]); };
-      first = std::min(first, locate_event(f, t0, signed_edge(e0[k]), t1, signed_edge(e1[k]), stats_));
+      const double te = locate_event(f, t0, signed_edge(e0[k]), t1, signed_edge(e1[k]), stats_);
+      if (edge < 0 || te < first) {
+        first = te;
+        edge = k;
+      }
     }
-    return first;
+    return {first, edge < 0 ? kPressedEdge : edge};
   }
 
-  // Explicit integrators: touchdown and lift-off located for the report only.
+  // Explicit integrators (and a fallback step): touchdown and lift-off
+  // located for the report only.
   void report_contact_change(double t0, const PenaltyEdgeValues& e0, double t1, const PenaltyEdgeValues& e1,
                              std::vector<ContactEvent>& events) {
     if ((e0[kPressedEdge] > 0.0) == (e1[kPressedEdge] > 0.0)) return;
@@ -218,16 +254,26 @@ class PenaltyMethod final : public ContactMethod {
   // The step ends at the edge; the next step() restarts in the new mode.
   // An edge found at the very start of a step that began at an edge (no
   // progress: the new mode's field turns straight back across it) is a
-  // graze whose contact force is below what the tolerance resolves (at rtol
-  // 1e-3 the position error allowed is 250 times the penetration): the edge
-  // function is noise there, and the modes would hand the state back and
-  // forth at one instant (measured: 1e7 restarts at t = 1.1141 s on the
-  // paper scene). Such a step is taken again on the clamped law itself,
-  // which is always the law, only not smooth.
-  void on_edge(double t_s, std::vector<ContactEvent>& events) {
+  // graze: the edge touched with zero slope, or a contact force below what
+  // the tolerance resolves (at rtol 1e-3 the position error allowed is
+  // about 400 times the penetration, 3e-6 m against 8e-9 m). The modes
+  // would hand the state back and forth at one instant (measured: 1e7
+  // restarts at t = 1.1141 s on the paper scene at rtol 1e-3). Such a step
+  // is taken again on the clamped law itself, which is always the law, only
+  // not smooth; the next step restarts in the mode of the state it reaches.
+  void on_edge(double t_s, int edge, std::vector<ContactEvent>& events) {
     const double t0 = integrator_.t_old();
-    if (t_s - t0 <= kNoProgress * (integrator_.t_new() - t0)) {
+    const double h = integrator_.t_new() - t0;
+    // "At its start": within the root's resolution (kEventTimeTolerance_s),
+    // a few ulps of t, or a billionth of the step; or the steps have ended
+    // at edges kMaxEdgesInRow times running (no real sequence of the three
+    // edges is that long), whatever the progress.
+    const double at_start = std::max({kNoProgress * h, 4.0 * kEventTimeTolerance_s,
+                                      4.0 * (std::nextafter(t0, 2.0 * t0 + 1.0) - t0)});
+    if (t_s - t0 <= at_start || ++edges_in_row_ > kMaxEdgesInRow) {
+      edges_in_row_ = 0;
       fallback_ = true;
+      fallback_dt_s_ = h;  // the step that found the edge, not the controller's next proposal
       valid_end_ = t0;
       edges_end_ = edges_at(t0);
       pending_ = true;
@@ -235,7 +281,13 @@ class PenaltyMethod final : public ContactMethod {
     }
     valid_end_ = t_s;
     edges_end_ = edges_at(t_s);
+    crossed_edge_ = edge;
+    crossed_to_positive_ = edges_end_[edge] > 0.0;
     const PenaltyMode next = system_.law.mode_of(edges_end_);
+    if (system_.mode.pressed) {  // a stick-slip edge is where the sliding speed is smallest
+      stats_.min_abs_sliding_velocity_m_per_s = std::min(stats_.min_abs_sliding_velocity_m_per_s,
+                                                         std::abs(geometry_at(t_s).sliding_velocity_m_per_s));
+    }
     // (If the root's far side rounded back into the mode, the restart
     // continues in it: the step has ended at t_s all the same.)
     if (next.pressed != system_.mode.pressed) {
@@ -263,7 +315,11 @@ class PenaltyMethod final : public ContactMethod {
   PenaltyEdgeValues edges_end_{};  // at valid_end_
   double valid_end_ = 0.0;
   bool pending_ = false;
+  int crossed_edge_ = -1;  // the edge the pending restart crossed, and to which side
+  bool crossed_to_positive_ = false;
   bool fallback_ = false;  // the next restart takes one step on the clamped law
+  double fallback_dt_s_ = 0.0;
+  int edges_in_row_ = 0;  // steps ended at an edge since the last full step
   RunStats stats_;
   double* event_time_s_ = nullptr;    // profiling only
   double* restart_time_s_ = nullptr;  // profiling only

@@ -15,21 +15,24 @@
 //   this order reduction (Steinebach 1995, "Order-reduction of ROW-methods
 //   for DAEs and method of lines applications", Preprint 1741, TH Darmstadt).
 // * works on ublas containers with a dynamic LU.
-// test_rodasp.cpp measures all three on closed forms.
+// test_rodasp.cpp measures RODASP's orders on closed forms and odeint's
+// steps beside its own on the Prothero-Robinson problem.
 //
 // Form (Hairer and Wanner II, IV.7): with E = I - h gamma J,
 //   E u_i = f(t + a_i h, y + h sum_j alpha_ij K_j) + sum_j gt_ij K_j + g_i h f_t,
 //   K_i = u_i - sum_j gt_ij K_j    (gt = Gamma_offdiag / gamma),
 //   y1 = y + h sum b_i K_i, the embedded y1^ = y + h sum bh_i K_i,
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
-// The Jacobian J = df/dy and f_t = df/dt are forward differences of the same
-// right-hand side every method uses, so the model stays in one place.
+// The Jacobian J = df/dy and f_t = df/dt are finite differences of the same
+// right-hand side every method uses, so the model stays in one place
+// (jacobian()): 16 right-hand sides a step in all.
 #pragma once
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "rotor_rub_sim/core/run_types.hpp"
@@ -101,64 +104,22 @@ class DenseRodasp {
 
   template <class System>
   void do_step(System& sys, RunStats& stats) {
-    const RodaspTableau& tab = tableau();
     x_old_ = x_new_;
     t_old_ = t_new_;
     const double t = t_old_;
-    State f0, f1, dfdt;
-    sys(x_old_, f0, t);
-    Matrix jac;
-    for (int j = 0; j < kSize; ++j) {
-      // Forward differences with the step scaled to the component: the
-      // Jacobian steers the linear solves; RODASP needs it exact only to the
-      // order its error estimate sees (a relative 1e-8 here).
-      const double h = 1e-7 * std::max(std::abs(x_old_[j]), 1e-6);
-      State xp = x_old_;
-      xp[j] += h;
-      sys(xp, f1, t);
-      jac.col(j) = (f1 - f0) / h;
-    }
-    const double ht = 1e-7 * std::max(std::abs(t), 1e-3);
-    sys(x_old_, f1, t + ht);
-    dfdt = (f1 - f0) / ht;
-    stats.rhs_evals += kSize + 2;
-    ++stats.jacobian_evals;
+    sys(x_old_, f0_, t);
+    jacobian(sys, t, stats);
 
     for (;;) {
       check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
       const double h = dt_;
-      const Eigen::PartialPivLU<Matrix> lu(Matrix::Identity() - (h * RodaspTableau::kGamma) * jac);
-      for (int i = 0; i < kStages; ++i) {
-        State y = x_old_;
-        State sum = State::Zero();
-        for (int j = 0; j < i; ++j) {
-          y += (h * tab.alpha[i][j]) * k_[j];
-          sum += tab.gt[i][j] * k_[j];
-        }
-        State f;
-        if (i == 0) {
-          f = f0;
-        } else {
-          sys(y, f, t + tab.a[i] * h);
-          ++stats.rhs_evals;
-        }
-        k_[i] = lu.solve(f + sum + (tab.g[i] * h) * dfdt) - sum;
-      }
-      State step = State::Zero(), err = State::Zero();
-      for (int i = 0; i < kStages; ++i) {
-        step += tab.b[i] * k_[i];
-        err += (tab.b[i] - tab.bh[i]) * k_[i];
-      }
-      step *= h;
-      err *= h;
-      const State x1 = x_old_ + step;
-      // The error in the RMS norm of odeint's controllers, scaled by
-      // atol + rtol max(|x0|, |x1|) per component.
-      const double e = std::sqrt(
-          (err.array() / (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs()))).square().mean());
+      const double e = attempt(sys, h, stats);
+      const State x1 = x_old_ + step_;
       if (!(e <= 1.0) || !x1.allFinite()) {
         ++stats.rejected_steps;
-        const double shrink = std::isfinite(e) ? std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0) : 0.2;
+        // A non-finite trial shrinks as far as a rejection can.
+        const double shrink =
+            std::isfinite(e) && x1.allFinite() ? std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0) : 0.2;
         dt_ = h * shrink;
         last_rejected_ = true;
         continue;
@@ -175,20 +136,26 @@ class DenseRodasp {
       double next = h / fac;
       if (last_rejected_) next = std::min(next, h);
       last_rejected_ = false;
-      x_new_ = x1;
-      t_new_ = t + h;
+      accept(x1, t + h);
       dt_ = next;
       break;
     }
-    // The continuous extension's two correction vectors.
-    cont_c_.setZero();
-    cont_d_.setZero();
-    for (int i = 0; i < kStages; ++i) {
-      cont_c_ += tab.c[i] * k_[i];
-      cont_d_ += tab.d[i] * k_[i];
-    }
     ++stats.steps;
     if (!x_new_.allFinite()) throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
+  }
+
+  // Ends the last step at t_s in (t_old, t_new] by taking it again from its
+  // start with the step t_s - t_old (one more step's work, no error control:
+  // it is shorter than the accepted one). A restart at an event then starts
+  // from a step's end, not from the continuous extension, whose stability
+  // function between the steps exceeds 1 for stiff components (1.6 at s
+  // 0.1-0.25 as h lambda -> -inf): a damped stiff transient would be
+  // restarted amplified.
+  template <class System>
+  void end_step_at(System& sys, double t_s, RunStats& stats) {
+    if (!(t_s > t_old_) || t_s >= t_new_) return;
+    attempt(sys, t_s - t_old_, stats);
+    accept(State(x_old_ + step_), t_s);
   }
 
   void state_at(double t_s, State& x) const {
@@ -213,10 +180,90 @@ class DenseRodasp {
     return t;
   }
 
+  // J = df/dx at (x_old, t) by forward differences, the state's step 1e-7
+  // of the component kept within [1e-13, 1e-7] (an angle that keeps growing,
+  // a motor's spin, does not get a coarse one). f_t = df/dt by a central
+  // difference, its step cbrt(eps) max(|t|, 1e-3): a forward difference's
+  // error (w h_t / 2 relative, 6e-7 at 130 rad/s) enters every stage and
+  // held the step's local error at second order below w h ~ 0.2
+  // (test_rodasp.cpp measures the orders); the central one's is
+  // (w h_t)^2 / 6 (1e-8).
+  template <class System>
+  void jacobian(System& sys, double t, RunStats& stats) {
+    State f1, f2;
+    for (int j = 0; j < kSize; ++j) {
+      const double h = 1e-7 * std::clamp(std::abs(x_old_[j]), 1e-6, 1.0);
+      State xp = x_old_;
+      xp[j] += h;
+      sys(xp, f1, t);
+      jac_.col(j) = (f1 - f0_) / (xp[j] - x_old_[j]);
+    }
+    const double ht = std::cbrt(std::numeric_limits<double>::epsilon()) * std::max(std::abs(t), 1e-3);
+    sys(x_old_, f1, t + ht);
+    sys(x_old_, f2, t - ht);
+    dfdt_ = (f1 - f2) / (2.0 * ht);
+    stats.rhs_evals += kSize + 3;
+    ++stats.jacobian_evals;
+  }
+
+  // One trial step of size h from (x_old, t_old): the stages, step_ (the
+  // increment) and the error norm.
+  template <class System>
+  double attempt(System& sys, double h, RunStats& stats) {
+    const RodaspTableau& tab = tableau();
+    const double t = t_old_;
+    {
+      const Eigen::PartialPivLU<Matrix> lu(Matrix::Identity() - (h * RodaspTableau::kGamma) * jac_);
+      for (int i = 0; i < kStages; ++i) {
+        State y = x_old_;
+        State sum = State::Zero();
+        for (int j = 0; j < i; ++j) {
+          y += (h * tab.alpha[i][j]) * k_[j];
+          sum += tab.gt[i][j] * k_[j];
+        }
+        State f;
+        if (i == 0) {
+          f = f0_;
+        } else {
+          sys(y, f, t + tab.a[i] * h);
+          ++stats.rhs_evals;
+        }
+        k_[i] = lu.solve(f + sum + (tab.g[i] * h) * dfdt_) - sum;
+      }
+    }
+    State err = State::Zero();
+    step_.setZero();
+    for (int i = 0; i < kStages; ++i) {
+      step_ += tab.b[i] * k_[i];
+      err += (tab.b[i] - tab.bh[i]) * k_[i];
+    }
+    step_ *= h;
+    err *= h;
+    const State x1 = x_old_ + step_;
+    // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|).
+    return std::sqrt((err.array() / (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs()))).square().mean());
+  }
+
+  // Takes the last attempt as the step to t_s: its end and the continuous
+  // extension's two correction vectors.
+  void accept(const State& x1, double t_s) {
+    const RodaspTableau& tab = tableau();
+    x_new_ = x1;
+    t_new_ = t_s;
+    cont_c_.setZero();
+    cont_d_.setZero();
+    for (int i = 0; i < kStages; ++i) {
+      cont_c_ += tab.c[i] * k_[i];
+      cont_d_ += tab.d[i] * k_[i];
+    }
+  }
+
   double atol_, rtol_;
   double min_step_s_;
   long max_steps_;
   std::array<State, kStages> k_{};
+  State f0_ = State::Zero(), dfdt_ = State::Zero(), step_ = State::Zero();
+  Matrix jac_ = Matrix::Zero();
   State x_old_ = State::Zero(), x_new_ = State::Zero(), cont_c_ = State::Zero(), cont_d_ = State::Zero();
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
   double err_old_ = 0.0, dt_old_ = 0.0;
