@@ -181,7 +181,11 @@ class PenaltyMethod final : public ContactMethod {
  private:
   // Interior points at which the edges are checked besides the step's end:
   // a contact shorter than a step (a graze in free flight, where the
-  // integrator sees no force) is found if it spans one of them.
+  // integrator sees no force) is found if it spans one of them. An edge
+  // crossed and crossed back between two of them goes unseen (as in the
+  // switching method's scan): for that while the mode's extended law acts
+  // (a pressed mode's force slightly pulling) where the samples report the
+  // clamped law.
   // The explicit integrators' steps are short (the contact's stiffness
   // bounds them) and their field is the clamped law: the end point is enough.
   static constexpr int kScanPoints = kModeLocked ? 2 : 1;

@@ -22,9 +22,15 @@
 //   lower   = -c_t v_slide - f F_n > 0          : slipping, F_t = +f F_n
 // neither upper nor lower: the damper's linear range, F_t = -c_t v_slide
 // (the law's stick, a creep at |F_t| / c_t). Without friction the tangential
-// force is 0 and the friction edges are not watched. Every edge is crossed
-// transversally (the force is continuous across the edges where F_n = 0 and
-// at the cap), so the modes do not chatter.
+// force is 0 and the friction edges are not watched. The force is continuous
+// across the edges where F_n = 0 and at the cap, so an edge is crossed
+// transversally unless touched with zero slope (a graze), where the method
+// takes one step on the clamped law (penalty_method.cpp).
+//
+// The penalty method's touchdown and lift-off events are the pressed edge's
+// crossings: the force switching on and off. A force that returns while the
+// rotor still penetrates (a rebound that turns back before the bore) is a
+// touchdown whose normal velocity is negative (opening).
 #pragma once
 
 #include <algorithm>
