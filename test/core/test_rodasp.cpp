@@ -191,9 +191,8 @@ TEST(Rodasp, OdeintRosenbrock4LosesOrderWhereRodaspDoesNot) {
   };
   const double odeint_growth = static_cast<double>(steps_of(1e-8)) / steps_of(1e-5);
   auto exact = [](double t) { return State1(std::sin(kOmega * t)); };
-  const double rodasp_growth =
-      static_cast<double>(integrate(ProtheroRobinson{}, State1(0.0), 1e-8, 1.0, exact).steps) /
-      integrate(ProtheroRobinson{}, State1(0.0), 1e-5, 1.0, exact).steps;
+  const double rodasp_growth = static_cast<double>(integrate(ProtheroRobinson{}, State1(0.0), 1e-8, 1.0, exact).steps) /
+                               integrate(ProtheroRobinson{}, State1(0.0), 1e-5, 1.0, exact).steps;
   EXPECT_GT(odeint_growth, kOrderFourStepGrowth);
   EXPECT_LT(rodasp_growth, odeint_growth / 1.5);
 }
@@ -210,8 +209,8 @@ TEST(Rodasp, PenaltyRunsAtEveryToleranceThroughTheFirstContacts) {
   ASSERT_FALSE(ref.result.failure.has_value());
   ASSERT_FALSE(ref.out.events.empty());
   for (double rtol : {1e-3, 1e-6, 1e-10}) {
-    core::Scene s =
-        test::with_method(base, test::Solver{core::Method::kPenalty, core::Integrator::kRosenbrock4}, rtol, rtol * 1e-3);
+    core::Scene s = test::with_method(base, test::Solver{core::Method::kPenalty, core::Integrator::kRosenbrock4}, rtol,
+                                      rtol * 1e-3);
     // A stall shows as a spent budget, not as a long wait: the runs take
     // 1e3 (rtol 1e-3) to 2e5 (1e-10) steps here.
     s.solver.max_steps = 1'000'000;

@@ -22,9 +22,9 @@ namespace {
 // stiffness bounds far below any kink's effect (dopri5 took the same steps to
 // the digit either way at rtol 1e-3, 1e-5 and 1e-7 on the paper scene), and
 // which at loose tolerances hop across the edges every few steps (at rtol
-// 1e-3 the position error allowed is about 400 times the penetration, 3e-6 m against 8e-9 m): the clamp
-// absorbs that noise where restarts would multiply it (182k restarts and
-// 2.8 times the time, measured).
+// 1e-3 the position error allowed is about 400 times the penetration, 3e-6 m
+// against 8e-9 m): the clamp absorbs that noise where restarts would
+// multiply it (182k restarts and 2.8 times the time, measured).
 template <int kStatorDof, bool kMotor, bool kModeLocked>
 struct PenaltySystem {
   using L = FreeLayout<kStatorDof, kMotor>;
@@ -272,8 +272,8 @@ class PenaltyMethod final : public ContactMethod {
     // a few ulps of t, or a billionth of the step; or the steps have ended
     // at edges kMaxEdgesInRow times running (no real sequence of the three
     // edges is that long), whatever the progress.
-    const double at_start = std::max({kNoProgress * h, 4.0 * kEventTimeTolerance_s,
-                                      4.0 * (std::nextafter(t0, 2.0 * t0 + 1.0) - t0)});
+    const double at_start =
+        std::max({kNoProgress * h, 4.0 * kEventTimeTolerance_s, 4.0 * (std::nextafter(t0, 2.0 * t0 + 1.0) - t0)});
     if (t_s - t0 <= at_start || ++edges_in_row_ > kMaxEdgesInRow) {
       edges_in_row_ = 0;
       fallback_ = true;
@@ -289,8 +289,8 @@ class PenaltyMethod final : public ContactMethod {
     crossed_to_positive_ = edges_end_[edge] > 0.0;
     const PenaltyMode next = system_.law.mode_of(edges_end_);
     if (system_.mode.pressed) {  // a stick-slip edge is where the sliding speed is smallest
-      stats_.min_abs_sliding_velocity_m_per_s = std::min(stats_.min_abs_sliding_velocity_m_per_s,
-                                                         std::abs(geometry_at(t_s).sliding_velocity_m_per_s));
+      stats_.min_abs_sliding_velocity_m_per_s =
+          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(geometry_at(t_s).sliding_velocity_m_per_s));
     }
     // (If the root's far side rounded back into the mode, the restart
     // continues in it: the step has ended at t_s all the same.)

@@ -118,8 +118,7 @@ class DenseRodasp {
       if (!(e <= 1.0) || !x1.allFinite()) {
         ++stats.rejected_steps;
         // A non-finite trial shrinks as far as a rejection can.
-        const double shrink =
-            std::isfinite(e) && x1.allFinite() ? std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0) : 0.2;
+        const double shrink = std::isfinite(e) && x1.allFinite() ? std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0) : 0.2;
         dt_ = h * shrink;
         last_rejected_ = true;
         continue;

@@ -32,7 +32,7 @@ struct IntegratorName {
 };
 inline constexpr std::array<IntegratorName, 4> kIntegratorNames{{
     {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
-    {Integrator::kRosenbrock4, "rosenbrock4"},  // linearly implicit, stiff (penalty only)
+    {Integrator::kRosenbrock4, "rosenbrock4"},  // RODASP, linearly implicit 4(3), stiff (penalty only)
     {Integrator::kRk4, "rk4"},                  // classic RK4, fixed step fixed_step_s (penalty only)
     {Integrator::kRkf78, "rkf78"},              // explicit embedded RK 7(8), Hermite dense output (switching only)
 }};

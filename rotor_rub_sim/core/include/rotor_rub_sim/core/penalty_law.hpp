@@ -43,7 +43,7 @@ namespace rotor_rub::core {
 
 struct PenaltyMode {
   bool pressed = false;
-  int slip = 0;  // +1: F_t = -f F_n; -1: F_t = +f F_n; 0: the linear range (or no friction)
+  int slip = 0;          // +1: F_t = -f F_n; -1: F_t = +f F_n; 0: the linear range (or no friction)
   bool clamped = false;  // a fallback step on the clamped law itself (penalty_method.cpp)
   bool operator==(const PenaltyMode& o) const { return pressed == o.pressed && slip == o.slip; }
   bool operator!=(const PenaltyMode& o) const { return !(*this == o); }
@@ -78,8 +78,7 @@ struct PenaltyLaw {
     return std::max(0.0, spring_dashpot_N(g));
   }
   double tangential(const ContactGeometry& g, double normal_N) const {
-    return penalty_friction_N(friction_coefficient, normal_N, tangential_damping_N_s_per_m,
-                              g.sliding_velocity_m_per_s);
+    return penalty_friction_N(friction_coefficient, normal_N, tangential_damping_N_s_per_m, g.sliding_velocity_m_per_s);
   }
 
   // The law of one mode, smooth in the state.
@@ -108,9 +107,7 @@ struct PenaltyLaw {
   }
 
   // Whether a sign change of edge k can change the mode `from`.
-  bool watched(int k, const PenaltyMode& from) const {
-    return k == kPressedEdge || (from.pressed && has_friction());
-  }
+  bool watched(int k, const PenaltyMode& from) const { return k == kPressedEdge || (from.pressed && has_friction()); }
 };
 
 }  // namespace rotor_rub::core
