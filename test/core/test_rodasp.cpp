@@ -75,16 +75,23 @@ constexpr double kGlobalErrorPerTol = 3.0;
 constexpr double kDenseErrorPerTol = 10.0;
 constexpr double kStiffDenseErrorPerTol = 100.0;
 
+// A loose and a tight run of one problem: the steps' growth between them,
+// and the errors at the steps' ends and between them, per tolerance.
+void expect_runs(const Outcome& loose, double loose_tol, const Outcome& tight, double tight_tol, double max_growth,
+                 double dense_error_per_tol) {
+  EXPECT_LT(static_cast<double>(tight.steps) / loose.steps, max_growth)
+      << loose.steps << " -> " << tight.steps << " steps";
+  EXPECT_LT(loose.max_error, kGlobalErrorPerTol * loose_tol);
+  EXPECT_LT(tight.max_error, kGlobalErrorPerTol * tight_tol);
+  EXPECT_LT(loose.dense_error, dense_error_per_tol * loose_tol);
+  EXPECT_LT(tight.dense_error, dense_error_per_tol * tight_tol);
+}
+
 TEST(Rodasp, ProtheroRobinsonStepsAndErrors) {
   auto exact = [](double t) { return State1(std::sin(kOmega * t)); };
   const Outcome loose = integrate(ProtheroRobinson{}, State1(0.0), 1e-5, 1.0, exact);
   const Outcome tight = integrate(ProtheroRobinson{}, State1(0.0), 1e-8, 1.0, exact);
-  EXPECT_LT(static_cast<double>(tight.steps) / loose.steps, kProtheroRobinsonStepGrowth)
-      << loose.steps << " -> " << tight.steps << " steps";
-  EXPECT_LT(loose.max_error, kGlobalErrorPerTol * 1e-5);
-  EXPECT_LT(tight.max_error, kGlobalErrorPerTol * 1e-8);
-  EXPECT_LT(loose.dense_error, kStiffDenseErrorPerTol * 1e-5);
-  EXPECT_LT(tight.dense_error, kStiffDenseErrorPerTol * 1e-8);
+  expect_runs(loose, 1e-5, tight, 1e-8, kProtheroRobinsonStepGrowth, kStiffDenseErrorPerTol);
 }
 
 // A forced, damped oscillator with a chirp-free forcing cos(W t) from rest:
@@ -112,13 +119,8 @@ struct Forced {
 TEST(Rodasp, FourthOrderOnANonAutonomousOscillator) {
   const Outcome loose = integrate(Forced{}, Eigen::Vector2d::Zero().eval(), 1e-6, 1.0, Forced::exact);
   const Outcome tight = integrate(Forced{}, Eigen::Vector2d::Zero().eval(), 1e-9, 1.0, Forced::exact);
-  EXPECT_LT(static_cast<double>(tight.steps) / loose.steps, kOrderFourStepGrowth)
-      << loose.steps << " -> " << tight.steps << " steps";
-  // The amplitude is ~1e-4 m, so atol = tol governs.
-  EXPECT_LT(loose.max_error, kGlobalErrorPerTol * 1e-6);
-  EXPECT_LT(tight.max_error, kGlobalErrorPerTol * 1e-9);
-  EXPECT_LT(loose.dense_error, kDenseErrorPerTol * 1e-6);
-  EXPECT_LT(tight.dense_error, kDenseErrorPerTol * 1e-9);
+  // The amplitude is ~1e-4 m, so atol = tol governs the errors.
+  expect_runs(loose, 1e-6, tight, 1e-9, kOrderFourStepGrowth, kDenseErrorPerTol);
 }
 
 // The orders themselves, not the controller's (the step growth above follows
