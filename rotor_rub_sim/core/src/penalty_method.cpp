@@ -131,9 +131,11 @@ class PenaltyMethod final : public ContactMethod {
     const double t1 = std::min(integrator_.t_new(), t_limit_s);
     double prev_t = t0;
     PenaltyEdgeValues prev = edges_end_;
+    ContactGeometry g_end;
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
-      const PenaltyEdgeValues cur = edges_at(ti);
+      g_end = geometry_at(ti);
+      const PenaltyEdgeValues cur = system_.law.edges(g_end);
       if (!kModeLocked || system_.mode.clamped) {
         report_contact_change(prev_t, prev, ti, cur, events);
       } else if (system_.law.mode_of(cur) != system_.mode) {
@@ -150,10 +152,9 @@ class PenaltyMethod final : public ContactMethod {
     // A fallback step (on_edge()) on the clamped law ends here: the next
     // restarts in the mode of the state it reached.
     if (kModeLocked && system_.mode.clamped) pending_ = true;
-    if (system_.law.mode_of(edges_end_).pressed) {
-      const ContactGeometry g = geometry_at(valid_end_);
+    if (system_.law.mode_of(edges_end_).pressed) {  // g_end is at valid_end_ = t1
       stats_.min_abs_sliding_velocity_m_per_s =
-          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(g.sliding_velocity_m_per_s));
+          std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(g_end.sliding_velocity_m_per_s));
     }
   }
 
