@@ -11,59 +11,11 @@
 #include "rotor_rub_sim/core/dense_rodasp.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/penalty_law.hpp"
+#include "rotor_rub_sim/core/penalty_system.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
 namespace {
-
-// kModeLocked: the field of one mode (penalty_law.hpp), for the implicit
-// integrator, whose steps the kinks would otherwise cut down; else the
-// clamped law itself, for the explicit ones, whose steps the contact's
-// stiffness bounds far below any kink's effect (dopri5 took the same steps to
-// the digit either way at rtol 1e-3, 1e-5 and 1e-7 on the paper scene), and
-// which at loose tolerances hop across the edges every few steps (at rtol
-// 1e-3 the position error allowed is about 400 times the penetration, 3e-6 m
-// against 8e-9 m): the clamp absorbs that noise where restarts would
-// multiply it (182k restarts and 2.8 times the time, measured).
-template <int kStatorDof, bool kMotor, bool kModeLocked>
-struct PenaltySystem {
-  using L = FreeLayout<kStatorDof, kMotor>;
-  using State = typename L::State;
-  const JeffcottModel* model;
-  PenaltyLaw law;
-  PenaltyMode mode;  // the smooth piece being integrated (penalty_law.hpp)
-  SpeedSegment segment;
-  double* rhs_time_s = nullptr;  // profiling only
-
-  void operator()(const State& x, State& dxdt, double t) const {
-    ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
-    const DriveState reference = segment.at(t);
-    const DriveState d = model->drive_at(k, reference);
-    const ContactGeometry g = model->contact_geometry(k, d);
-    double fn, ft;
-    if constexpr (kModeLocked) {
-      if (mode.clamped) {
-        fn = law.normal(g);
-        ft = law.tangential(g, fn);
-      } else {
-        fn = law.normal(g, mode);
-        ft = law.tangential(g, fn, mode);
-      }
-    } else {
-      fn = law.normal(g);
-      ft = law.tangential(g, fn);
-    }
-    const Accelerations a = model->accelerations(k, d, g, fn, ft);
-    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = a.rotor;
-    if constexpr (kStatorDof == 2) {
-      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = a.stator;
-    }
-    spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
-  }
-};
 
 template <class Integrator>
 Integrator make_integrator(const SolverSettings& s) {

@@ -23,9 +23,10 @@
 //   K_i = u_i - sum_j gt_ij K_j    (gt = Gamma_offdiag / gamma),
 //   y1 = y + h sum b_i K_i, the embedded y1^ = y + h sum bh_i K_i,
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
-// The Jacobian J = df/dy and f_t = df/dt are finite differences of the same
-// right-hand side every method uses, so the model stays in one place
-// (jacobian()): 16 right-hand sides a step in all.
+// The Jacobian J = df/dy and f_t = df/dt come from the system in closed form
+// where it gives them (has_analytic_jacobian: the penalty method under the
+// prescribed drive, penalty_system.hpp; 7 right-hand sides a step), else are
+// finite differences of the same right-hand side (jacobian()): 16 a step.
 #pragma once
 
 #include <Eigen/Dense>
@@ -81,6 +82,25 @@ struct RodaspTableau {
   }
 };
 
+// A system that gives its Jacobian df/dx and df/dt in closed form declares
+//   static constexpr bool kAnalyticJacobian = true;
+//   void jacobian(const State& x, double t, Matrix& J, State& dfdt) const;
+template <class System, class = void>
+struct has_analytic_jacobian : std::false_type {};
+template <class System>
+struct has_analytic_jacobian<System, std::enable_if_t<System::kAnalyticJacobian>> : std::true_type {};
+
+// A system whose closed-form Jacobian is second order, the state's first
+// half the positions q and its second their velocities v = q' (so J = [0 I;
+// A B] and df/dt = [0; g]), declares kSecondOrderJacobian: each stage's
+// E u = r then takes one system of half the size, (I - tau B - tau^2 A) u_v
+// = r_v + tau A r_p with u_p = r_p + tau u_v (tau = h gamma): a 4x4 LU for
+// the elastic stator's 8 states, an eighth of the full one's work.
+template <class System, class = void>
+struct has_second_order_jacobian : std::false_type {};
+template <class System>
+struct has_second_order_jacobian<System, std::enable_if_t<System::kSecondOrderJacobian>> : std::true_type {};
+
 template <class State>
 class DenseRodasp {
  public:
@@ -108,6 +128,7 @@ class DenseRodasp {
     t_old_ = t_new_;
     const double t = t_old_;
     sys(x_old_, f0_, t);
+    ++stats.rhs_evals;
     jacobian(sys, t, stats);
 
     for (;;) {
@@ -179,7 +200,8 @@ class DenseRodasp {
     return t;
   }
 
-  // J = df/dx at (x_old, t) by forward differences, the state's step 1e-7
+  // Without a closed form (has_analytic_jacobian), J = df/dx at (x_old, t)
+  // by forward differences, the state's step 1e-7
   // of the component kept within [1e-13, 1e-7] (an angle that keeps growing,
   // a motor's spin, does not get a coarse one). f_t = df/dt by a central
   // difference, its step cbrt(eps) max(|t|, 1e-3): a forward difference's
@@ -189,6 +211,11 @@ class DenseRodasp {
   // (w h_t)^2 / 6 (1e-8).
   template <class System>
   void jacobian(System& sys, double t, RunStats& stats) {
+    ++stats.jacobian_evals;
+    if constexpr (has_analytic_jacobian<System>::value) {
+      sys.jacobian(x_old_, t, jac_, dfdt_);
+      return;
+    }
     State f1, f2;
     for (int j = 0; j < kSize; ++j) {
       const double h = 1e-7 * std::clamp(std::abs(x_old_[j]), 1e-6, 1.0);
@@ -201,18 +228,52 @@ class DenseRodasp {
     sys(x_old_, f1, t + ht);
     sys(x_old_, f2, t - ht);
     dfdt_ = (f1 - f2) / (2.0 * ht);
-    stats.rhs_evals += kSize + 3;
-    ++stats.jacobian_evals;
+    stats.rhs_evals += kSize + 2;
   }
 
   // One trial step of size h from (x_old, t_old): the stages, step_ (the
   // increment) and the error norm.
   template <class System>
   double attempt(System& sys, double h, RunStats& stats) {
+    if constexpr (has_second_order_jacobian<System>::value) {
+      return attempt_with(sys, h, SecondOrderSolver(jac_, h * RodaspTableau::kGamma), stats);
+    } else {
+      return attempt_with(sys, h, FullSolver(jac_, h * RodaspTableau::kGamma), stats);
+    }
+  }
+
+  // E^-1 r, E = I - tau J, by one LU of E.
+  struct FullSolver {
+    Eigen::PartialPivLU<Matrix> lu;
+    FullSolver(const Matrix& jac, double tau) : lu(Matrix::Identity() - tau * jac) {}
+    State solve(const State& r) const { return lu.solve(r); }
+  };
+  // The same for J = [0 I; A B] (has_second_order_jacobian).
+  struct SecondOrderSolver {
+    static constexpr int kHalf = kSize / 2;
+    using Half = Eigen::Matrix<double, kHalf, 1>;
+    using HalfMatrix = Eigen::Matrix<double, kHalf, kHalf>;
+    HalfMatrix a;
+    double tau;
+    Eigen::PartialPivLU<HalfMatrix> lu;
+    SecondOrderSolver(const Matrix& jac, double tau_s)
+        : a(jac.template bottomLeftCorner<kHalf, kHalf>()),
+          tau(tau_s),
+          lu(HalfMatrix::Identity() - tau_s * jac.template bottomRightCorner<kHalf, kHalf>() - (tau_s * tau_s) * a) {}
+    State solve(const State& r) const {
+      const Half rp = r.template head<kHalf>();
+      const Half uv = lu.solve(r.template tail<kHalf>() + tau * (a * rp));
+      State u;
+      u << rp + tau * uv, uv;
+      return u;
+    }
+  };
+
+  template <class System, class Solver>
+  double attempt_with(System& sys, double h, const Solver& solver, RunStats& stats) {
     const RodaspTableau& tab = tableau();
     const double t = t_old_;
     {
-      const Eigen::PartialPivLU<Matrix> lu(Matrix::Identity() - (h * RodaspTableau::kGamma) * jac_);
       for (int i = 0; i < kStages; ++i) {
         State y = x_old_;
         State sum = State::Zero();
@@ -227,7 +288,7 @@ class DenseRodasp {
           sys(y, f, t + tab.a[i] * h);
           ++stats.rhs_evals;
         }
-        k_[i] = lu.solve(f + sum + (tab.g[i] * h) * dfdt_) - sum;
+        k_[i] = solver.solve(f + sum + (tab.g[i] * h) * dfdt_) - sum;
       }
     }
     State err = State::Zero();

@@ -292,6 +292,29 @@ class JeffcottModel {
     return f;
   }
 
+  // The free forces are linear in the state (a closed-form Jacobian,
+  // penalty_system.hpp): d F_r = -k_r d r_r - b_r d r_r', the stator's alike
+  // (zero for a rigid stator, which has no state) [N/m, N s/m].
+  struct FreeForceGains {
+    double rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, stator_stiffness_N_per_m, stator_damping_N_s_per_m;
+  };
+  FreeForceGains free_force_gains() const {
+    const bool rigid = p_.stator_model == StatorModel::kRigid;
+    return {p_.rotor_stiffness_N_per_m, p_.rotor_damping_N_s_per_m, rigid ? 0.0 : p_.stator_stiffness_N_per_m,
+            rigid ? 0.0 : p_.stator_damping_N_s_per_m};
+  }
+
+  // The partial time derivative of rotor_free_force at a fixed state under
+  // the prescribed drive d, whose acceleration A is constant on a speed
+  // segment [N/s]: the unbalance m e (w^2 (c, s) + A (s, -c)) turning with
+  // phi' = w, w' = A gives m e (3 w A (c, s) + w^3 (-s, c)).
+  Vec2 rotor_free_force_rate(const DriveState& d) const {
+    const double me = p_.rotor_mass_kg * p_.eccentricity_m;
+    const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
+    const double w = d.speed_rad_per_s, a3 = 3.0 * w * d.accel_rad_per_s2, w3 = w * w * w;
+    return me * Vec2(a3 * c - w3 * s, a3 * s + w3 * c);
+  }
+
   // All forces on the stator except contact [N] (zero for a rigid stator,
   // whose acceleration is zero anyway).
   Vec2 stator_free_force(const Kinematics& k) const {

@@ -106,6 +106,52 @@ struct PenaltyLaw {
     return m;
   }
 
+  // The derivatives of one mode's contact force on the rotor,
+  // F_c = -F_n n + F_t t, with rel = r_r - r_s, delta = |rel|, n = rel / delta,
+  // t = (-n_y, n_x), v_n = rel' . n, v_t = rel' . t (model.hpp's geometry):
+  //   dn/drel = t t^T / delta, dt/drel = -n t^T / delta,
+  //   dF_n = k_c n^T drel + (c_c v_t / delta) t^T drel + c_c n^T drel',
+  //   dv_slide = -(v_n / delta) t^T drel + t^T drel' + A R_r dt,
+  //   F_t = -s f F_n (slip s) or -c_t v_slide (the linear range),
+  //   dF_c = -n dF_n - F_n t t^T drel / delta + t dF_t - F_t n t^T drel / delta.
+  // drive_slide_rate_m_per_s2 is A R_r: the sliding speed's rate through the
+  // drive alone (the time's partial). Zero outside the pressed mode.
+  struct ForceJacobian {
+    Eigen::Matrix2d d_rel_pos = Eigen::Matrix2d::Zero();  // dF_c / drel [N/m]
+    Eigen::Matrix2d d_rel_vel = Eigen::Matrix2d::Zero();  // dF_c / drel' [N s/m]
+    Vec2 d_time = Vec2::Zero();                           // dF_c / dt at a fixed state [N/s]
+  };
+  ForceJacobian force_jacobian(const ContactGeometry& g, const Vec2& rel_vel, const PenaltyMode& mode,
+                               double drive_slide_rate_m_per_s2) const {
+    ForceJacobian j;
+    if (!mode.pressed) return j;
+    const Vec2& n = g.normal;
+    const Vec2& t = g.tangent;
+    const double inv_delta = 1.0 / g.distance_m;
+    const double vn = g.normal_velocity_m_per_s, vt = rel_vel.dot(t);
+    const double fn = spring_dashpot_N(g), ft = tangential(g, fn, mode);
+    const Eigen::RowVector2d dfn_pos =
+        stiffness_N_per_m * n.transpose() + damping_N_s_per_m * vt * inv_delta * t.transpose();
+    const Eigen::RowVector2d dfn_vel = damping_N_s_per_m * n.transpose();
+    Eigen::RowVector2d dft_pos = Eigen::RowVector2d::Zero(), dft_vel = Eigen::RowVector2d::Zero();
+    double dft_time = 0.0;
+    if (has_friction() && mode.slip != 0) {
+      const double ratio = -mode.slip * friction_coefficient;
+      dft_pos = ratio * dfn_pos;
+      dft_vel = ratio * dfn_vel;
+    } else if (has_friction()) {
+      const double ct = tangential_damping_N_s_per_m;
+      dft_pos = ct * vn * inv_delta * t.transpose();
+      dft_vel = -ct * t.transpose();
+      dft_time = -ct * drive_slide_rate_m_per_s2;
+    }
+    j.d_rel_pos =
+        -n * dfn_pos + t * dft_pos - (fn * inv_delta) * (t * t.transpose()) - (ft * inv_delta) * (n * t.transpose());
+    j.d_rel_vel = -n * dfn_vel + t * dft_vel;
+    j.d_time = dft_time * t;
+    return j;
+  }
+
   // Whether a sign change of edge k can change the mode `from`.
   bool watched(int k, const PenaltyMode& from) const { return k == kPressedEdge || (from.pressed && has_friction()); }
 };

@@ -1,0 +1,201 @@
+// The penalty method's closed-form Jacobian (penalty_system.hpp), which the
+// stiff integrator uses instead of differences, against central differences
+// of the same right-hand side: every mode of the law (free, pressed in the
+// linear range, slipping either way, the clamped law's fallback), elastic and
+// rigid stators, gravity, friction 0 to 1, restitution 0 and 0.7, below and
+// far above the critical speed, at random states (fixed seed).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "rotor_rub_sim/core/penalty_system.hpp"
+#include "test_support.hpp"
+
+namespace rotor_rub {
+namespace {
+
+using core::PenaltyMode;
+
+// Central differences: truncation (h / delta)^2 ~ 3e-13 relative for a
+// position step of 1e-9 m on a 2e-3 m clearance, (w h_t)^2 / 6 ~ 2e-7 for
+// the time step at 1500 rad/s; rounding 4 eps max|f| / h, added per column.
+// The smallest term the test must see, the friction force's turning
+// (F_t n t^T / delta), is 5e-4 of its block at f 0.1: kRelTolerance is far
+// below it and far above the differences' truncation.
+constexpr double kRelTolerance = 1e-6;
+constexpr double kPositionStep_m = 1e-9;
+constexpr double kVelocityStep_m_per_s = 1e-6;
+constexpr double kTimeStep_s = 1e-6;
+
+struct Case {
+  std::string name;
+  core::ModelParameters model;
+  core::SpeedSegment segment;
+};
+
+std::vector<Case> cases() {
+  const core::ModelParameters paper = test::paper_scene().model;
+  const core::SpeedSegment run_up{0.5, 3.0, 150.0, 70.0};
+  std::vector<Case> out;
+  out.push_back({"paper", paper, run_up});
+  Case c{"rigid stator, gravity, f 1.0", paper, {0.0, 1.0, 1500.0, 0.0}};
+  c.model.stator_model = core::StatorModel::kRigid;
+  c.model.gravity_m_per_s2 = 9.81;
+  c.model.friction_coefficient = 1.0;
+  out.push_back(c);
+  c = {"elastic, no friction, restitution 0.7, far above critical", paper, {0.2, 10.0, 600.0, -40.0}};
+  c.model.friction_coefficient = 0.0;
+  c.model.restitution = 0.7;
+  out.push_back(c);
+  c = {"elastic, gravity, f 0.6, offset, k_c 1e11", paper, run_up};
+  c.model.gravity_m_per_s2 = 9.81;
+  c.model.friction_coefficient = 0.6;
+  c.model.stator_offset_y_m = -1e-3;
+  c.model.contact_stiffness_N_per_m = 1e11;
+  out.push_back(c);
+  return out;
+}
+
+template <int kStatorDof>
+struct Checker {
+  using System = core::PenaltySystem<kStatorDof, false, true>;
+  using L = typename System::L;
+  using State = typename System::State;
+  using Matrix = typename System::Matrix;
+
+  // A state whose rotor penetrates by 0 to 2e-5 m (or stands 1e-4 m off) at
+  // a random angle, with random velocities of up to 1 m/s.
+  static State random_state(std::mt19937& rng, const core::ModelParameters& p, bool penetrating) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
+    State x = State::Zero();
+    const double angle = M_PI * unit(rng);
+    const double distance = p.clearance_m + (penetrating ? 2e-5 * share(rng) + 1e-9 : -1e-4);
+    const core::Vec2 stator(1e-4 * unit(rng), 1e-4 * unit(rng));
+    const core::Vec2 rel = distance * core::Vec2(std::cos(angle), std::sin(angle));
+    x.template segment<2>(L::kRotorPos) = (kStatorDof == 2 ? stator : core::Vec2::Zero()) + rel;
+    x.template segment<2>(L::kRotorVel) = core::Vec2(unit(rng), unit(rng));
+    if constexpr (kStatorDof == 2) {
+      x.template segment<2>(L::kStatorPos) = stator;
+      x.template segment<2>(L::kStatorVel) = core::Vec2(0.3 * unit(rng), 0.3 * unit(rng));
+    }
+    return x;
+  }
+
+  static State rhs(const System& sys, const State& x, double t) {
+    State f;
+    sys(x, f, t);
+    return f;
+  }
+
+  // Compares the closed form with central differences at x; returns the
+  // largest error over the tolerance (<= 1 passes).
+  static double worst_ratio(const System& sys, const State& x, double t, std::string* where) {
+    Matrix jac;
+    State dfdt;
+    sys.jacobian(x, t, jac, dfdt);
+    double worst = 0.0;
+    const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
+    auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
+      const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
+      for (int i = 0; i < L::kSize; ++i) {
+        const double allowed = kRelTolerance * std::max(std::abs(fd[i]), std::abs(exact[i])) + rounding;
+        const double ratio = std::abs(fd[i] - exact[i]) / allowed;
+        if (ratio > worst) {
+          worst = ratio;
+          *where = "row " + std::to_string(i) + ", " + column + ": closed form " + std::to_string(exact[i]) +
+                   ", differences " + std::to_string(fd[i]);
+        }
+      }
+    };
+    for (int j = 0; j < L::kSize; ++j) {
+      const double h = j < L::kDof ? kPositionStep_m : kVelocityStep_m_per_s;
+      State xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      check((rhs(sys, xp, t) - rhs(sys, xm, t)) / (2.0 * h), jac.col(j), h, "column " + std::to_string(j));
+    }
+    check((rhs(sys, x, t + kTimeStep_s) - rhs(sys, x, t - kTimeStep_s)) / (2.0 * kTimeStep_s), dfdt, kTimeStep_s,
+          "d/dt");
+    return worst;
+  }
+
+  // Every mode's smooth law at random states, and the clamped law where the
+  // differences stay inside one of its pieces.
+  static void run(const Case& c) {
+    const core::JeffcottModel model(c.model);
+    System sys;
+    sys.model = &model;
+    sys.law = core::PenaltyLaw(model);
+    sys.segment = c.segment;
+    std::mt19937 rng(20261125);
+    const double t = c.segment.start_time_s + 0.37;
+    std::vector<PenaltyMode> modes(4);
+    modes[1].pressed = modes[2].pressed = modes[3].pressed = true;
+    modes[2].slip = 1;
+    modes[3].slip = -1;
+    int clamped_checked = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      const State x = random_state(rng, c.model, trial % 8 != 0);
+      for (const PenaltyMode& m : modes) {
+        if (m.slip != 0 && !sys.law.has_friction()) continue;
+        sys.mode = m;
+        std::string where;
+        EXPECT_LE(worst_ratio(sys, x, t, &where), 1.0)
+            << c.name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
+      }
+      // The clamped law: only where no difference step crosses an edge.
+      sys.mode = PenaltyMode{};
+      sys.mode.clamped = true;
+      const auto mode_at = [&](const State& y) {
+        const core::Kinematics ky = core::kinematics_of<kStatorDof, false>(y);
+        return sys.law.mode_of(sys.law.edges(model.contact_geometry(ky, c.segment.at(t))));
+      };
+      const PenaltyMode here = mode_at(x);
+      bool inside = true;
+      for (int j = 0; j < L::kSize && inside; ++j) {
+        const double h = j < L::kDof ? kPositionStep_m : kVelocityStep_m_per_s;
+        State xp = x, xm = x;
+        xp[j] += h;
+        xm[j] -= h;
+        inside = mode_at(xp) == here && mode_at(xm) == here;
+      }
+      if (!inside) continue;
+      ++clamped_checked;
+      std::string where;
+      EXPECT_LE(worst_ratio(sys, x, t, &where), 1.0) << c.name << ", trial " << trial << ", clamped: " << where;
+    }
+    EXPECT_GE(clamped_checked, 30) << c.name << ": too few clamped-law states away from an edge";
+  }
+};
+
+TEST(PenaltyJacobian, ClosedFormMatchesDifferencesInEveryMode) {
+  for (const Case& c : cases()) {
+    if (c.model.stator_model == core::StatorModel::kRigid) {
+      Checker<0>::run(c);
+    } else {
+      Checker<2>::run(c);
+    }
+  }
+}
+
+// The stiff integrator takes the closed form where the system gives it:
+// 6 stages and the start's derivative a step (16 with differences), through
+// the paper scene's first contacts (test_rodasp.cpp checks the runs
+// themselves at every tolerance).
+TEST(PenaltyJacobian, RodaspTakesTheClosedForm) {
+  core::Scene s = test::with_method(test::paper_scene(), core::Method::kPenalty, 1e-6, 1e-9);
+  s.solver.integrator = core::Integrator::kRosenbrock4;
+  s.end_time_s = 1.3;
+  const test::Run r = test::run(s);
+  ASSERT_FALSE(r.result.failure.has_value()) << r.result.failure->message;
+  const core::RunStats& st = r.result.stats;
+  EXPECT_GT(st.jacobian_evals, 0);
+  EXPECT_LE(static_cast<double>(st.rhs_evals) / static_cast<double>(st.steps + st.rejected_steps), 7.5);
+}
+
+}  // namespace
+}  // namespace rotor_rub
