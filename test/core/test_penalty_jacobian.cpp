@@ -1,7 +1,8 @@
 // The penalty method's closed-form Jacobian (penalty_system.hpp), which the
 // stiff integrator uses instead of differences, against central differences
 // of the same right-hand side: every mode of the law (free, pressed in the
-// linear range, slipping either way, the clamped law's fallback), elastic and
+// linear range, slipping either way, the clamped law's fallback; the pressed
+// mode also in its polar coordinates), elastic and
 // rigid stators, gravity, friction 0 to 1, restitution 0 and 0.7, below and
 // far above the critical speed, at random states (fixed seed).
 #include <gtest/gtest.h>
@@ -61,6 +62,61 @@ std::vector<Case> cases() {
 }
 
 template <int kStatorDof>
+const core::JeffcottModel& model_of(const core::PenaltySystem<kStatorDof, false, true>& sys) {
+  return *sys.model;
+}
+template <int kStatorDof>
+const core::JeffcottModel& model_of(const core::PenaltyPolarSystem<kStatorDof, false>& sys) {
+  return *sys.cartesian->model;
+}
+
+template <class System>
+typename System::State rhs(const System& sys, const typename System::State& x, double t) {
+  typename System::State f;
+  sys(x, f, t);
+  return f;
+}
+
+// Compares the closed form with central differences at x (steps: each
+// column's); returns the largest error over the tolerance (<= 1 passes).
+// The differences' rounding floor: 4 eps of the largest derivative, and of
+// the contact's stiffness over the lighter mass (the relative position
+// carries eps |r| ~ eps C of rounding, k_c times that in force: over delta
+// ~ C in psi'' the same k_c eps / m), over the step.
+template <class System>
+double worst_ratio(const System& sys, const typename System::State& x, const typename System::State& steps, double t,
+                   std::string* where) {
+  using State = typename System::State;
+  typename System::Matrix jac;
+  State dfdt;
+  sys.jacobian(x, t, jac, dfdt);
+  double worst = 0.0;
+  const core::ModelParameters& p = model_of(sys).parameters();
+  const double stiff_per_kg = p.contact_stiffness_N_per_m / std::min(p.rotor_mass_kg, p.stator_mass_kg);
+  const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff() + stiff_per_kg;
+  auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
+    const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
+    for (int i = 0; i < State::RowsAtCompileTime; ++i) {
+      const double allowed = kRelTolerance * std::max(std::abs(fd[i]), std::abs(exact[i])) + rounding;
+      const double ratio = std::abs(fd[i] - exact[i]) / allowed;
+      if (ratio > worst) {
+        worst = ratio;
+        *where = "row " + std::to_string(i) + ", " + column + ": closed form " + std::to_string(exact[i]) +
+                 ", differences " + std::to_string(fd[i]);
+      }
+    }
+  };
+  for (int j = 0; j < State::RowsAtCompileTime; ++j) {
+    State xp = x, xm = x;
+    xp[j] += steps[j];
+    xm[j] -= steps[j];
+    check((rhs(sys, xp, t) - rhs(sys, xm, t)) / (2.0 * steps[j]), jac.col(j), steps[j], "column " + std::to_string(j));
+  }
+  check((rhs(sys, x, t + kTimeStep_s) - rhs(sys, x, t - kTimeStep_s)) / (2.0 * kTimeStep_s), dfdt, kTimeStep_s, "d/dt");
+  return worst;
+}
+
+template <int kStatorDof>
 struct Checker {
   using System = core::PenaltySystem<kStatorDof, false, true>;
   using L = typename System::L;
@@ -85,42 +141,11 @@ struct Checker {
     return x;
   }
 
-  static State rhs(const System& sys, const State& x, double t) {
-    State f;
-    sys(x, f, t);
-    return f;
-  }
-
-  // Compares the closed form with central differences at x; returns the
-  // largest error over the tolerance (<= 1 passes).
-  static double worst_ratio(const System& sys, const State& x, double t, std::string* where) {
-    Matrix jac;
-    State dfdt;
-    sys.jacobian(x, t, jac, dfdt);
-    double worst = 0.0;
-    const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
-    auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
-      const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
-      for (int i = 0; i < L::kSize; ++i) {
-        const double allowed = kRelTolerance * std::max(std::abs(fd[i]), std::abs(exact[i])) + rounding;
-        const double ratio = std::abs(fd[i] - exact[i]) / allowed;
-        if (ratio > worst) {
-          worst = ratio;
-          *where = "row " + std::to_string(i) + ", " + column + ": closed form " + std::to_string(exact[i]) +
-                   ", differences " + std::to_string(fd[i]);
-        }
-      }
-    };
-    for (int j = 0; j < L::kSize; ++j) {
-      const double h = j < L::kDof ? kPositionStep_m : kVelocityStep_m_per_s;
-      State xp = x, xm = x;
-      xp[j] += h;
-      xm[j] -= h;
-      check((rhs(sys, xp, t) - rhs(sys, xm, t)) / (2.0 * h), jac.col(j), h, "column " + std::to_string(j));
-    }
-    check((rhs(sys, x, t + kTimeStep_s) - rhs(sys, x, t - kTimeStep_s)) / (2.0 * kTimeStep_s), dfdt, kTimeStep_s,
-          "d/dt");
-    return worst;
+  static State steps() {
+    State h;
+    h.template head<L::kDof>().setConstant(kPositionStep_m);
+    h.template tail<L::kDof>().setConstant(kVelocityStep_m_per_s);
+    return h;
   }
 
   // Every mode's smooth law at random states, and the clamped law where the
@@ -144,7 +169,7 @@ struct Checker {
         if (m.slip != 0 && !sys.law.has_friction()) continue;
         sys.mode = m;
         std::string where;
-        EXPECT_LE(worst_ratio(sys, x, t, &where), 1.0)
+        EXPECT_LE(worst_ratio(sys, x, steps(), t, &where), 1.0)
             << c.name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
       }
       // The clamped law: only where no difference step crosses an edge.
@@ -166,9 +191,85 @@ struct Checker {
       if (!inside) continue;
       ++clamped_checked;
       std::string where;
-      EXPECT_LE(worst_ratio(sys, x, t, &where), 1.0) << c.name << ", trial " << trial << ", clamped: " << where;
+      EXPECT_LE(worst_ratio(sys, x, steps(), t, &where), 1.0)
+          << c.name << ", trial " << trial << ", clamped: " << where;
     }
     EXPECT_GE(clamped_checked, 30) << c.name << ": too few clamped-law states away from an edge";
+  }
+};
+
+// The pressed mode in polar coordinates (PenaltyPolarSystem): its closed
+// form, the chain rule through the Cartesian one, against differences.
+template <int kStatorDof>
+struct PolarChecker {
+  using Cartesian = core::PenaltySystem<kStatorDof, false, true>;
+  using System = core::PenaltyPolarSystem<kStatorDof, false>;
+  using L = typename System::L;
+  using State = typename System::State;
+
+  // Steps: delta 1e-9 m and delta' 1e-6 m/s as the Cartesian ones; psi
+  // 1e-4 rad (truncation (h / 1 rad)^2 / 6 ~ 2e-9); psi' 1e-2 rad/s (it
+  // enters as psi' and psi'^2, which central differences take exactly);
+  // the stator's 1e-6 m and 1e-4 m/s (they move both bodies: linear). The
+  // floor is rounding through k_c: rel = (r_s + delta n) - r_s carries
+  // eps |r| ~ 4e-19 m, k_c times that 4e-10 N of F_n, which 1e-5 rad or
+  // 1e-9 m steps of psi or the stator turn into 1e-6 of the entry
+  // (measured).
+  static State steps() {
+    State h;
+    h.template head<L::kDof>().setConstant(1e-6);
+    h.template tail<L::kDof>().setConstant(1e-4);
+    h[L::kDistance] = kPositionStep_m;
+    h[L::kDistanceRate] = kVelocityStep_m_per_s;
+    h[L::kAngle] = 1e-4;
+    h[L::kAngleRate] = 1e-2;
+    return h;
+  }
+
+  // Pressed by 0 to 2e-5 m, at any angle (a whirl's grown angle, up to
+  // 600 rad), closing or opening at up to 1e-3 m/s, whirling at up to
+  // 300 rad/s either way.
+  static State random_state(std::mt19937& rng, const core::ModelParameters& p) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
+    State x = State::Zero();
+    x[L::kDistance] = p.clearance_m + 2e-5 * share(rng) + 1e-9;
+    x[L::kAngle] = 600.0 * unit(rng);
+    x[L::kDistanceRate] = 1e-3 * unit(rng);
+    x[L::kAngleRate] = 300.0 * unit(rng);
+    if constexpr (kStatorDof == 2) {
+      x.template segment<2>(L::kStatorPos) = core::Vec2(1e-4 * unit(rng), 1e-4 * unit(rng));
+      x.template segment<2>(L::kStatorVel) = core::Vec2(0.3 * unit(rng), 0.3 * unit(rng));
+    }
+    return x;
+  }
+
+  static void run(const Case& c) {
+    const core::JeffcottModel model(c.model);
+    Cartesian cart;
+    cart.model = &model;
+    cart.law = core::PenaltyLaw(model);
+    cart.segment = c.segment;
+    System sys;
+    sys.cartesian = &cart;
+    std::mt19937 rng(20261125);
+    const double t = c.segment.start_time_s + 0.37;
+    for (int trial = 0; trial < 30; ++trial) {
+      const State x = random_state(rng, c.model);
+      // The reduction is the kinematics' inverse (psi to within 2 pi).
+      const core::Kinematics k = System::kinematics(x);
+      State back = System::reduce(k);
+      back[L::kAngle] += 2.0 * M_PI * std::round((x[L::kAngle] - back[L::kAngle]) / (2.0 * M_PI));
+      EXPECT_LT((back - x).cwiseQuotient(steps()).cwiseAbs().maxCoeff(), 1e-3) << c.name << ", trial " << trial;
+      for (int slip : {0, 1, -1}) {
+        if (slip != 0 && !cart.law.has_friction()) continue;
+        cart.mode = core::PenaltyMode{};
+        cart.mode.pressed = true;
+        cart.mode.slip = slip;
+        std::string where;
+        EXPECT_LE(worst_ratio(sys, x, steps(), t, &where), 1.0)
+            << c.name << ", polar, trial " << trial << ", slip " << slip << ": " << where;
+      }
+    }
   }
 };
 
@@ -176,8 +277,10 @@ TEST(PenaltyJacobian, ClosedFormMatchesDifferencesInEveryMode) {
   for (const Case& c : cases()) {
     if (c.model.stator_model == core::StatorModel::kRigid) {
       Checker<0>::run(c);
+      PolarChecker<0>::run(c);
     } else {
       Checker<2>::run(c);
+      PolarChecker<2>::run(c);
     }
   }
 }

@@ -39,6 +39,7 @@ class PenaltyMethod final : public ContactMethod {
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
     system_.law = PenaltyLaw(model_);
+    polar_sys_.cartesian = &system_;
     if (scene.solver.profile_cost) {
       system_.rhs_time_s = &stats_.rhs_time_s;
       event_time_s_ = &stats_.event_time_s;
@@ -54,14 +55,13 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
-    State x;
     end_step_at(t_s);
-    integrator_.state_at(t_s, x);
+    const Kinematics k = kinematics_at(t_s);
     system_.segment = segment;
     // A mode change due exactly here carries over; one later in the step is
     // found again after the restart.
     if (!(pending_ && valid_end_ == t_s)) crossed_edge_ = -1;
-    restart(t_s, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
+    restart(t_s, k, integrator_.dt());
     ++stats_.restarts;
   }
 
@@ -71,13 +71,11 @@ class PenaltyMethod final : public ContactMethod {
       // new mode, keeping the step size the controller had reached (a
       // fallback keeps the step that found its edge instead).
       ProfileScope scope(restart_time_s_);
-      State x;
       end_step_at(valid_end_);
-      integrator_.state_at(valid_end_, x);
-      restart(valid_end_, kinematics_of<kStatorDof, kMotor>(x), fallback_ ? fallback_dt_s_ : integrator_.dt());
+      restart(valid_end_, kinematics_at(valid_end_), fallback_ ? fallback_dt_s_ : integrator_.dt());
       ++stats_.restarts;
     }
-    integrator_.do_step(system_, stats_);
+    with_system([this](auto& sys) { integrator_.do_step(sys, stats_); });
     ProfileScope scope(event_time_s_);
     const double t0 = integrator_.t_old();
     const double t1 = std::min(integrator_.t_new(), t_limit_s);
@@ -114,9 +112,7 @@ class PenaltyMethod final : public ContactMethod {
   double step_end() const override { return valid_end_; }
 
   Sample sample(double t_s) const override {
-    State x;
-    integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_at(t_s);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     // The clamped law: inside a step it equals the mode's (the step ends at
@@ -147,7 +143,29 @@ class PenaltyMethod final : public ContactMethod {
 
   // The implicit integrator restarts from a step's end (DenseRodasp::end_step_at).
   void end_step_at(double t_s) {
-    if constexpr (kModeLocked) integrator_.end_step_at(system_, t_s, stats_);
+    if constexpr (kModeLocked) with_system([this, t_s](auto& sys) { integrator_.end_step_at(sys, t_s, stats_); });
+  }
+
+  // f(the system of the piece being integrated): the pressed mode's in
+  // polar coordinates (penalty_system.hpp), else the Cartesian one.
+  template <class F>
+  void with_system(F&& f) {
+    if constexpr (kModeLocked) {
+      if (polar_) {
+        f(polar_sys_);
+        return;
+      }
+    }
+    f(system_);
+  }
+
+  Kinematics kinematics_at(double t_s) const {
+    State x;
+    integrator_.state_at(t_s, x);
+    if constexpr (kModeLocked) {
+      if (polar_) return PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::kinematics(x);
+    }
+    return kinematics_of<kStatorDof, kMotor>(x);
   }
 
   // Restarts at t_s from state k. After an edge (crossed_edge_ >= 0) the
@@ -168,9 +186,15 @@ class PenaltyMethod final : public ContactMethod {
     system_.mode = system_.law.mode_of(edges_end_);
     system_.mode.clamped = fallback_;
     fallback_ = false;
+    // A pressed contact has delta > C > 0: its polar coordinates exist.
+    polar_ = kModeLocked && system_.mode.pressed && !system_.mode.clamped;
     State x;
-    store_kinematics<kStatorDof, kMotor>(k, x);
-    integrator_.initialize(system_, x, t_s, dt_s, stats_);
+    if (polar_) {
+      x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
+    } else {
+      store_kinematics<kStatorDof, kMotor>(k, x);
+    }
+    with_system([&](auto& sys) { integrator_.initialize(sys, x, t_s, dt_s, stats_); });
     valid_end_ = t_s;
   }
 
@@ -258,15 +282,15 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   ContactGeometry geometry_at(double t_s) const {
-    State x;
-    integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_at(t_s);
     return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
   }
   PenaltyEdgeValues edges_at(double t_s) const { return system_.law.edges(geometry_at(t_s)); }
 
   JeffcottModel model_;
   PenaltySystem<kStatorDof, kMotor, kModeLocked> system_;
+  PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked> polar_sys_;
+  bool polar_ = false;  // the integrator's state is polar_sys_'s (the pressed mode, implicit integrator)
   Integrator integrator_;
   double initial_step_s_;
   PenaltyEdgeValues edges_end_{};  // at valid_end_

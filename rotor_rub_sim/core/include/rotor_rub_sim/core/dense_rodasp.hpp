@@ -101,6 +101,14 @@ struct has_second_order_jacobian : std::false_type {};
 template <class System>
 struct has_second_order_jacobian<System, std::enable_if_t<System::kSecondOrderJacobian>> : std::true_type {};
 
+// A system whose state is not the one its tolerances are meant for (the
+// penalty method's polar coordinates) gives the error weights itself:
+//   State error_weights(const State& x0, const State& x1, double atol, double rtol) const;
+template <class System, class = void>
+struct has_error_weights : std::false_type {};
+template <class System>
+struct has_error_weights<System, std::void_t<decltype(&System::error_weights)>> : std::true_type {};
+
 template <class State>
 class DenseRodasp {
  public:
@@ -300,8 +308,15 @@ class DenseRodasp {
     step_ *= h;
     err *= h;
     const State x1 = x_old_ + step_;
-    // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|).
-    return std::sqrt((err.array() / (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs()))).square().mean());
+    // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|)
+    // or by the system's own weights (has_error_weights).
+    State weights;
+    if constexpr (has_error_weights<System>::value) {
+      weights = sys.error_weights(x_old_, x1, atol_, rtol_);
+    } else {
+      weights = (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs())).matrix();
+    }
+    return std::sqrt((err.array() / weights.array()).square().mean());
   }
 
   // Takes the last attempt as the step to t_s: its end and the continuous

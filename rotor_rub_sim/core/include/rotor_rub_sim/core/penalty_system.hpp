@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/model.hpp"
@@ -31,11 +33,9 @@ struct PenaltySystem {
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
 
-  void operator()(const State& x, State& dxdt, double t) const {
-    ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
-    const DriveState reference = segment.at(t);
-    const DriveState d = model->drive_at(k, reference);
+  // The accelerations under the law (the mode's, or the clamped law) at
+  // kinematics k, the drive d of drive_at() [m/s^2, rad/s^2].
+  Accelerations accelerations(const Kinematics& k, const DriveState& d) const {
     const ContactGeometry g = model->contact_geometry(k, d);
     double fn, ft;
     if constexpr (kModeLocked) {
@@ -50,7 +50,14 @@ struct PenaltySystem {
       fn = law.normal(g);
       ft = law.tangential(g, fn);
     }
-    const Accelerations a = model->accelerations(k, d, g, fn, ft);
+    return model->accelerations(k, d, g, fn, ft);
+  }
+
+  void operator()(const State& x, State& dxdt, double t) const {
+    ProfileScope scope(rhs_time_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState reference = segment.at(t);
+    const Accelerations a = accelerations(k, model->drive_at(k, reference));
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
     dxdt.template segment<2>(L::kRotorVel) = a.rotor;
     if constexpr (kStatorDof == 2) {
@@ -100,6 +107,191 @@ struct PenaltySystem {
           (c.d_rel_vel - free.stator_damping_N_s_per_m * eye) * ims;
       dfdt.template segment<2>(L::kStatorVel) = -c.d_time * ims;
     }
+  }
+};
+
+// The pressed mode in the contact's polar coordinates, for the implicit
+// integrator: the rotor relative to the stator at distance delta and angle
+// psi, r_r = r_s + delta n(psi), n = (cos psi, sin psi), t = (-sin, cos):
+//   delta'' = n . (a_r - a_s) + delta psi'^2,
+//   psi''   = (t . (a_r - a_s) - 2 delta' psi') / delta,
+// the accelerations the same model and law give (PenaltySystem). Why: the
+// contact's stiffness k_c acts along n, which turns with the whirl. In
+// Cartesian coordinates the stiff direction of the Jacobian turns by w h
+// within a step, and a Rosenbrock method, which holds the Jacobian of the
+// step's start, loses accuracy on it: on the paper scene RODASP kept steps
+// of ~4.5e-5 s in sustained contact at rtol 3e-5, where a contact that does
+// not turn (a rotor pressed down by gravity) took ~4.5e-4 s (measured). In
+// these coordinates the stiff direction is delta's, fixed. Free flight
+// stays Cartesian (delta = 0, the rotor centred, has no angle).
+template <int kStatorDof, bool kMotor>
+struct PolarLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
+  static constexpr int kDof = 2 + kStatorDof;
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
+  static constexpr int kStatorPos = 0;                     // x_s, y_s [m] (elastic only)
+  static constexpr int kDistance = kStatorDof;             // delta = |r_r - r_s| [m]
+  static constexpr int kAngle = kStatorDof + 1;            // psi [rad]
+  static constexpr int kStatorVel = kDof;                  // x_s', y_s' [m/s] (elastic only)
+  static constexpr int kDistanceRate = kDof + kStatorDof;  // delta' [m/s]
+  static constexpr int kAngleRate = kDistanceRate + 1;     // psi' [rad/s]
+  using State = Eigen::Matrix<double, kSize, 1>;
+};
+
+template <int kStatorDof, bool kMotor, bool kModeLocked = true>
+struct PenaltyPolarSystem {
+  using L = PolarLayout<kStatorDof, kMotor>;
+  using State = typename L::State;
+  static_assert(L::kSize == FreeLayout<kStatorDof, kMotor>::kSize, "the same integrator takes both");
+  const PenaltySystem<kStatorDof, kMotor, kModeLocked>* cartesian = nullptr;  // model, law, mode, drive
+
+  static Kinematics kinematics(const State& x) {
+    const double psi = x[L::kAngle];
+    const Vec2 n(std::cos(psi), std::sin(psi));
+    return kinematics(x, n, Vec2(-n.y(), n.x()));
+  }
+  // The same, given n and t of the state's psi.
+  static Kinematics kinematics(const State& x, const Vec2& n, const Vec2& t) {
+    Kinematics k;
+    const double delta = x[L::kDistance];
+    if constexpr (kStatorDof == 2) {
+      k.stator_pos = x.template segment<2>(L::kStatorPos);
+      k.stator_vel = x.template segment<2>(L::kStatorVel);
+    }
+    k.rotor_pos = k.stator_pos + delta * n;
+    k.rotor_vel = k.stator_vel + x[L::kDistanceRate] * n + (delta * x[L::kAngleRate]) * t;
+    read_spin<L>(x, k.spin);
+    return k;
+  }
+
+  // The polar state of kinematics k; delta > 0 (a pressed contact has delta > C).
+  static State reduce(const Kinematics& k) {
+    State x;
+    const Vec2 rel = k.rotor_pos - k.stator_pos, rel_vel = k.rotor_vel - k.stator_vel;
+    const double delta = rel.norm();
+    const Vec2 n = rel / delta, t(-n.y(), n.x());
+    if constexpr (kStatorDof == 2) {
+      x.template segment<2>(L::kStatorPos) = k.stator_pos;
+      x.template segment<2>(L::kStatorVel) = k.stator_vel;
+    }
+    x[L::kDistance] = delta;
+    x[L::kAngle] = std::atan2(rel.y(), rel.x());
+    x[L::kDistanceRate] = rel_vel.dot(n);
+    x[L::kAngleRate] = rel_vel.dot(t) / delta;
+    write_spin<L>(k.spin, x);
+    return x;
+  }
+
+  // The Jacobian and df/dt in closed form: the Cartesian ones
+  // (PenaltySystem::jacobian) at the Cartesian state y of x, by the chain
+  // rule through y(x) and the polar rows above, g = a_r - a_s:
+  //   d(delta'') = n . dg + (g . t) dpsi + psi'^2 ddelta + 2 delta psi' dpsi',
+  //   d(psi'')   = (t . dg - (g . n) dpsi - 2 psi' ddelta' - 2 delta' dpsi'
+  //                 - psi'' ddelta) / delta,
+  // with dr_r = dr_s + n ddelta + delta t dpsi and dv_r = dv_s + n ddelta'
+  // + delta t dpsi' + psi' t ddelta + (delta' t - delta psi' n) dpsi.
+  // Second order as the Cartesian one ([0 I; A B]).
+  static constexpr bool kAnalyticJacobian = !kMotor;
+  static constexpr bool kSecondOrderJacobian = !kMotor;
+  using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
+  void jacobian(const State& x, double t_s, Matrix& jac, State& dfdt) const {
+    static_assert(!kMotor, "the motor drive's Jacobian is differenced");
+    using FL = FreeLayout<kStatorDof, kMotor>;
+    const double delta = x[L::kDistance], psi = x[L::kAngle];
+    const double delta_rate = x[L::kDistanceRate], psi_rate = x[L::kAngleRate];
+    const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
+    const Kinematics k = kinematics(x, n, t);
+    typename FL::State y;
+    store_kinematics<kStatorDof, kMotor>(k, y);
+    Matrix cart_jac;
+    typename FL::State cart_dfdt;
+    cartesian->jacobian(y, t_s, cart_jac, cart_dfdt);
+    // dy/dx.
+    Matrix dy = Matrix::Zero();
+    dy.template block<2, 1>(FL::kRotorPos, L::kDistance) = n;
+    dy.template block<2, 1>(FL::kRotorPos, L::kAngle) = delta * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kDistanceRate) = n;
+    dy.template block<2, 1>(FL::kRotorVel, L::kAngleRate) = delta * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kDistance) = psi_rate * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kAngle) = delta_rate * t - (delta * psi_rate) * n;
+    if constexpr (kStatorDof == 2) {
+      dy.template block<2, 2>(FL::kRotorPos, L::kStatorPos).setIdentity();
+      dy.template block<2, 2>(FL::kStatorPos, L::kStatorPos).setIdentity();
+      dy.template block<2, 2>(FL::kRotorVel, L::kStatorVel).setIdentity();
+      dy.template block<2, 2>(FL::kStatorVel, L::kStatorVel).setIdentity();
+    }
+    const Eigen::Matrix<double, 2, L::kSize> rotor_acc = cart_jac.template middleRows<2>(FL::kRotorVel) * dy;
+    Eigen::Matrix<double, 2, L::kSize> stator_acc = Eigen::Matrix<double, 2, L::kSize>::Zero();
+    Vec2 stator_acc_rate = Vec2::Zero();
+    if constexpr (kStatorDof == 2) {
+      stator_acc = cart_jac.template middleRows<2>(FL::kStatorVel) * dy;
+      stator_acc_rate = cart_dfdt.template segment<2>(FL::kStatorVel);
+    }
+    const Eigen::Matrix<double, 2, L::kSize> rel_acc = rotor_acc - stator_acc;
+    const Vec2 rel_acc_rate = cart_dfdt.template segment<2>(FL::kRotorVel) - stator_acc_rate;
+    const Accelerations a = cartesian->accelerations(k, cartesian->segment.at(t_s));
+    const Vec2 g = a.rotor - a.stator;
+    const double psi_acc = (g.dot(t) - 2.0 * delta_rate * psi_rate) / delta;
+    jac.setZero();
+    dfdt.setZero();
+    for (int i = 0; i < L::kDof; ++i) jac(i, L::kDof + i) = 1.0;
+    jac.row(L::kDistanceRate) = n.transpose() * rel_acc;
+    jac(L::kDistanceRate, L::kAngle) += g.dot(t);
+    jac(L::kDistanceRate, L::kDistance) += psi_rate * psi_rate;
+    jac(L::kDistanceRate, L::kAngleRate) += 2.0 * delta * psi_rate;
+    jac.row(L::kAngleRate) = t.transpose() * rel_acc;
+    jac(L::kAngleRate, L::kAngle) -= g.dot(n);
+    jac(L::kAngleRate, L::kDistanceRate) -= 2.0 * psi_rate;
+    jac(L::kAngleRate, L::kAngleRate) -= 2.0 * delta_rate;
+    jac(L::kAngleRate, L::kDistance) -= psi_acc;
+    jac.row(L::kAngleRate) /= delta;
+    dfdt[L::kDistanceRate] = n.dot(rel_acc_rate);
+    dfdt[L::kAngleRate] = t.dot(rel_acc_rate) / delta;
+    if constexpr (kStatorDof == 2) {
+      jac.template middleRows<2>(L::kStatorVel) = stator_acc;
+      dfdt.template segment<2>(L::kStatorVel) = stator_acc_rate;
+    }
+  }
+
+  // The error weights atol + rtol |x| of the Cartesian state these
+  // coordinates stand for (what rtol and atol mean to the user): delta and
+  // delta' weigh as the rotor's position and velocity components (their
+  // largest magnitude over the step), psi and psi' as those over delta. With
+  // the state's own magnitudes instead, delta' (~1e-6 m/s in sustained
+  // contact against the rotor's ~0.5 m/s) would be held to atol alone: at
+  // rtol 1e-9 / atol 1e-12 on the paper scene 131k of 308k steps were
+  // rejected on it (measured).
+  State error_weights(const State& x0, const State& x1, double atol, double rtol) const {
+    State w = (atol + rtol * x0.array().abs().max(x1.array().abs())).matrix();
+    const Kinematics k0 = kinematics(x0), k1 = kinematics(x1);
+    const double pos_m = std::max(k0.rotor_pos.cwiseAbs().maxCoeff(), k1.rotor_pos.cwiseAbs().maxCoeff());
+    const double vel_m_per_s = std::max(k0.rotor_vel.cwiseAbs().maxCoeff(), k1.rotor_vel.cwiseAbs().maxCoeff());
+    const double delta_m = std::min(x0[L::kDistance], x1[L::kDistance]);
+    w[L::kDistance] = atol + rtol * pos_m;
+    w[L::kAngle] = w[L::kDistance] / delta_m;
+    w[L::kDistanceRate] = atol + rtol * vel_m_per_s;
+    w[L::kAngleRate] = w[L::kDistanceRate] / delta_m;
+    return w;
+  }
+
+  void operator()(const State& x, State& dxdt, double t_s) const {
+    ProfileScope scope(cartesian->rhs_time_s);
+    const double delta = x[L::kDistance], psi = x[L::kAngle];
+    const double delta_rate = x[L::kDistanceRate], psi_rate = x[L::kAngleRate];
+    const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
+    const Kinematics k = kinematics(x, n, t);
+    const DriveState reference = cartesian->segment.at(t_s);
+    const JeffcottModel& m = *cartesian->model;
+    const Accelerations a = cartesian->accelerations(k, m.drive_at(k, reference));
+    const Vec2 rel_acc = a.rotor - a.stator;
+    dxdt[L::kDistance] = delta_rate;
+    dxdt[L::kAngle] = psi_rate;
+    dxdt[L::kDistanceRate] = rel_acc.dot(n) + delta * psi_rate * psi_rate;
+    dxdt[L::kAngleRate] = (rel_acc.dot(t) - 2.0 * delta_rate * psi_rate) / delta;
+    if constexpr (kStatorDof == 2) {
+      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
+      dxdt.template segment<2>(L::kStatorVel) = a.stator;
+    }
+    spin_derivative<L>(m, k, reference, a.spin_rad_per_s2, dxdt);
   }
 };
 
