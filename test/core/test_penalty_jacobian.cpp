@@ -61,15 +61,6 @@ std::vector<Case> cases() {
   return out;
 }
 
-template <int kStatorDof>
-const core::JeffcottModel& model_of(const core::PenaltySystem<kStatorDof, false, true>& sys) {
-  return *sys.model;
-}
-template <int kStatorDof>
-const core::JeffcottModel& model_of(const core::PenaltyPolarSystem<kStatorDof, false>& sys) {
-  return *sys.cartesian->model;
-}
-
 template <class System>
 typename System::State rhs(const System& sys, const typename System::State& x, double t) {
   typename System::State f;
@@ -79,10 +70,7 @@ typename System::State rhs(const System& sys, const typename System::State& x, d
 
 // Compares the closed form with central differences at x (steps: each
 // column's); returns the largest error over the tolerance (<= 1 passes).
-// The differences' rounding floor: 4 eps of the largest derivative, and of
-// the contact's stiffness over the lighter mass (the relative position
-// carries eps |r| ~ eps C of rounding, k_c times that in force: over delta
-// ~ C in psi'' the same k_c eps / m), over the step.
+// The differences' rounding floor: 4 eps of the largest derivative over the step.
 template <class System>
 double worst_ratio(const System& sys, const typename System::State& x, const typename System::State& steps, double t,
                    std::string* where) {
@@ -91,9 +79,7 @@ double worst_ratio(const System& sys, const typename System::State& x, const typ
   State dfdt;
   sys.jacobian(x, t, jac, dfdt);
   double worst = 0.0;
-  const core::ModelParameters& p = model_of(sys).parameters();
-  const double stiff_per_kg = p.contact_stiffness_N_per_m / std::min(p.rotor_mass_kg, p.stator_mass_kg);
-  const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff() + stiff_per_kg;
+  const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
   auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
     const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
     for (int i = 0; i < State::RowsAtCompileTime; ++i) {
@@ -210,11 +196,7 @@ struct PolarChecker {
   // Steps: delta 1e-9 m and delta' 1e-6 m/s as the Cartesian ones; psi
   // 1e-4 rad (truncation (h / 1 rad)^2 / 6 ~ 2e-9); psi' 1e-2 rad/s (it
   // enters as psi' and psi'^2, which central differences take exactly);
-  // the stator's 1e-6 m and 1e-4 m/s (they move both bodies: linear). The
-  // floor is rounding through k_c: rel = (r_s + delta n) - r_s carries
-  // eps |r| ~ 4e-19 m, k_c times that 4e-10 N of F_n, which 1e-5 rad or
-  // 1e-9 m steps of psi or the stator turn into 1e-6 of the entry
-  // (measured).
+  // the stator's 1e-6 m and 1e-4 m/s (they move both bodies: linear).
   static State steps() {
     State h;
     h.template head<L::kDof>().setConstant(1e-6);
@@ -285,10 +267,39 @@ TEST(PenaltyJacobian, ClosedFormMatchesDifferencesInEveryMode) {
   }
 }
 
-// The stiff integrator takes the closed form where the system gives it:
-// 6 stages and the start's derivative a step (16 with differences), through
-// the paper scene's first contacts (test_rodasp.cpp checks the runs
-// themselves at every tolerance).
+// The error of a polar state is measured as the Cartesian state's
+// (PenaltyPolarSystem::error_norm): for a small error e of x0 the RMS of
+// (y(x0 + e) - y(x0)) / (atol + rtol max(|y0|, |y1|)), y the Cartesian state.
+TEST(PenaltyJacobian, PolarErrorIsTheCartesianStatesError) {
+  using System = core::PenaltyPolarSystem<2, false>;
+  using L = System::L;
+  using FL = core::FreeLayout<2, false>;
+  const core::ModelParameters p = test::paper_scene().model;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const System::State x0 = PolarChecker<2>::random_state(rng, p);
+    System::State e;
+    // A thousandth of the difference steps: 1e-7 rad of psi, 1e-12 m of delta.
+    for (int i = 0; i < L::kSize; ++i) e[i] = 1e-3 * unit(rng) * PolarChecker<2>::steps()[i];
+    const System::State x1 = x0 + e;
+    FL::State y0, y1;
+    core::store_kinematics<2, false>(System::kinematics(x0), y0);
+    core::store_kinematics<2, false>(System::kinematics(x1), y1);
+    const double atol = 1e-12, rtol = 1e-9;
+    const double cartesian =
+        std::sqrt(((y1 - y0).array() / (atol + rtol * y0.array().abs().max(y1.array().abs()))).square().mean());
+    System sys;
+    // Linear in e to |e_psi| / 1 rad ~ 1e-7 relative; y1 - y0 rounds to
+    // eps |y| / |y1 - y0| ~ 1e-8 (at 1e-6 of these steps it rounded to 1e-5).
+    EXPECT_NEAR(sys.error_norm(e, x0, x1, atol, rtol), cartesian, 1e-6 * cartesian) << "trial " << trial;
+  }
+}
+
+// The stiff integrator takes the closed form where the system gives it (6
+// derivatives an accepted step, 5 a rejected one: 16 and 5 with
+// differences), through the paper scene's first contacts (test_rodasp.cpp
+// checks the runs themselves at every tolerance).
 TEST(PenaltyJacobian, RodaspTakesTheClosedForm) {
   core::Scene s = test::with_method(test::paper_scene(), core::Method::kPenalty, 1e-6, 1e-9);
   s.solver.integrator = core::Integrator::kRosenbrock4;
@@ -296,8 +307,21 @@ TEST(PenaltyJacobian, RodaspTakesTheClosedForm) {
   const test::Run r = test::run(s);
   ASSERT_FALSE(r.result.failure.has_value()) << r.result.failure->message;
   const core::RunStats& st = r.result.stats;
-  EXPECT_GT(st.jacobian_evals, 0);
-  EXPECT_LE(static_cast<double>(st.rhs_evals) / static_cast<double>(st.steps + st.rejected_steps), 7.5);
+  EXPECT_LE(static_cast<double>(st.rhs_evals) / static_cast<double>(st.steps + st.rejected_steps), 7.0);
+}
+
+// The pressed mode runs in polar coordinates: on the paper scene's sustained
+// rub (to 2.0 s, rtol 1e-5) RODASP takes 1 118 steps there, and 28 074 with
+// the pressed mode in Cartesian coordinates, whose stiff direction turns
+// with the whirl inside each step (measured). The bound holds the polar
+// path, with room for the controller's rounding.
+TEST(PenaltyJacobian, SustainedRubStepsInPolarCoordinates) {
+  core::Scene s = test::with_method(test::paper_scene(), core::Method::kPenalty, 1e-5, 1e-8);
+  s.solver.integrator = core::Integrator::kRosenbrock4;
+  s.end_time_s = 2.0;
+  const test::Run r = test::run(s);
+  ASSERT_FALSE(r.result.failure.has_value()) << r.result.failure->message;
+  EXPECT_LT(r.result.stats.steps, 2000);
 }
 
 }  // namespace

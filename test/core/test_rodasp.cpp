@@ -124,11 +124,6 @@ TEST(Rodasp, FourthOrderOnANonAutonomousOscillator) {
   expect_runs(loose, 1e-6, tight, 1e-9, kOrderFourStepGrowth, kDenseErrorPerTol);
 }
 
-// The orders themselves, not the controller's (the step growth above follows
-// the error estimate's order whatever the solution's): one step of size h
-// from points of the closed form, then h / 2. The step's local error goes
-// as h^5 (ratio 32 per halving), the continuous extension's at s = 0.5 as
-// h^4 (16).
 // Two coupled, damped oscillators, one mode stiff (about -1e4 1/s), under
 // forcing in the velocity rows: x' = J x + (0, g(t)) with J = [0 I; A B].
 // kClosed: the system gives J and df/dt (has_analytic_jacobian); kHalf:
@@ -210,6 +205,11 @@ TEST(Rodasp, SecondOrderSolveAndClosedFormMatchTheFullDifferencedStep) {
   EXPECT_EQ(fd.rhs_evals, 5 * fd.attempts + (1 + 4 + 2) * fd.accepted);
 }
 
+// The orders themselves, not the controller's (the step growth above follows
+// the error estimate's order whatever the solution's): one step of size h
+// from points of the closed form, then h / 2. The step's local error goes
+// as h^5 (ratio 32 per halving), the continuous extension's at s = 0.5 as
+// h^4 (16).
 TEST(Rodasp, LocalErrorOrdersOfTheStepAndTheContinuousExtension) {
   Forced sys;
   // The error's constant turns with the forcing's phase (at a single start

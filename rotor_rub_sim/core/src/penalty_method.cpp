@@ -186,7 +186,8 @@ class PenaltyMethod final : public ContactMethod {
     system_.mode = system_.law.mode_of(edges_end_);
     system_.mode.clamped = fallback_;
     fallback_ = false;
-    // A pressed contact has delta > C > 0: its polar coordinates exist.
+    // A pressed contact has delta > 0 (> C but for a rounding at a crossed
+    // edge): its polar coordinates exist. A fallback step stays Cartesian.
     polar_ = kModeLocked && system_.mode.pressed && !system_.mode.clamped;
     State x;
     if (polar_) {

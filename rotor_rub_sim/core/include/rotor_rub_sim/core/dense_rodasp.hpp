@@ -25,8 +25,10 @@
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
 // The Jacobian J = df/dy and f_t = df/dt come from the system in closed form
 // where it gives them (has_analytic_jacobian: the penalty method under the
-// prescribed drive, penalty_system.hpp; 7 right-hand sides a step), else are
-// finite differences of the same right-hand side (jacobian()): 16 a step.
+// prescribed drive, penalty_system.hpp; 6 right-hand sides an accepted step,
+// 5 a rejected one), else are forward differences of the same right-hand
+// side (jacobian()): n + 2 more a step for n states (the motor drive's 11
+// or 7).
 #pragma once
 
 #include <Eigen/Dense>
@@ -99,15 +101,16 @@ struct has_analytic_jacobian<System, std::enable_if_t<System::kAnalyticJacobian>
 template <class System, class = void>
 struct has_second_order_jacobian : std::false_type {};
 template <class System>
-struct has_second_order_jacobian<System, std::enable_if_t<System::kSecondOrderJacobian>> : std::true_type {};
+struct has_second_order_jacobian<System, std::enable_if_t<System::kSecondOrderJacobian && System::kAnalyticJacobian>>
+    : std::true_type {};
 
 // A system whose state is not the one its tolerances are meant for (the
-// penalty method's polar coordinates) gives the error weights itself:
-//   State error_weights(const State& x0, const State& x1, double atol, double rtol) const;
+// penalty method's polar coordinates) measures a step's error itself:
+//   double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const;
 template <class System, class = void>
-struct has_error_weights : std::false_type {};
+struct has_error_norm : std::false_type {};
 template <class System>
-struct has_error_weights<System, std::void_t<decltype(&System::error_weights)>> : std::true_type {};
+struct has_error_norm<System, std::void_t<decltype(&System::error_norm)>> : std::true_type {};
 
 template <class State>
 class DenseRodasp {
@@ -258,6 +261,7 @@ class DenseRodasp {
   };
   // The same for J = [0 I; A B] (has_second_order_jacobian).
   struct SecondOrderSolver {
+    static_assert(kSize % 2 == 0, "[q, v]: as many velocities as positions");
     static constexpr int kHalf = kSize / 2;
     using Half = Eigen::Matrix<double, kHalf, 1>;
     using HalfMatrix = Eigen::Matrix<double, kHalf, kHalf>;
@@ -308,15 +312,13 @@ class DenseRodasp {
     step_ *= h;
     err *= h;
     const State x1 = x_old_ + step_;
-    // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|)
-    // or by the system's own weights (has_error_weights).
-    State weights;
-    if constexpr (has_error_weights<System>::value) {
-      weights = sys.error_weights(x_old_, x1, atol_, rtol_);
+    // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|),
+    // or the system's own (has_error_norm).
+    if constexpr (has_error_norm<System>::value) {
+      return sys.error_norm(err, x_old_, x1, atol_, rtol_);
     } else {
-      weights = (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs())).matrix();
+      return std::sqrt((err.array() / (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs()))).square().mean());
     }
-    return std::sqrt((err.array() / weights.array()).square().mean());
   }
 
   // Takes the last attempt as the step to t_s: its end and the continuous

@@ -36,7 +36,11 @@ struct PenaltySystem {
   // The accelerations under the law (the mode's, or the clamped law) at
   // kinematics k, the drive d of drive_at() [m/s^2, rad/s^2].
   Accelerations accelerations(const Kinematics& k, const DriveState& d) const {
-    const ContactGeometry g = model->contact_geometry(k, d);
+    return accelerations(k, d, model->contact_geometry(k, d));
+  }
+  // The same given the contact's geometry g at k (the polar coordinates
+  // have it without the round trip through the positions).
+  Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g) const {
     double fn, ft;
     if constexpr (kModeLocked) {
       if (mode.clamped) {
@@ -122,8 +126,9 @@ struct PenaltySystem {
 // step's start, loses accuracy on it: on the paper scene RODASP kept steps
 // of ~4.5e-5 s in sustained contact at rtol 3e-5, where a contact that does
 // not turn (a rotor pressed down by gravity) took ~4.5e-4 s (measured). In
-// these coordinates the stiff direction is delta's, fixed. Free flight
-// stays Cartesian (delta = 0, the rotor centred, has no angle).
+// these coordinates the stiff direction is delta's, fixed. Free flight and
+// the clamped law's fallback steps stay Cartesian (delta = 0, the rotor
+// centred, has no angle; a fallback step may leave the contact).
 template <int kStatorDof, bool kMotor>
 struct PolarLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static constexpr int kDof = 2 + kStatorDof;
@@ -163,7 +168,8 @@ struct PenaltyPolarSystem {
     return k;
   }
 
-  // The polar state of kinematics k; delta > 0 (a pressed contact has delta > C).
+  // The polar state of kinematics k, delta > 0 (a pressed contact has delta
+  // > C, or a rounding below it at a crossed edge).
   static State reduce(const Kinematics& k) {
     State x;
     const Vec2 rel = k.rotor_pos - k.stator_pos, rel_vel = k.rotor_vel - k.stator_vel;
@@ -205,20 +211,7 @@ struct PenaltyPolarSystem {
     Matrix cart_jac;
     typename FL::State cart_dfdt;
     cartesian->jacobian(y, t_s, cart_jac, cart_dfdt);
-    // dy/dx.
-    Matrix dy = Matrix::Zero();
-    dy.template block<2, 1>(FL::kRotorPos, L::kDistance) = n;
-    dy.template block<2, 1>(FL::kRotorPos, L::kAngle) = delta * t;
-    dy.template block<2, 1>(FL::kRotorVel, L::kDistanceRate) = n;
-    dy.template block<2, 1>(FL::kRotorVel, L::kAngleRate) = delta * t;
-    dy.template block<2, 1>(FL::kRotorVel, L::kDistance) = psi_rate * t;
-    dy.template block<2, 1>(FL::kRotorVel, L::kAngle) = delta_rate * t - (delta * psi_rate) * n;
-    if constexpr (kStatorDof == 2) {
-      dy.template block<2, 2>(FL::kRotorPos, L::kStatorPos).setIdentity();
-      dy.template block<2, 2>(FL::kStatorPos, L::kStatorPos).setIdentity();
-      dy.template block<2, 2>(FL::kRotorVel, L::kStatorVel).setIdentity();
-      dy.template block<2, 2>(FL::kStatorVel, L::kStatorVel).setIdentity();
-    }
+    const Matrix dy = tangent_map(x, n, t);
     const Eigen::Matrix<double, 2, L::kSize> rotor_acc = cart_jac.template middleRows<2>(FL::kRotorVel) * dy;
     Eigen::Matrix<double, 2, L::kSize> stator_acc = Eigen::Matrix<double, 2, L::kSize>::Zero();
     Vec2 stator_acc_rate = Vec2::Zero();
@@ -252,25 +245,62 @@ struct PenaltyPolarSystem {
     }
   }
 
-  // The error weights atol + rtol |x| of the Cartesian state these
-  // coordinates stand for (what rtol and atol mean to the user): delta and
-  // delta' weigh as the rotor's position and velocity components (their
-  // largest magnitude over the step), psi and psi' as those over delta. With
-  // the state's own magnitudes instead, delta' (~1e-6 m/s in sustained
+  // The contact's geometry read off the coordinates (model.hpp's
+  // contact_geometry() finds the same from the positions, less exactly:
+  // r_r - r_s = (r_s + delta n) - r_s carries eps |r| of rounding, which k_c
+  // turns into ~4e-10 N of F_n).
+  ContactGeometry geometry(const State& x, const Vec2& n, const Vec2& t, const DriveState& d) const {
+    ContactGeometry g;
+    g.distance_m = x[L::kDistance];
+    g.normal = n;
+    g.tangent = t;
+    g.penetration_m = g.distance_m - cartesian->model->parameters().clearance_m;
+    g.normal_velocity_m_per_s = x[L::kDistanceRate];
+    g.sliding_velocity_m_per_s =
+        g.distance_m * x[L::kAngleRate] + d.speed_rad_per_s * cartesian->model->parameters().rotor_radius_m;
+    return g;
+  }
+
+  // dy/dx: how the Cartesian state y (FreeLayout) moves with x at x.
+  static Matrix tangent_map(const State& x, const Vec2& n, const Vec2& t) {
+    using FL = FreeLayout<kStatorDof, kMotor>;
+    const double delta = x[L::kDistance], delta_rate = x[L::kDistanceRate], psi_rate = x[L::kAngleRate];
+    Matrix dy = Matrix::Zero();
+    dy.template block<2, 1>(FL::kRotorPos, L::kDistance) = n;
+    dy.template block<2, 1>(FL::kRotorPos, L::kAngle) = delta * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kDistanceRate) = n;
+    dy.template block<2, 1>(FL::kRotorVel, L::kAngleRate) = delta * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kDistance) = psi_rate * t;
+    dy.template block<2, 1>(FL::kRotorVel, L::kAngle) = delta_rate * t - (delta * psi_rate) * n;
+    if constexpr (kStatorDof == 2) {
+      dy.template block<2, 2>(FL::kRotorPos, L::kStatorPos).setIdentity();
+      dy.template block<2, 2>(FL::kStatorPos, L::kStatorPos).setIdentity();
+      dy.template block<2, 2>(FL::kRotorVel, L::kStatorVel).setIdentity();
+      dy.template block<2, 2>(FL::kStatorVel, L::kStatorVel).setIdentity();
+    }
+    if constexpr (L::kSpinSize > 0) {
+      for (int i = 0; i < L::kSpinSize; ++i) dy(FL::kSpinAngle + i, L::kSpinAngle + i) = 1.0;
+    }
+    return dy;
+  }
+
+  // The step's error measured as the Cartesian state's (what rtol and atol
+  // mean to the user, the same in every coordinates): the error vector
+  // mapped by dy/dx at the step's start, each Cartesian component weighed
+  // by atol + rtol max(|y0|, |y1|), the RMS norm of DenseRodasp. With the
+  // polar state's own magnitudes instead, delta' (~1e-6 m/s in sustained
   // contact against the rotor's ~0.5 m/s) would be held to atol alone: at
   // rtol 1e-9 / atol 1e-12 on the paper scene 131k of 308k steps were
   // rejected on it (measured).
-  State error_weights(const State& x0, const State& x1, double atol, double rtol) const {
-    State w = (atol + rtol * x0.array().abs().max(x1.array().abs())).matrix();
-    const Kinematics k0 = kinematics(x0), k1 = kinematics(x1);
-    const double pos_m = std::max(k0.rotor_pos.cwiseAbs().maxCoeff(), k1.rotor_pos.cwiseAbs().maxCoeff());
-    const double vel_m_per_s = std::max(k0.rotor_vel.cwiseAbs().maxCoeff(), k1.rotor_vel.cwiseAbs().maxCoeff());
-    const double delta_m = std::min(x0[L::kDistance], x1[L::kDistance]);
-    w[L::kDistance] = atol + rtol * pos_m;
-    w[L::kAngle] = w[L::kDistance] / delta_m;
-    w[L::kDistanceRate] = atol + rtol * vel_m_per_s;
-    w[L::kAngleRate] = w[L::kDistanceRate] / delta_m;
-    return w;
+  double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const {
+    using FL = FreeLayout<kStatorDof, kMotor>;
+    const double psi = x0[L::kAngle];
+    const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
+    typename FL::State y0, y1;
+    store_kinematics<kStatorDof, kMotor>(kinematics(x0, n, t), y0);
+    store_kinematics<kStatorDof, kMotor>(kinematics(x1), y1);
+    const State e = tangent_map(x0, n, t) * err;
+    return std::sqrt((e.array() / (atol + rtol * y0.array().abs().max(y1.array().abs()))).square().mean());
   }
 
   void operator()(const State& x, State& dxdt, double t_s) const {
@@ -281,7 +311,8 @@ struct PenaltyPolarSystem {
     const Kinematics k = kinematics(x, n, t);
     const DriveState reference = cartesian->segment.at(t_s);
     const JeffcottModel& m = *cartesian->model;
-    const Accelerations a = cartesian->accelerations(k, m.drive_at(k, reference));
+    const DriveState d = m.drive_at(k, reference);
+    const Accelerations a = cartesian->accelerations(k, d, geometry(x, n, t, d));
     const Vec2 rel_acc = a.rotor - a.stator;
     dxdt[L::kDistance] = delta_rate;
     dxdt[L::kAngle] = psi_rate;
