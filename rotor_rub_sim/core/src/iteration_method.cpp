@@ -178,13 +178,7 @@ struct IterationSystem {
     const ContactGeometry g = model->contact_geometry(k, d);
     const ContactForces f = forces(k, d, g, t);
     const Accelerations a = model->accelerations(k, d, g, f.normal_N, f.tangential_N);
-    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = a.rotor;
-    if constexpr (kStatorDof == 2) {
-      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = a.stator;
-    }
-    spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
+    free_derivative<L>(*model, k, reference, a, dxdt);
   }
 };
 

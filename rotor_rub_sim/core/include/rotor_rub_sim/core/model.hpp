@@ -441,4 +441,19 @@ void spin_derivative(const JeffcottModel& m, const Kinematics& k, const DriveSta
   }
 }
 
+// A FreeLayout state's derivative from its kinematics and accelerations a
+// (the penalty and iteration methods): positions' rates the velocities, the
+// velocities' the accelerations, the drive's rows (spin_derivative).
+template <class L, class State>
+void free_derivative(const JeffcottModel& m, const Kinematics& k, const DriveState& reference, const Accelerations& a,
+                     State& dxdt) {
+  dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
+  dxdt.template segment<2>(L::kRotorVel) = a.rotor;
+  if constexpr (L::kDof == 4) {  // the elastic stator's
+    dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
+    dxdt.template segment<2>(L::kStatorVel) = a.stator;
+  }
+  spin_derivative<L>(m, k, reference, a.spin_rad_per_s2, dxdt);
+}
+
 }  // namespace rotor_rub::core

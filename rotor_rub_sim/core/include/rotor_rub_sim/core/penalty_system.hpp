@@ -62,13 +62,7 @@ struct PenaltySystem {
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState reference = segment.at(t);
     const Accelerations a = accelerations(k, model->drive_at(k, reference));
-    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(L::kRotorVel) = a.rotor;
-    if constexpr (kStatorDof == 2) {
-      dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kStatorVel) = a.stator;
-    }
-    spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
+    free_derivative<L>(*model, k, reference, a, dxdt);
   }
   // The Jacobian df/dx and the partial df/dt in closed form (the integrator
   // would otherwise take kSize + 2 derivatives a step for them: 10 of
