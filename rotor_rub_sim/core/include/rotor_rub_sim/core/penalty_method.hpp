@@ -3,7 +3,8 @@
 // With an explicit integrator, one set of equations (the clamped law); touchdown
 // and lift-off are located on the dense output for reporting only. With the
 // implicit one, the law's smooth pieces are integrated one at a time and the
-// kinks between them located and restarted at (penalty_law.hpp).
+// kinks between them located and restarted at (penalty_law.hpp), the pressed
+// piece in the contact's polar coordinates (penalty_system.hpp).
 #pragma once
 
 #include <memory>
