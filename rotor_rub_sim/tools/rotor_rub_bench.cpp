@@ -187,9 +187,10 @@ int main(int argc, char** argv) {
       ->check(cli::number_in(0, 1e7, true))
       ->capture_default_str();
   app.add_flag("--quick", quick, "two tolerances per method (1e-3 and 1e-6) instead of six");
-  app.add_option("--methods", methods,
-                 "which rows: switching (dopri5 and rkf78), iteration, penalty (dopri5 and rosenbrock4), cvode (the "
-                 "switching method on SUNDIALS CVODE, Adams and BDF)")
+  app.add_option(
+         "--methods", methods,
+         "which rows: switching (dopri5, rkf78 and dop853), iteration, penalty (dopri5 and rosenbrock4), cvode (the "
+         "switching method on SUNDIALS CVODE, Adams and BDF)")
       ->type_name("LIST")
       ->delimiter(',')
       ->check(CLI::IsMember({"switching", "iteration", "penalty", "cvode"}))
@@ -239,7 +240,9 @@ int main(int argc, char** argv) {
     if (!wanted(to_string(m))) continue;
     for (const auto& [r, a] : tolerances) cases.push_back({m, r, a});
     if (m != Method::kSwitching) continue;
-    for (const auto& [r, a] : tolerances) cases.push_back({m, r, a, Integrator::kRkf78});
+    for (Integrator high : {Integrator::kRkf78, Integrator::kDop853}) {
+      for (const auto& [r, a] : tolerances) cases.push_back({m, r, a, high});
+    }
   }
   if (wanted("penalty")) {
     for (const auto& [r, a] : tolerances) cases.push_back({Method::kPenalty, r, a, Integrator::kRosenbrock4});

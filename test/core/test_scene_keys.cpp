@@ -98,6 +98,13 @@ TEST(SceneKeys, CrossKeyRules) {
       error_of({{"integrator", "rkf78"}, {"method", "iteration"}}).find("accepted for method 'iteration': dopri5"),
       std::string::npos);
   EXPECT_EQ(error_of({{"integrator", "rkf78"}, {"method", "switching"}}), "");
+  EXPECT_EQ(error_of({{"integrator", "dop853"}, {"method", "switching"}}), "");
+  EXPECT_NE(error_of({{"integrator", "dop853"}, {"method", "penalty"}})
+                .find("'dop853' is accepted with method 'switching' only; accepted for method 'penalty': "),
+            std::string::npos);
+  EXPECT_NE(
+      error_of({{"integrator", "dop853"}, {"method", "iteration"}}).find("accepted for method 'iteration': dopri5"),
+      std::string::npos);
   EXPECT_NE(error_of({{"target_speed_rad_per_s", "3000"}}).find("max_speed_rad_per_s"), std::string::npos);
 }
 

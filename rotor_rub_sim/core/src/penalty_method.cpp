@@ -317,8 +317,10 @@ std::unique_ptr<ContactMethod> make_for_dof(const Scene& scene) {
       return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseRk4<State>>>(scene);
     case Integrator::kDopri5:
       break;
-    case Integrator::kRkf78:  // validate_scene refuses it: the penalty contact is stiff
-      throw std::invalid_argument("integrator rkf78 is not accepted with method penalty");
+    case Integrator::kRkf78:  // validate_scene refuses them: the penalty contact is stiff
+    case Integrator::kDop853:
+      throw std::invalid_argument(std::string("integrator ") + to_string(scene.solver.integrator) +
+                                  " is not accepted with method penalty");
   }
   return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseDopri5<State>>>(scene);
 }

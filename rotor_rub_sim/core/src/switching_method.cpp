@@ -74,15 +74,19 @@ struct EventValues {
   std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
 };
 
-// kHighOrder: Runge-Kutta-Fehlberg 7(8) with Hermite dense output
-// (integrator rkf78), else Dormand-Prince 5(4) (dopri5).
-template <int kStatorDof, bool kMotor, bool kHighOrder>
+// kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
+// high-order pairs with Hermite dense output (dense_rkf78.hpp):
+// Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
+template <int kStatorDof, bool kMotor, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
  public:
+  static constexpr bool kHighOrder = kScheme != Integrator::kDopri5;
   using FL = FreeLayout<kStatorDof, kMotor>;
   using CL = ContactLayout<kStatorDof, kMotor>;
   template <class L>
-  using Integrator = std::conditional_t<kHighOrder, DenseRkf78<L>, DenseDopri5<typename L::State>>;
+  using Dense = std::conditional_t<
+      kScheme == Integrator::kDop853, DenseDop853<L>,
+      std::conditional_t<kScheme == Integrator::kRkf78, DenseRkf78<L>, DenseDopri5<typename L::State>>>;
 
   explicit SwitchingMethod(const Scene& scene)
       : model_(scene.model),
@@ -454,14 +458,14 @@ class SwitchingMethod final : public ContactMethod {
   // evaluation each: 5.35 ms with four points, 4.41 ms with two, measured
   // on the paper run-up at rtol 1e-7). Every test passes as with four; only a forced contact
   // (scan()) moves, by a few atol, as it is placed from the scan's points.
-  // rkf78's steps are 3-4 times longer (up to ~3 rad of the spin at rtol
-  // 1e-3), so it keeps the quarter points (8-10 % of its run).
+  // rkf78's and dop853's steps are 3-4 times longer (up to ~3 rad of the
+  // spin at rtol 1e-3), so they keep the quarter points (8-10 % of a run).
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   JeffcottModel model_;
   FreeFlightSystem<kStatorDof, kMotor> free_sys_;
   ContactSystem<kStatorDof, kMotor> contact_sys_;
-  Integrator<FL> free_int_;
-  Integrator<CL> contact_int_;
+  Dense<FL> free_int_;
+  Dense<CL> contact_int_;
   double initial_step_s_;
   double penetration_tolerance_m_;
   ChatterGuard guard_;
@@ -486,9 +490,11 @@ class SwitchingMethod final : public ContactMethod {
 };
 
 template <int kStatorDof, bool kMotor>
-using SwitchingDopri5 = SwitchingMethod<kStatorDof, kMotor, false>;
+using SwitchingDopri5 = SwitchingMethod<kStatorDof, kMotor, Integrator::kDopri5>;
 template <int kStatorDof, bool kMotor>
-using SwitchingRkf78 = SwitchingMethod<kStatorDof, kMotor, true>;
+using SwitchingRkf78 = SwitchingMethod<kStatorDof, kMotor, Integrator::kRkf78>;
+template <int kStatorDof, bool kMotor>
+using SwitchingDop853 = SwitchingMethod<kStatorDof, kMotor, Integrator::kDop853>;
 
 }  // namespace
 
@@ -496,6 +502,8 @@ std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
   switch (scene.solver.integrator) {
     case Integrator::kRkf78:
       return make_for_scene<SwitchingRkf78>(scene);
+    case Integrator::kDop853:
+      return make_for_scene<SwitchingDop853>(scene);
     case Integrator::kDopri5:
       return make_for_scene<SwitchingDopri5>(scene);
     case Integrator::kRosenbrock4:

@@ -1,11 +1,14 @@
-// Runge-Kutta-Fehlberg 7(8) with step-size control, from Boost.Odeint, and a
-// dense output for it: for tight tolerances, where Dormand-Prince 5(4) needs
-// many short steps (on the paper run-up at rtol 1e-6 it takes 13 488
-// derivative evaluations where dopri5 takes 24 364, rotor_rub_bench). The
-// interface of DenseDopri5 but set_dt(), which only the penalty method uses.
+// The high-order explicit integrators, with a dense output: Runge-Kutta-
+// Fehlberg 7(8) (Boost.Odeint's, integrator rkf78) and Dormand-Prince
+// 8(5,3) (dop853.hpp, integrator dop853), for tight tolerances, where
+// Dormand-Prince 5(4) needs many short steps (on the paper run-up at rtol
+// 1e-6 rkf78 takes 13 488 derivative evaluations where dopri5 takes
+// 24 364, rotor_rub_bench). The interface of DenseDopri5 but set_dt(),
+// which only the penalty method uses.
 //
-// Odeint gives this pair no continuous extension, so the dense output is
-// Hermite interpolation on the step's ends, which the mechanical structure
+// Neither pair's own continuous extension is used (odeint gives rkf78
+// none; dop853's costs 3 more stages), so the dense output is Hermite
+// interpolation on the step's ends, which the mechanical structure
 // of the state makes high order: every position q (a state whose derivative
 // is another state, its velocity v) is the degree-7 polynomial that matches
 // q, v = q', a = v' and the jerk j = a' at both ends; its velocity is that
@@ -13,7 +16,8 @@
 // a pair (a motor drive's controller integral z) is the quintic matching z,
 // z' and z''. The second derivative of the state (a' and z'') is a central
 // difference of the derivative along the solution's tangent, two
-// derivative evaluations per step: 15 per step in all, where 13 buy the step.
+// derivative evaluations per step: 15 per step in all for rkf78, where 13
+// buy the step (14 for dop853, where 12 do).
 // Interpolation error for a motion of amplitude A and angular frequency w
 // over a step h: A (w h)^8 / 10321920 in position (4e-10 A at w h = 0.5,
 // 1e-7 A at w h = 1; the quintic without the jerk would be A (w h)^6 /
@@ -27,6 +31,7 @@
 #include <cmath>
 #include <utility>
 
+#include "rotor_rub_sim/core/dop853.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
@@ -45,13 +50,14 @@ struct SecondOrderPairs {
   }
 };
 
-template <class Layout>
-class DenseRkf78 {
+// Boost.Odeint's Runge-Kutta-Fehlberg 7(8) under its controlled stepper,
+// its error measured as DenseDopri5's: atol + rtol |x| per component (max
+// norm).
+template <class State>
+class OdeintRkf78 {
  public:
-  using State = typename Layout::State;
   using Stepper = boost::numeric::odeint::runge_kutta_fehlberg78<State, double, State, double,
                                                                  boost::numeric::odeint::vector_space_algebra>;
-  static_assert(2 * Layout::kDof + Layout::kSpinSize == State::RowsAtCompileTime, "positions, velocities, spin");
   using ErrorChecker =
       boost::numeric::odeint::default_error_checker<double, boost::numeric::odeint::vector_space_algebra,
                                                     boost::numeric::odeint::default_operations>;
@@ -59,6 +65,35 @@ class DenseRkf78 {
   // New stages per attempt: 13 less the first, which is the derivative at
   // the step's start (kept from the last step's end, as FSAL methods do).
   static constexpr int kStagesPerAttempt = 12;
+
+  // (GCC's -Wmaybe-uninitialized from odeint's stage buffers: see DenseDopri5.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+  OdeintRkf78(double atol, double rtol) : controlled_(ErrorChecker(atol, rtol, 1.0, 0.0)) {}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+  template <class System>
+  bool try_step(System& sys, const State& x, const State& dxdt, double& t, State& x_out, double& dt) {
+    return controlled_.try_step(sys, x, dxdt, t, x_out, dt) == boost::numeric::odeint::success;
+  }
+
+ private:
+  Controlled controlled_;
+};
+
+// The dense high-order integrator on a stepping Engine (OdeintRkf78,
+// Dop853): the engine's steps, the Hermite dense output of the header.
+template <class Layout, class Engine>
+class DenseHighOrder {
+ public:
+  using State = typename Layout::State;
+  static_assert(2 * Layout::kDof + Layout::kSpinSize == State::RowsAtCompileTime, "positions, velocities, spin");
+  static constexpr int kStagesPerAttempt = Engine::kStagesPerAttempt;
   // The central difference's step for the state's second derivative [s]:
   // its truncation error is (kJerkStep_s w)^2 / 6 of the jerk (1.5e-8 at
   // 300 rad/s); its rounding error 1e-16 |x| / (kJerkStep_s |x'|) (1e-9 for
@@ -66,24 +101,11 @@ class DenseRkf78 {
   // difference lost 1e-6 there, which moved a steady rub's F_n by 1e-6).
   static constexpr double kJerkStep_s = 1e-6;
 
-  // The error is measured as in DenseDopri5: atol + rtol |x| per component.
-  // (GCC's -Wmaybe-uninitialized from odeint's stage buffers: see DenseDopri5.)
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-  DenseRkf78(double atol, double rtol, double min_step_s, long max_steps)
-      : controlled_(ErrorChecker(atol, rtol, 1.0, 0.0)),
-        min_step_s_(min_step_s),
-        max_steps_(max_steps),
-        pairs_(SecondOrderPairs<Layout>::pairs()) {
+  DenseHighOrder(double atol, double rtol, double min_step_s, long max_steps)
+      : engine_(atol, rtol), min_step_s_(min_step_s), max_steps_(max_steps), pairs_(SecondOrderPairs<Layout>::pairs()) {
     first_order_.fill(true);
     for (const auto& [q, v] : pairs_) first_order_[q] = first_order_[v] = false;
   }
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
 
   template <class System>
   void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
@@ -107,9 +129,9 @@ class DenseRkf78 {
     double t = t_new_;
     for (;;) {
       check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
-      const auto result = controlled_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dt_);
+      const bool accepted = engine_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dt_);
       stats.rhs_evals += kStagesPerAttempt;
-      if (result == boost::numeric::odeint::success) break;
+      if (accepted) break;
       ++stats.rejected_steps;
     }
     t_new_ = t;
@@ -160,7 +182,7 @@ class DenseRkf78 {
   const State& x_new() const { return x_new_; }
 
  private:
-  mutable Controlled controlled_;
+  Engine engine_;
   double min_step_s_;
   long max_steps_;
   std::array<std::pair<int, int>, SecondOrderPairs<Layout>::kCount> pairs_;
@@ -222,5 +244,10 @@ class DenseRkf78 {
   std::array<State, kDegree + 1> coef_{};  // coef_[0] unused: x_old_
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
 };
+
+template <class Layout>
+using DenseRkf78 = DenseHighOrder<Layout, OdeintRkf78<typename Layout::State>>;
+template <class Layout>
+using DenseDop853 = DenseHighOrder<Layout, Dop853<typename Layout::State>>;
 
 }  // namespace rotor_rub::core

@@ -13,7 +13,7 @@ namespace rotor_rub::core {
 // ---- Enum-like choices, each with an exhaustive name table -----------------
 
 enum class Method { kPenalty, kSwitching, kIteration };
-enum class Integrator { kDopri5, kRosenbrock4, kRk4, kRkf78 };
+enum class Integrator { kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
 enum class StatorModel { kElastic, kRigid };
 enum class DriveModel { kPrescribed, kMotor };
 
@@ -30,11 +30,12 @@ struct IntegratorName {
   Integrator value;
   const char* name;
 };
-inline constexpr std::array<IntegratorName, 4> kIntegratorNames{{
+inline constexpr std::array<IntegratorName, 5> kIntegratorNames{{
     {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
     {Integrator::kRosenbrock4, "rosenbrock4"},  // RODASP, linearly implicit 4(3), stiff (penalty only)
     {Integrator::kRk4, "rk4"},                  // classic RK4, fixed step fixed_step_s (penalty only)
     {Integrator::kRkf78, "rkf78"},              // explicit embedded RK 7(8), Hermite dense output (switching only)
+    {Integrator::kDop853, "dop853"},            // explicit embedded RK 8(5,3), Hermite dense output (switching only)
 }};
 struct StatorModelName {
   StatorModel value;
