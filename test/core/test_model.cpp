@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
@@ -60,6 +62,39 @@ TEST(Model, SlidingAccelerationIsTheDerivativeOfSlidingVelocity) {
   // Central difference: truncation O(h^2) and round-off 1e-16 / h ~ 1e-9 of
   // accelerations O(100) m/s^2: 1e-4 m/s^2 is ample, a wrong term is O(1).
   EXPECT_NEAR(m.sliding_acceleration(k, g, a), (v_at(h) - v_at(-h)) / (2 * h), 1e-4);
+}
+
+TEST(Model, FreeForceDerivativesAreTheRatesAlongTheMotion) {
+  // The free flight's jerk in closed form (dense_rkf78.hpp) stands on
+  // rotor_/stator_free_force_derivative: against a central difference of
+  // the free forces along a motion with these accelerations, the spin
+  // advancing as the prescribed drive does (phi' = w, w' = A), with gravity
+  // (constant: no rate) and both bodies moving.
+  ModelParameters p;
+  p.gravity_m_per_s2 = 9.81;
+  const JeffcottModel m{p};
+  const Kinematics k = pressed_state();
+  const DriveState d{0.3, 150.0, 70.0};
+  const Vec2 ar(-35.0, 12.0), as(4.0, -2.5);
+  auto forces_at = [&](double dt) {
+    Kinematics kk = k;
+    kk.rotor_pos += k.rotor_vel * dt + 0.5 * ar * dt * dt;
+    kk.stator_pos += k.stator_vel * dt + 0.5 * as * dt * dt;
+    kk.rotor_vel += ar * dt;
+    kk.stator_vel += as * dt;
+    const DriveState dd{d.angle_rad + d.speed_rad_per_s * dt + 0.5 * d.accel_rad_per_s2 * dt * dt,
+                        d.speed_rad_per_s + d.accel_rad_per_s2 * dt, d.accel_rad_per_s2};
+    return std::make_pair(m.rotor_free_force(kk, dd), m.stator_free_force(kk));
+  };
+  const double h = 1e-6;
+  const auto [fr_plus, fs_plus] = forces_at(h);
+  const auto [fr_minus, fs_minus] = forces_at(-h);
+  // Rates O(1e3..1e5) N/s (the unbalance's w^3 m e term is 5.6e2, the
+  // springs' k v 3e2 and 8.5e2): the difference's truncation (w h)^2 / 6 ~ 4e-9
+  // relative and round-off 1e-16 * 1e2 N / 1e-6 s ~ 1e-8 N/s; 1e-5 N/s is
+  // ample, a missing or wrong term is O(1e2).
+  EXPECT_LT((m.rotor_free_force_derivative(k, ar, d) - (fr_plus - fr_minus) / (2 * h)).norm(), 1e-5);
+  EXPECT_LT((m.stator_free_force_derivative(k, as) - (fs_plus - fs_minus) / (2 * h)).norm(), 1e-5);
 }
 
 TEST(ContactLaw, PenaltyFrictionNeverInjectsEnergyAndStaysInTheCone) {

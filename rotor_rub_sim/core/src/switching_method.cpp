@@ -47,6 +47,26 @@ struct FreeFlightSystem {
       }
     }
   }
+  // The state's second derivative in closed form (DenseHighOrder's jerk,
+  // instead of two derivative evaluations): under the prescribed drive
+  // the free forces are linear in the state (model.hpp), so x'' is the
+  // derivative's own linear map applied to dxdt, plus the unbalance's rate.
+  static constexpr bool kClosedFormSecondDerivative = !kMotor;
+  void second_derivative(const typename L::State& x, const typename L::State& dxdt, double t,
+                         typename L::State& ddx) const {
+    static_assert(!kMotor, "the motor's spin couples: differenced instead");
+    ProfileScope scope(rhs_time_s);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const DriveState d = segment.at(t);
+    ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
+    ddx.template segment<2>(L::kRotorVel) =
+        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d) * model->inv_rotor_mass();
+    if constexpr (kStatorDof == 2) {
+      ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
+      ddx.template segment<2>(L::kStatorVel) =
+          model->stator_free_force_derivative(k, dxdt.template segment<2>(L::kStatorVel)) * model->inv_stator_mass();
+    }
+  }
 };
 
 template <int kStatorDof, bool kMotor>

@@ -24,6 +24,7 @@
 
 #include <cmath>
 
+#include "rotor_rub_sim/core/angle_pair.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
@@ -118,9 +119,11 @@ struct ConstrainedDynamics {
       const double c = model->parameters().clearance_m;
       const double psi = x[L::kAngle], rate = x[L::kAngleRate];
       // On the bore by construction: the contact frame is psi's (no square
-      // root or division to find it again from the positions).
+      // root or division to find it again from the positions). psi's and
+      // the spin's unit vectors in one call (angle_pair.hpp).
       ContactGeometry g;
-      g.normal = Vec2(std::cos(psi), std::sin(psi));
+      Vec2 unbalance_dir;
+      unit_vectors(psi, d.angle_rad, g.normal, unbalance_dir);
       g.tangent = Vec2(-g.normal.y(), g.normal.x());
       g.distance_m = c;
       g.penetration_m = 0.0;
@@ -129,15 +132,19 @@ struct ConstrainedDynamics {
       r.kin = kinematics(x, g.normal, g.tangent);
       r.drive = d;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
-      const Vec2 fr = model->rotor_free_force(r.kin, d);
+      const Vec2 fr = model->rotor_free_force(r.kin, d, unbalance_dir);
       const Vec2 fs = model->stator_free_force(r.kin);
       const ModelParameters& p = model->parameters();
-      r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) / im;
+      // Products with the model's reciprocals m = 1 / (1/m_r + 1/m_s) and
+      // 1 / C, not divisions: three divisions were a third of this
+      // function's time (a switching run's hottest).
+      const double m_eff = model->effective_mass_kg();
+      r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) * m_eff;
       r.stick_normal_force_N = r.normal_force_N;
       // Tangential relative acceleration without contact force, plus A R_r:
       // v_slide' = free_t + F_t / m.
       const double free_t = fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + d.accel_rad_per_s2 * p.rotor_radius_m;
-      r.stick_force_N = -free_t / im;
+      r.stick_force_N = -free_t * m_eff;
       r.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * p.rotor_radius_m;
       if (mode.stick) {
         r.tangential_force_N = r.stick_force_N;
@@ -145,7 +152,8 @@ struct ConstrainedDynamics {
         r.tangential_force_N = -p.friction_coefficient * r.normal_force_N * mode.slip_sign;
       }
       r.sliding_acc_m_per_s2 = free_t + r.tangential_force_N * im;
-      r.angle_acc_rad_per_s2 = (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) / c;
+      r.angle_acc_rad_per_s2 =
+          (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) * model->inv_clearance();
       r.stator_acc = (fs + r.normal_force_N * g.normal - r.tangential_force_N * g.tangent) * ims;
       return r;
     }
