@@ -71,8 +71,9 @@ def work_precision(rows, out, text, bench_rows=()):
     for i, (label, rs) in enumerate(sorted(curves.items())):
         rs.sort(key=lambda r: -fnum(r, "rtol"))
         colour = METHOD_COLOURS.get(rs[0]["method"], "grey")
-        ls = styles[i % len(styles)] if rs[0]["method"] in ("penalty", "cvode") else "-"
-        marker = {"dopri5": "o", "adams": "s", "bdf": "D"}.get(rs[0]["integrator"], "^")
+        ls = styles[i % len(styles)] if rs[0]["method"] in ("penalty", "cvode") else (
+            "--" if rs[0]["integrator"] == "dop853" else "-")
+        marker = {"dopri5": "o", "adams": "s", "bdf": "D", "rkf78": "^", "dop853": "v"}.get(rs[0]["integrator"], "^")
         for ax, xkey in zip(axes, ("wall_time_s", "rhs_evals")):
             ok = [r for r in rs if r["status"] in COMPLETED]
             ax.plot([fnum(r, xkey) for r in ok], [fnum(r, "max_rotor_err_m") for r in ok], ls, marker=marker,
@@ -274,7 +275,8 @@ def table2(t2_rows, wp_rows, out):
               "(from the work-precision sweep; atol = 1e-3 rtol):", "",
               "| method | integrator | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
               "|---|---|---|---|---|---|---|"]
-    for method, integrator in (("switching", "dopri5"), ("switching", "rkf78"), ("iteration", "dopri5"),
+    for method, integrator in (("switching", "dopri5"), ("switching", "rkf78"), ("switching", "dop853"),
+                               ("iteration", "dopri5"),
                                ("penalty", "dopri5")):
         cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == integrator
                  and r["status"] in COMPLETED and fnum(r, "max_rotor_err_m") <= 1e-6]
