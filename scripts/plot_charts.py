@@ -276,8 +276,7 @@ def table2(t2_rows, wp_rows, out):
               "| method | integrator | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
               "|---|---|---|---|---|---|---|"]
     for method, integrator in (("switching", "dopri5"), ("switching", "rkf78"), ("switching", "dop853"),
-                               ("iteration", "dopri5"),
-                               ("penalty", "dopri5")):
+                               ("iteration", "dopri5"), ("iteration", "dop853"), ("penalty", "dopri5")):
         cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == integrator
                  and r["status"] in COMPLETED and fnum(r, "max_rotor_err_m") <= 1e-6]
         if not cands:

@@ -55,14 +55,15 @@ struct Solver {
 inline void PrintTo(const Solver& s, std::ostream* os) { *os << s.name(); }
 
 // The rigid methods on every integrator each accepts (switching: dopri5,
-// rkf78 and dop853; iteration: dopri5).
+// rkf78 and dop853; iteration: dopri5 and dop853).
 inline std::vector<Solver> rigid_solvers() {
   using core::Integrator;
   using core::Method;
   return {{Method::kSwitching, Integrator::kDopri5},
           {Method::kSwitching, Integrator::kRkf78},
           {Method::kSwitching, Integrator::kDop853},
-          {Method::kIteration, Integrator::kDopri5}};
+          {Method::kIteration, Integrator::kDopri5},
+          {Method::kIteration, Integrator::kDop853}};
 }
 inline std::vector<Solver> all_solvers() {
   std::vector<Solver> v = rigid_solvers();

@@ -35,7 +35,7 @@ inline constexpr std::array<IntegratorName, 5> kIntegratorNames{{
     {Integrator::kRosenbrock4, "rosenbrock4"},  // RODASP, linearly implicit 4(3), stiff (penalty only)
     {Integrator::kRk4, "rk4"},                  // classic RK4, fixed step fixed_step_s (penalty only)
     {Integrator::kRkf78, "rkf78"},              // explicit embedded RK 7(8), Hermite dense output (switching only)
-    {Integrator::kDop853, "dop853"},            // explicit embedded RK 8(5,3), Hermite dense output (switching only)
+    {Integrator::kDop853, "dop853"},  // explicit embedded RK 8(5,3), Hermite dense output (switching, iteration)
 }};
 struct StatorModelName {
   StatorModel value;
