@@ -187,8 +187,8 @@ int main(int argc, char** argv) {
       ->check(cli::number_in(0, 1e7, true))
       ->capture_default_str();
   app.add_flag("--quick", quick,
-               "two tolerances per method (1e-3 and 1e-6) instead of nine (decades from 1e-3 to 1e-9, half decades "
-               "from 1e-5 to 1e-8)");
+               "two tolerances per method (1e-3 and 1e-6) instead of nine (1e-3; 1e-5 to 1e-8 by half decades; "
+               "1e-9)");
   app.add_option("--methods", methods,
                  "which rows: switching (dopri5, rkf78 and dop853), iteration (dopri5 and dop853), penalty (dopri5 and "
                  "rosenbrock4), cvode (the "

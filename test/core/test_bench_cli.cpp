@@ -56,7 +56,7 @@ TEST(BenchCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   expect_usage(bench("--methods switching,rk45"), {"--methods", "rk45"});
 }
 
-// The rows a user compares: both switching integrators and CVODE beside them
+// The rows a user compares: the switching integrators and CVODE beside them
 // on a 1.5 s run (through the first contact), in the table, in the CSV the
 // charts read, and CVODE's ratio against ours measured in the same run.
 TEST(BenchCli, MethodsAndCsvWithCvodeBesideUs) {

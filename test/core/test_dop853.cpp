@@ -2,7 +2,7 @@
 // conditions a transcription error would break, its order measured on
 // closed forms (a nonlinear autonomous problem and a forced oscillator), its
 // error control on a pure quadrature (where Fehlberg's 7(8) estimate is
-// blind), and its Hermite dense output (dense_rkf78.hpp) between the steps.
+// blind), and its Hermite dense output (dense_high_order.hpp) between the steps.
 // The contact physics on dop853 is in the shared suites (test_support.hpp's
 // rigid_solvers()).
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "rotor_rub_sim/core/dense_rkf78.hpp"
+#include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/dop853.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
@@ -23,8 +23,9 @@ using T = Dop853Tableau;
 
 // The coefficients are given to 30 digits; in double each carries a
 // relative rounding of 1.1e-16, and the largest is 43.5 in magnitude: a sum
-// of ~10 of them is exact to ~1e-14. A single wrong digit in the 15th place
-// of any of them moves a sum by more than that.
+// of ~10 of them is exact to ~1e-14. A wrong digit among the first ~12 of
+// a coefficient of order 1 or more moves a sum by more than that (a small
+// one's, or an error weight's, shows in the measured order instead).
 constexpr double kTableauTol = 2e-14;
 
 TEST(Dop853Tableau, RowSumsAreTheNodes) {

@@ -65,7 +65,7 @@ TEST(Model, SlidingAccelerationIsTheDerivativeOfSlidingVelocity) {
 }
 
 TEST(Model, FreeForceDerivativesAreTheRatesAlongTheMotion) {
-  // The free flight's jerk in closed form (dense_rkf78.hpp) stands on
+  // The free flight's jerk in closed form (dense_high_order.hpp) stands on
   // rotor_/stator_free_force_derivative: against a central difference of
   // the free forces along a motion with these accelerations, the spin
   // advancing as the prescribed drive does (phi' = w, w' = A), with gravity
@@ -89,7 +89,7 @@ TEST(Model, FreeForceDerivativesAreTheRatesAlongTheMotion) {
   const double h = 1e-6;
   const auto [fr_plus, fs_plus] = forces_at(h);
   const auto [fr_minus, fs_minus] = forces_at(-h);
-  // Rates O(1e3..1e5) N/s (the unbalance's w^3 m e term is 5.6e2, the
+  // Rates O(1e2..1e3) N/s (the unbalance's w^3 m e term is 5.6e2, the
   // springs' k v 3e2 and 8.5e2): the difference's truncation (w h)^2 / 6 ~ 4e-9
   // relative and round-off 1e-16 * 1e2 N / 1e-6 s ~ 1e-8 N/s; 1e-5 N/s is
   // ample, a missing or wrong term is O(1e2).

@@ -88,8 +88,9 @@ TEST(SceneKeys, CrossKeyRules) {
   EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "iteration"}})
                 .find("accepted for method 'iteration': dopri5, dop853"),
             std::string::npos);
-  // The high-order integrator is the switching method's (the penalty contact
-  // is stiff; the iteration method let a graze through with it).
+  // The high-order integrators: rkf78 the switching method's, dop853 the
+  // switching and iteration methods' (the penalty contact is stiff; the
+  // iteration method let a graze through with rkf78).
   EXPECT_NE(error_of({{"integrator", "rkf78"}, {"method", "penalty"}})
                 .find("'rkf78' is accepted with method 'switching' only; accepted for method 'penalty': "
                       "dopri5, rosenbrock4, rk4"),

@@ -11,7 +11,7 @@
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/dense_rkf78.hpp"
+#include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -185,7 +185,7 @@ struct IterationSystem {
 };
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5) or 8(5,3) with the
-// Hermite dense output (dop853, dense_rkf78.hpp).
+// Hermite dense output (dop853, dense_high_order.hpp).
 template <int kStatorDof, bool kMotor, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:
@@ -259,10 +259,17 @@ class IterationMethod final : public ContactMethod {
     // A lift-off or a friction transition is located even in a step cut
     // short by a drive change: after the restart it would no longer be seen
     // as a crossing. The earlier of the two ends the step.
+    // At a lift-off the forces vanish, so a stick regime's event function
+    // |F_t,stick| - f F_n is exactly 0 there too: a transition at the
+    // lift-off's own instant is the lift-off.
     if (system_.engaged) {
       const double t_liftoff = locate_liftoff();
       if (t_liftoff < valid_end_) valid_end_ = t_liftoff;
-      if (locate_friction_transition()) return;
+      const double t_transition = locate_friction_transition();
+      if (t_transition < t_liftoff) {
+        transition_at(t_transition);
+        return;
+      }
       if (t_liftoff == valid_end_) {
         lift_off_at(t_liftoff, events);
         return;
@@ -404,9 +411,11 @@ class IterationMethod final : public ContactMethod {
 
   // Locates a slip end or a breakaway inside the engaged step just taken, on
   // its dense output (the step's end alone would hide a sliding reversal).
-  // Ends the step there and defers the restart in the new friction regime.
-  bool locate_friction_transition() {
-    if (!model_.has_friction()) return false;
+  // Returns its time (the caller ends the step there and defers the restart
+  // in the new friction regime: transition_at), or +infinity.
+  double locate_friction_transition() {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    if (!model_.has_friction()) return kNone;
     const double t0 = integrator_.t_old(), t1 = valid_end_;
     double prev_t = t0, prev_f = friction_event(t0);
     // At the step's start the function is either below zero (the regime
@@ -418,9 +427,9 @@ class IterationMethod final : public ContactMethod {
     bool deflated = false;
     double rate = 0.0;
     if (prev_f >= 0.0) {
-      if (t0 != mode_start_s_) return transition_at(t0);
+      if (t0 != mode_start_s_) return t0;
       rate = friction_event_rate(t0);
-      if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return false;  // the invariant checks decide
+      if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return kNone;  // the invariant checks decide
       deflated = true;
     }
     // The midpoint and the end of the step: an excursion out of the regime
@@ -436,13 +445,13 @@ class IterationMethod final : public ContactMethod {
         } else {
           te = locate_event([this](double t) { return friction_event(t); }, prev_t, prev_f, ti, fi, stats_);
         }
-        return transition_at(te);
+        return te;
       }
       deflated = false;
       prev_t = ti;
       prev_f = fi;
     }
-    return false;
+    return kNone;
   }
 
   // The engaged regime's pressing at t (> 0: held): the pressing
@@ -470,12 +479,12 @@ class IterationMethod final : public ContactMethod {
     if (!(prev_p > 0.0)) return kNone;  // not pressed at the start: the step's end decides
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
-      const double pi = pressing_at(ti);
-      if (!(pi > 0.0)) {
-        return locate_event([this](double t) { return -pressing_at(t); }, prev_t, -prev_p, ti, -pi, stats_);
+      const double pressing_i = pressing_at(ti);
+      if (!(pressing_i > 0.0)) {
+        return locate_event([this](double t) { return -pressing_at(t); }, prev_t, -prev_p, ti, -pressing_i, stats_);
       }
       prev_t = ti;
-      prev_p = pi;
+      prev_p = pressing_i;
     }
     return kNone;
   }
@@ -542,8 +551,10 @@ class IterationMethod final : public ContactMethod {
     project_to_bore(held, g);
     const ContactGeometry gh = model_.contact_geometry(held, d);
     if (pressing_acceleration(model_, held, d, gh) <= 0.0) {
-      // Lift-off: F_n = 0 already separates. The step's end is kept as
-      // integrated (the rotor may have begun to leave within the step).
+      // Lift-off at the step's end, a step that was not pressed at its
+      // start (locate_liftoff finds those that were): F_n = 0 already
+      // separates, and the end is kept as integrated, its separation
+      // velocity with it (the rotor has flown free for the whole step).
       guard_.record(valid_end_);
       events.push_back({valid_end_, EventKind::kLiftoff, 0.0, 0.0});
       defer({true, valid_end_, k, false, {}});
@@ -595,8 +606,9 @@ class IterationMethod final : public ContactMethod {
   }
 
   // The event functions are checked at the step's midpoint and end (see
-  // the switching method's kScanPoints for why two).
-  static constexpr int kScanPoints = 2;
+  // the switching method's kScanPoints for why two), at its quarter points
+  // on dop853, whose steps are 4-6x longer (as the switching method's).
+  static constexpr int kScanPoints = kScheme == Integrator::kDop853 ? 4 : 2;
   // As in the switching method: a function is on its surface when its value
   // is what its rate makes in this time.
   static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;

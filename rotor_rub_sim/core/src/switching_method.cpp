@@ -12,7 +12,7 @@
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/dense_rkf78.hpp"
+#include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -95,7 +95,7 @@ struct EventValues {
 };
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
-// high-order pairs with Hermite dense output (dense_rkf78.hpp):
+// high-order pairs with Hermite dense output (dense_high_order.hpp):
 // Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
 template <int kStatorDof, bool kMotor, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
@@ -478,7 +478,7 @@ class SwitchingMethod final : public ContactMethod {
   // evaluation each: 5.35 ms with four points, 4.41 ms with two, measured
   // on the paper run-up at rtol 1e-7). Every test passes as with four; only a forced contact
   // (scan()) moves, by a few atol, as it is placed from the scan's points.
-  // rkf78's and dop853's steps are 3-4 times longer (up to ~3 rad of the
+  // rkf78's and dop853's steps are 4-6 times longer (up to ~3 rad of the
   // spin at rtol 1e-3), so they keep the quarter points (8-10 % of a run).
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   JeffcottModel model_;

@@ -138,13 +138,13 @@ struct ConstrainedDynamics {
       // Products with the model's reciprocals m = 1 / (1/m_r + 1/m_s) and
       // 1 / C, not divisions: three divisions were a third of this
       // function's time (a switching run's hottest).
-      const double m_eff = model->effective_mass_kg();
-      r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) * m_eff;
+      const double effective_mass_kg = model->effective_mass_kg();
+      r.normal_force_N = (fr.dot(g.normal) * imr - fs.dot(g.normal) * ims + c * rate * rate) * effective_mass_kg;
       r.stick_normal_force_N = r.normal_force_N;
       // Tangential relative acceleration without contact force, plus A R_r:
       // v_slide' = free_t + F_t / m.
       const double free_t = fr.dot(g.tangent) * imr - fs.dot(g.tangent) * ims + d.accel_rad_per_s2 * p.rotor_radius_m;
-      r.stick_force_N = -free_t * m_eff;
+      r.stick_force_N = -free_t * effective_mass_kg;
       r.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * p.rotor_radius_m;
       if (mode.stick) {
         r.tangential_force_N = r.stick_force_N;

@@ -1,8 +1,9 @@
 // Dormand-Prince 8(5,3), "DOP853" (Hairer, Norsett & Wanner, Solving
 // Ordinary Differential Equations I, 2nd ed., Springer 1993, II.10 and its
-// code dop853): an explicit Runge-Kutta pair of order 8 with 12 stages, the
-// last stage's derivative at the step's end reused as the next step's first
-// (FSAL), its error estimated from an order-5 and an order-3 embedded
+// code dop853): an explicit Runge-Kutta pair of order 8 with 12 stages (the
+// first the derivative at the step's start, which the caller evaluates at
+// the end of the step before: DenseHighOrder does), its error estimated
+// from an order-5 and an order-3 embedded
 // solution combined as err5^2 / sqrt(err5^2 + 0.01 err3^2), which tracks
 // the order-8 solution's own error more closely than Fehlberg's 7(8)
 // estimate (the difference of the 7th- and 8th-order solutions, which
@@ -17,7 +18,7 @@
 // tableau's as published with dop853; test_dop853.cpp checks them (row
 // sums, quadrature order 8, the convergence order on a nonlinear problem).
 // The dense output is not the book's (3 more stages): DenseHighOrder's
-// Hermite interpolation (dense_rkf78.hpp) with 2.
+// Hermite interpolation (dense_high_order.hpp) with 2.
 #pragma once
 
 #include <algorithm>
@@ -114,11 +115,14 @@ template <class State>
 class Dop853 {
  public:
   // Derivative evaluations per attempt: 11, the first stage being the
-  // derivative at the step's start (the last step's end, FSAL).
+  // derivative at the step's start (given: the last step's end).
   static constexpr int kStagesPerAttempt = 11;
+  // The book's controller and error combination (dop853's defaults).
   static constexpr double kSafety = 0.9;
   static constexpr double kMinFactor = 1.0 / 3.0;  // h_new / h bounds
   static constexpr double kMaxFactor = 6.0;
+  static constexpr double kErr3Weight = 0.01;     // err5^2 / sqrt(err5^2 + 0.01 err3^2)
+  static constexpr double kExponent = 1.0 / 8.0;  // h ~ err^(-1/8): the order-8 solution's error
 
   Dop853(double atol, double rtol) : atol_(atol), rtol_(rtol) {}
 
@@ -158,19 +162,25 @@ class Dop853 {
                          scale)
                             .square()
                             .sum();
-    double denominator = err5 + 0.01 * err3;
+    double denominator = err5 + kErr3Weight * err3;
     if (!(denominator > 0.0)) denominator = 1.0;
     const double err = std::abs(h) * err5 / std::sqrt(denominator * static_cast<double>(x.size()));
 
-    // A non-finite error (a non-finite stage) is let through: the caller
-    // reports the non-finite state as diverged (rejecting it would shrink
-    // the step until the run stalled, hiding what happened).
-    if (!std::isfinite(err)) {
+    // A non-finite end state is let through (as odeint lets a NaN error
+    // through): the caller reports it as diverged; rejecting it would shrink
+    // the step until the run stalled, hiding what happened. A non-finite
+    // error with a finite end rejects at the smallest factor.
+    if (!x_out.allFinite()) {
       t = t_end;
       return true;
     }
+    if (!std::isfinite(err)) {
+      rejected_ = true;
+      dt = h * kMinFactor;
+      return false;
+    }
     // The step-size factor h_new / h = 0.9 err^(-1/8), bounded.
-    const double shrink = std::pow(err, 1.0 / 8.0);
+    const double shrink = std::pow(err, kExponent);
     if (err <= 1.0) {
       double factor = std::clamp(kSafety / shrink, kMinFactor, kMaxFactor);
       if (rejected_) factor = std::min(factor, 1.0);

@@ -330,7 +330,7 @@ class JeffcottModel {
   // velocities k and accelerations), under the prescribed drive d: the
   // free forces are linear in the state, so d F_r / dt = -k_r r_r' - b_r
   // r_r'' + rotor_free_force_rate(d), d F_s / dt = -k_s r_s' - b_s r_s''
-  // [N/s] (the jerk of free flight in closed form, dense_rkf78.hpp).
+  // [N/s] (the jerk of free flight in closed form, dense_high_order.hpp).
   Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d) const {
     return (-p_.rotor_stiffness_N_per_m * k.rotor_vel - p_.rotor_damping_N_s_per_m * rotor_acc) +
            rotor_free_force_rate(d);
