@@ -22,6 +22,16 @@ Kinematics pressed_state() {
 // Round-off of sums of O(1e2) N forces.
 constexpr double kForceTolerance_N = 1e-9;
 
+// k advanced by dt along a motion with constant accelerations ar, as.
+Kinematics advanced(const Kinematics& k, const Vec2& ar, const Vec2& as, double dt) {
+  Kinematics kk = k;
+  kk.rotor_pos += k.rotor_vel * dt + 0.5 * ar * dt * dt;
+  kk.stator_pos += k.stator_vel * dt + 0.5 * as * dt * dt;
+  kk.rotor_vel += ar * dt;
+  kk.stator_vel += as * dt;
+  return kk;
+}
+
 }  // namespace
 
 TEST(Model, NewtonsThirdLawForContactForces) {
@@ -51,11 +61,7 @@ TEST(Model, SlidingAccelerationIsTheDerivativeOfSlidingVelocity) {
   const Vec2 &ar = a.rotor, &as = a.stator;
   const double h = 1e-7;
   auto v_at = [&](double dt) {
-    Kinematics kk = k;
-    kk.rotor_pos += k.rotor_vel * dt + 0.5 * ar * dt * dt;
-    kk.stator_pos += k.stator_vel * dt + 0.5 * as * dt * dt;
-    kk.rotor_vel += ar * dt;
-    kk.stator_vel += as * dt;
+    const Kinematics kk = advanced(k, ar, as, dt);
     const DriveState dd{d.angle_rad, d.speed_rad_per_s + d.accel_rad_per_s2 * dt, d.accel_rad_per_s2};
     return m.contact_geometry(kk, dd).sliding_velocity_m_per_s;
   };
@@ -77,11 +83,7 @@ TEST(Model, FreeForceDerivativesAreTheRatesAlongTheMotion) {
   const DriveState d{0.3, 150.0, 70.0};
   const Vec2 ar(-35.0, 12.0), as(4.0, -2.5);
   auto forces_at = [&](double dt) {
-    Kinematics kk = k;
-    kk.rotor_pos += k.rotor_vel * dt + 0.5 * ar * dt * dt;
-    kk.stator_pos += k.stator_vel * dt + 0.5 * as * dt * dt;
-    kk.rotor_vel += ar * dt;
-    kk.stator_vel += as * dt;
+    const Kinematics kk = advanced(k, ar, as, dt);
     const DriveState dd{d.angle_rad + d.speed_rad_per_s * dt + 0.5 * d.accel_rad_per_s2 * dt * dt,
                         d.speed_rad_per_s + d.accel_rad_per_s2 * dt, d.accel_rad_per_s2};
     return std::make_pair(m.rotor_free_force(kk, dd), m.stator_free_force(kk));
@@ -95,6 +97,35 @@ TEST(Model, FreeForceDerivativesAreTheRatesAlongTheMotion) {
   // ample, a missing or wrong term is O(1e2).
   EXPECT_LT((m.rotor_free_force_derivative(k, ar, d) - (fr_plus - fr_minus) / (2 * h)).norm(), 1e-5);
   EXPECT_LT((m.stator_free_force_derivative(k, as) - (fs_plus - fs_minus) / (2 * h)).norm(), 1e-5);
+}
+
+TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
+  // The iteration method's roots and the samples take the free loads once
+  // per state (model.hpp); the trajectories must not move by a bit for it
+  // (the golden hashes of test_motor_drive.cpp hold them), under both drives, with
+  // gravity and an offset stator.
+  for (const DriveModel drive : {DriveModel::kPrescribed, DriveModel::kMotor}) {
+    ModelParameters p;
+    p.drive_model = drive;
+    p.gravity_m_per_s2 = 9.81;
+    p.stator_offset_x_m = 2e-4;
+    const JeffcottModel m{p};
+    Kinematics k = pressed_state();
+    k.spin.angle_rad = 0.3;
+    k.spin.speed_rad_per_s = 150.0;
+    const DriveState d = m.drive_at(k, DriveState{0.3, 150.0, 70.0});
+    const ContactGeometry g = m.contact_geometry(k, d);
+    const JeffcottModel::FreeLoads free = m.free_loads(k, d);
+    for (const double fn : {0.0, 12.5}) {
+      const Accelerations a = m.accelerations(k, d, g, fn, -0.1 * fn);
+      const Accelerations b = m.accelerations(d, g, free, fn, -0.1 * fn);
+      EXPECT_EQ(a.rotor, b.rotor) << to_string(drive);
+      EXPECT_EQ(a.stator, b.stator) << to_string(drive);
+      EXPECT_EQ(a.spin_rad_per_s2, b.spin_rad_per_s2) << to_string(drive);
+      EXPECT_EQ(m.drive_torque_N_m(k, d, g, fn, -0.1 * fn),
+                m.drive_torque_N_m(k, d, g, free.unbalance_dir, fn, -0.1 * fn));
+    }
+  }
 }
 
 TEST(ContactLaw, PenaltyFrictionNeverInjectsEnergyAndStaysInTheCone) {

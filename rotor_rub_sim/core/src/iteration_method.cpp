@@ -75,30 +75,32 @@ struct ContactForces {
 // F_t act along n and t, so each root is one-dimensional.
 class ContactForceSolver {
  public:
+  using Loads = JeffcottModel::FreeLoads;
   ContactForceSolver(const JeffcottModel* m, double rtol, int max_iterations)
       : model_(m), normal_(rtol, max_iterations, "normal force"), tangential_(rtol, max_iterations, "stick force") {}
 
-  double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
-                               double ft) const {
-    return JeffcottModel::distance_acceleration(k, g, model_->accelerations(k, d, g, fn, ft));
+  // free: the state's free loads (model.hpp), the same for every trial force.
+  double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
+                               double fn, double ft) const {
+    return JeffcottModel::distance_acceleration(k, g, model_->accelerations(d, g, free, fn, ft));
   }
-  double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn,
-                              double ft) const {
-    return model_->sliding_acceleration(k, g, model_->accelerations(k, d, g, fn, ft));
+  double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
+                              double fn, double ft) const {
+    return model_->sliding_acceleration(k, g, model_->accelerations(d, g, free, fn, ft));
   }
 
   // The F_t that makes v_slide' vanish at normal force fn.
-  double stick_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double fn, double t_s,
-                     long& iterations) const {
-    const double s0 = sliding_acceleration(k, d, g, fn, 0.0);
+  double stick_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free, double fn,
+                     double t_s, long& iterations) const {
+    const double s0 = sliding_acceleration(k, d, g, free, fn, 0.0);
     ++iterations;
     // v_slide' rises with F_t: solve from the side where it is negative.
     if (s0 == 0.0) return 0.0;
     if (s0 < 0.0) {
-      return tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, fn, ft); }, 0.0, s0, t_s,
+      return tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, free, fn, ft); }, 0.0, s0, t_s,
                                iterations);
     }
-    return -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, fn, -ft); }, 0.0, -s0, t_s,
+    return -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, free, fn, -ft); }, 0.0, -s0, t_s,
                               iterations);
   }
 
@@ -106,15 +108,20 @@ class ContactForceSolver {
   // transition).
   ContactForces solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const FrictionMode& mode,
                       bool want_stick_force, double t_s, long& iterations) const {
+    return solve(k, d, g, model_->free_loads(k, d), mode, want_stick_force, t_s, iterations);
+  }
+  // The same given the state's free loads.
+  ContactForces solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
+                      const FrictionMode& mode, bool want_stick_force, double t_s, long& iterations) const {
     ContactForces f;
-    const double r0 = distance_acceleration(k, d, g, 0.0, 0.0);
+    const double r0 = distance_acceleration(k, d, g, free, 0.0, 0.0);
     ++iterations;
     if (!(r0 > 0.0)) return f;  // separating without help: released
-    if (model_->motor()) return solve_with_spin(k, d, g, mode, want_stick_force, t_s, iterations);
+    if (model_->motor()) return solve_with_spin(k, d, g, free, mode, want_stick_force, t_s, iterations);
     // delta'' falls as F_n grows: solve -delta''(F_n) = 0 from F_n = 0.
-    f.normal_N =
-        normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, fn, 0.0); }, 0.0, -r0, t_s, iterations);
-    if (mode.stick || want_stick_force) f.stick_N = stick_force(k, d, g, f.normal_N, t_s, iterations);
+    f.normal_N = normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, free, fn, 0.0); }, 0.0, -r0, t_s,
+                               iterations);
+    if (mode.stick || want_stick_force) f.stick_N = stick_force(k, d, g, free, f.normal_N, t_s, iterations);
     if (mode.stick) {
       f.tangential_N = f.stick_N;
     } else if (model_->has_friction()) {
@@ -130,14 +137,14 @@ class ContactForceSolver {
   // stick force (an inner root) in stick. delta'' still falls as F_n grows:
   // its slope is -(W_nn + f s W_nt) in slip and the Schur complement
   // -(W_nn - W_nt^2 / W_tt) in stick, both < 0 (validate_scene's bound).
-  ContactForces solve_with_spin(const Kinematics& k, const DriveState& d, const ContactGeometry& g,
+  ContactForces solve_with_spin(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
                                 const FrictionMode& mode, bool want_stick_force, double t_s, long& iterations) const {
     ContactForces f;
     const double friction = model_->has_friction() ? model_->parameters().friction_coefficient : 0.0;
     auto tangential_at = [&](double fn) {
-      return mode.stick ? stick_force(k, d, g, fn, t_s, iterations) : -friction * fn * mode.slip_sign;
+      return mode.stick ? stick_force(k, d, g, free, fn, t_s, iterations) : -friction * fn * mode.slip_sign;
     };
-    auto residual = [&](double fn) { return -distance_acceleration(k, d, g, fn, tangential_at(fn)); };
+    auto residual = [&](double fn) { return -distance_acceleration(k, d, g, free, fn, tangential_at(fn)); };
     const double r_lo = residual(0.0);
     ++iterations;
     if (r_lo < 0.0) f.normal_N = normal_.solve(residual, 0.0, r_lo, t_s, iterations);
@@ -145,7 +152,7 @@ class ContactForceSolver {
     if (mode.stick) {
       f.stick_N = f.tangential_N;
     } else if (want_stick_force) {
-      f.stick_N = stick_force(k, d, g, f.normal_N, t_s, iterations);
+      f.stick_N = stick_force(k, d, g, free, f.normal_N, t_s, iterations);
     }
     return f;
   }
@@ -166,10 +173,11 @@ struct IterationSystem {
   double* rhs_time_s = nullptr;        // profiling only
   double* iteration_time_s = nullptr;  // profiling only
 
-  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double t) const {
+  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g,
+                       const JeffcottModel::FreeLoads& free, double t) const {
     if (!engaged) return {};
     ProfileScope scope(iteration_time_s);
-    return solver->solve(k, d, g, mode, false, t, *iterations);
+    return solver->solve(k, d, g, free, mode, false, t, *iterations);
   }
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
@@ -178,8 +186,9 @@ struct IterationSystem {
     const DriveState reference = segment.at(t);
     const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
-    const ContactForces f = forces(k, d, g, t);
-    const Accelerations a = model->accelerations(k, d, g, f.normal_N, f.tangential_N);
+    const JeffcottModel::FreeLoads free = model->free_loads(k, d);
+    const ContactForces f = forces(k, d, g, free, t);
+    const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
     free_derivative<L>(*model, k, reference, a, dxdt);
   }
 };
@@ -332,9 +341,10 @@ class IterationMethod final : public ContactMethod {
     // (a stick force that jumped out of the cone at a drive change is not
     // applied there, the slip force is).
     const FrictionMode& mode = pending_.due && pending_.engaged && t_s >= pending_.t_s ? pending_.mode : system_.mode;
+    const JeffcottModel::FreeLoads free = model_.free_loads(k, d);
     ContactForces f;
-    if (system_.engaged) f = probe.solve(k, d, g, mode, false, t_s, unused);
-    Sample s = make_sample(model_, t_s, k, d, f.normal_N, f.tangential_N, system_.engaged);
+    if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
+    Sample s = make_sample(model_, t_s, k, d, g, free, f.normal_N, f.tangential_N, system_.engaged);
     s.sticking = system_.engaged && mode.stick;
     return s;
   }
@@ -540,7 +550,8 @@ class IterationMethod final : public ContactMethod {
     const ContactForceSolver probe = solver_;
     long unused = 0;
     const ContactForces f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
-    return -system_.mode.slip_sign * solver_.sliding_acceleration(k, d, g, f.normal_N, f.tangential_N);
+    return -system_.mode.slip_sign *
+           solver_.sliding_acceleration(k, d, g, model_.free_loads(k, d), f.normal_N, f.tangential_N);
   }
 
   void end_engaged_step(std::vector<ContactEvent>& events) {

@@ -264,7 +264,14 @@ class JeffcottModel {
   double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
                           double tangential_force_N) const {
     if (motor_) return d.motor_torque_N_m;
-    const Vec2 u(std::sin(d.angle_rad), -std::cos(d.angle_rad));
+    return drive_torque_N_m(k, d, g, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)), normal_force_N,
+                            tangential_force_N);
+  }
+  // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
+  double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Vec2& unbalance_dir,
+                          double normal_force_N, double tangential_force_N) const {
+    if (motor_) return d.motor_torque_N_m;
+    const Vec2 u(unbalance_dir.y(), -unbalance_dir.x());
     const Vec2 at_centre = shaft_force(k) + contact_force_on_rotor(g, normal_force_N, tangential_force_N);
     return p_.rotor_polar_inertia_kg_m2 * d.accel_rad_per_s2 - p_.rotor_radius_m * tangential_force_N -
            p_.eccentricity_m * at_centre.dot(u);
@@ -373,19 +380,42 @@ class JeffcottModel {
     return -normal_force_N * g.normal + tangential_force_N * g.tangent;
   }
 
+  // The loads of a state that do not depend on the contact forces: where
+  // several trial forces meet one state (the iteration method's roots, a
+  // sample) they are computed once, with the unbalance's sin/cos (measured:
+  // a quarter of an iteration run's time went to the same sin/cos taken
+  // again for every trial force).
+  struct FreeLoads {
+    Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of d.angle_rad
+    Vec2 rotor_N = Vec2::Zero();         // prescribed: rotor_free_force; motor: shaft_force
+    Vec2 stator_N = Vec2::Zero();        // stator_free_force
+  };
+  FreeLoads free_loads(const Kinematics& k, const DriveState& d) const {
+    FreeLoads f;
+    f.unbalance_dir = Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad));
+    f.rotor_N = motor_ ? shaft_force(k) : rotor_free_force(k, d, f.unbalance_dir);
+    f.stator_N = stator_free_force(k);
+    return f;
+  }
+
   // Accelerations of rotor, stator and spin under given contact forces, for
   // the drive d of drive_at() [m/s^2, rad/s^2].
   Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
                               double tangential_force_N) const {
+    return accelerations(d, g, free_loads(k, d), normal_force_N, tangential_force_N);
+  }
+  // The same from the state's free loads (free_loads(k, d)).
+  Accelerations accelerations(const DriveState& d, const ContactGeometry& g, const FreeLoads& free,
+                              double normal_force_N, double tangential_force_N) const {
     Accelerations a;
     const Vec2 on_rotor = contact_force_on_rotor(g, normal_force_N, tangential_force_N);
     if (!motor_) {
-      a.rotor = (rotor_free_force(k, d) + on_rotor) * inv_rotor_mass_;
+      a.rotor = (free.rotor_N + on_rotor) * inv_rotor_mass_;
       a.spin_rad_per_s2 = d.accel_rad_per_s2;
     } else {
       // The spin equation first (header comment), then the rotor's with it.
-      const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
-      const Vec2 at_centre = shaft_force(k) + on_rotor;
+      const double c = free.unbalance_dir.x(), s = free.unbalance_dir.y();
+      const Vec2 at_centre = free.rotor_N + on_rotor;
       a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N +
                            p_.eccentricity_m * (at_centre.x() * s - at_centre.y() * c)) *
                           inv_polar_inertia_;
@@ -394,7 +424,7 @@ class JeffcottModel {
       a.rotor = at_centre * inv_rotor_mass_ + e * Vec2(w2 * c + a.spin_rad_per_s2 * s, w2 * s - a.spin_rad_per_s2 * c);
       a.rotor.y() -= p_.gravity_m_per_s2;
     }
-    a.stator = (stator_free_force(k) - on_rotor) * inv_stator_mass_;
+    a.stator = (free.stator_N - on_rotor) * inv_stator_mass_;
     return a;
   }
 

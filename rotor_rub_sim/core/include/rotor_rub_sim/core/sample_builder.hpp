@@ -6,15 +6,17 @@
 
 namespace rotor_rub::core {
 
+// g and free: the state's contact geometry and free loads (model.hpp), where
+// the caller has them already.
 inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
-                          double normal_force_N, double tangential_force_N, bool in_contact) {
+                          const ContactGeometry& g, const JeffcottModel::FreeLoads& free, double normal_force_N,
+                          double tangential_force_N, bool in_contact) {
   Sample s;
   s.t_s = t_s;
   s.kin = k;
   s.kin.rotor_pos += m.frame_shift();  // the casing's frame (a rigid stator's offset)
   s.kin.stator_pos += m.frame_shift();
   s.drive = d;
-  const ContactGeometry g = m.contact_geometry(k, d);
   s.penetration_m = g.penetration_m;
   s.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;
   s.in_contact = in_contact;
@@ -24,10 +26,16 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   // A motor's spin acceleration depends on the contact forces: the drive
   // state d carries the reference's until here.
   if (m.motor())
-    s.drive.accel_rad_per_s2 = m.accelerations(k, d, g, normal_force_N, tangential_force_N).spin_rad_per_s2;
-  s.drive_torque_N_m = m.drive_torque_N_m(k, s.drive, g, normal_force_N, tangential_force_N);
+    s.drive.accel_rad_per_s2 = m.accelerations(d, g, free, normal_force_N, tangential_force_N).spin_rad_per_s2;
+  s.drive_torque_N_m = m.drive_torque_N_m(k, s.drive, g, free.unbalance_dir, normal_force_N, tangential_force_N);
   s.friction_torque_N_m = m.friction_torque_N_m(tangential_force_N);
   return s;
+}
+
+inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
+                          double normal_force_N, double tangential_force_N, bool in_contact) {
+  return make_sample(m, t_s, k, d, m.contact_geometry(k, d), m.free_loads(k, d), normal_force_N, tangential_force_N,
+                     in_contact);
 }
 
 }  // namespace rotor_rub::core
