@@ -344,7 +344,7 @@ class IterationMethod final : public ContactMethod {
     const JeffcottModel::FreeLoads free = model_.free_loads(k, d);
     ContactForces f;
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
-    Sample s = make_sample(model_, t_s, k, d, g, free, f.normal_N, f.tangential_N, system_.engaged);
+    Sample s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged);
     s.sticking = system_.engaged && mode.stick;
     return s;
   }

@@ -220,7 +220,7 @@ class SwitchingMethod final : public ContactMethod {
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
-      return make_sample(model_, t_s, c.kin, d, 0.0, 0.0, true);
+      return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, 0.0, 0.0, true);
     }
     if (pending_ && t_s >= pending_t_) {
       // A friction transition at this instant: the sample reports the new
@@ -229,11 +229,13 @@ class SwitchingMethod final : public ContactMethod {
       ConstrainedDynamics<kStatorDof, kMotor> next = contact_sys_.dynamics;
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
-      Sample s = make_sample(model_, t_s, cn.kin, d, cn.normal_force_N, cn.tangential_force_N, true);
+      Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.unbalance_dir,
+                             cn.normal_force_N, cn.tangential_force_N, true);
       s.sticking = next_mode_.stick;
       return s;
     }
-    Sample s = make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
+    Sample s = make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, c.normal_force_N,
+                           c.tangential_force_N, true);
     s.sticking = contact_sys_.dynamics.mode.stick;
     return s;
   }

@@ -59,6 +59,7 @@ struct ConstrainedDynamics {
     double sliding_acc_m_per_s2 = 0.0;  // v_slide'
     double angle_acc_rad_per_s2 = 0.0;
     Vec2 stator_acc = Vec2::Zero();
+    Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of the drive's angle (a sample's drive torque)
   };
 
   Kinematics kinematics(const State& x) const {
@@ -131,6 +132,7 @@ struct ConstrainedDynamics {
       g.sliding_velocity_m_per_s = c * rate + d.speed_rad_per_s * model->parameters().rotor_radius_m;
       r.kin = kinematics(x, g.normal, g.tangent);
       r.drive = d;
+      r.unbalance_dir = unbalance_dir;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
       const Vec2 fr = model->rotor_free_force(r.kin, d, unbalance_dir);
       const Vec2 fs = model->stator_free_force(r.kin);
@@ -179,7 +181,10 @@ struct ConstrainedDynamics {
     const double rate = x[L::kAngleRate];
     DriveState d = model->drive_at(r.kin, reference);
     const ContactGeometry g = model->contact_geometry(r.kin, d);
-    const Accelerations free = model->accelerations(r.kin, d, g, 0.0, 0.0);
+    // The free loads once for both accelerations below (model.hpp).
+    const JeffcottModel::FreeLoads loads = model->free_loads(r.kin, d);
+    r.unbalance_dir = loads.unbalance_dir;
+    const Accelerations free = model->accelerations(d, g, loads, 0.0, 0.0);
     const ContactCompliance w = model->contact_compliance(g, d);
     const double b = g.normal.dot(free.rotor - free.stator) + c * rate * rate;
     const double s0 = g.tangent.dot(free.rotor - free.stator) + free.spin_rad_per_s2 * p.rotor_radius_m;
@@ -195,7 +200,7 @@ struct ConstrainedDynamics {
       r.normal_force_N = b / (w.nn + f * mode.slip_sign * w.nt);
       r.tangential_force_N = -f * mode.slip_sign * r.normal_force_N;
     }
-    const Accelerations a = model->accelerations(r.kin, d, g, r.normal_force_N, r.tangential_force_N);
+    const Accelerations a = model->accelerations(d, g, loads, r.normal_force_N, r.tangential_force_N);
     d.accel_rad_per_s2 = a.spin_rad_per_s2;
     r.drive = d;
     r.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;

@@ -391,9 +391,13 @@ class JeffcottModel {
     Vec2 stator_N = Vec2::Zero();        // stator_free_force
   };
   FreeLoads free_loads(const Kinematics& k, const DriveState& d) const {
+    return free_loads(k, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+  }
+  // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
+  FreeLoads free_loads(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir) const {
     FreeLoads f;
-    f.unbalance_dir = Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad));
-    f.rotor_N = motor_ ? shaft_force(k) : rotor_free_force(k, d, f.unbalance_dir);
+    f.unbalance_dir = unbalance_dir;
+    f.rotor_N = motor_ ? shaft_force(k) : rotor_free_force(k, d, unbalance_dir);
     f.stator_N = stator_free_force(k);
     return f;
   }
