@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
@@ -126,6 +127,70 @@ TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
                 m.drive_torque_N_m(k, d, g, free.unbalance_dir, fn, -0.1 * fn));
     }
   }
+}
+
+namespace {
+
+// The contact regime's closed-form jerk against a central difference of its
+// derivative along the motion (x +- h x', the drive advanced as phi' = w,
+// w' = A), for one stator model and friction regime.
+template <int kStatorDof>
+void expect_contact_jerk_closed_form(const ModelParameters& p, const FrictionMode& mode, const char* what) {
+  using CD = ConstrainedDynamics<kStatorDof, false>;
+  using L = typename CD::L;
+  const JeffcottModel m{p};
+  CD dyn;
+  dyn.model = &m;
+  dyn.mode = mode;
+  typename L::State x;
+  x[L::kAngle] = 7.3;  // a few turns on: psi keeps growing
+  x[L::kAngleRate] = 140.0;
+  if constexpr (kStatorDof == 2) {
+    x.template segment<2>(L::kStatorPos) = Vec2(1e-4, -0.5e-4);
+    x.template segment<2>(L::kStatorVel) = Vec2(0.01, 0.02);
+  }
+  const DriveState d{0.3, 150.0, 70.0};
+  auto drive_at = [&](double dt) {
+    return DriveState{d.angle_rad + d.speed_rad_per_s * dt + 0.5 * d.accel_rad_per_s2 * dt * dt,
+                      d.speed_rad_per_s + d.accel_rad_per_s2 * dt, d.accel_rad_per_s2};
+  };
+  typename L::State dxdt, before, after, ddx;
+  dyn.derivative(x, d, dxdt);
+  const double h = 1e-6;
+  dyn.derivative(typename L::State(x - h * dxdt), drive_at(-h), before);
+  dyn.derivative(typename L::State(x + h * dxdt), drive_at(h), after);
+  const typename L::State differenced = (after - before) / (2.0 * h);
+  dyn.second_derivative(x, d, ddx);
+  // Components O(1e2..1e5) (psi''' ~ psi'^3 e / C-like terms): the
+  // difference's truncation (w h)^2 / 6 ~ 4e-9 relative and round-off
+  // 1e-16 |x'| / h ~ 1e-10 |x'|; 1e-6 of the largest component is ample, a
+  // missing or wrong term is O(1e2) or more.
+  const double scale = differenced.cwiseAbs().maxCoeff();
+  for (int i = 0; i < L::kSize; ++i) {
+    EXPECT_NEAR(ddx[i], differenced[i], 1e-6 * scale) << what << ", component " << i;
+  }
+}
+
+}  // namespace
+
+TEST(ConstrainedDynamics, JerkIsTheDerivativeOfTheDerivativeAlongTheMotion) {
+  // Slip both ways, stick, no friction; elastic stator (gravity, an offset)
+  // and rigid stator.
+  ModelParameters p;
+  p.gravity_m_per_s2 = 9.81;
+  p.stator_offset_x_m = 2e-4;
+  p.friction_coefficient = 0.3;
+  const FrictionMode forward{false, 1.0}, backward{false, -1.0}, stick{true, 1.0};
+  expect_contact_jerk_closed_form<2>(p, forward, "elastic, slip s = +1");
+  expect_contact_jerk_closed_form<2>(p, backward, "elastic, slip s = -1");
+  expect_contact_jerk_closed_form<2>(p, stick, "elastic, stick");
+  ModelParameters frictionless = p;
+  frictionless.friction_coefficient = 0.0;
+  expect_contact_jerk_closed_form<2>(frictionless, forward, "elastic, no friction");
+  ModelParameters rigid = p;
+  rigid.stator_model = StatorModel::kRigid;
+  expect_contact_jerk_closed_form<0>(rigid, forward, "rigid, slip s = +1");
+  expect_contact_jerk_closed_form<0>(rigid, stick, "rigid, stick");
 }
 
 TEST(ContactLaw, PenaltyFrictionNeverInjectsEnergyAndStaysInTheCone) {

@@ -52,8 +52,8 @@ struct FreeFlightSystem {
   // the free forces are linear in the state (model.hpp), so x'' is the
   // derivative's own linear map applied to dxdt, plus the unbalance's rate.
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
-  void second_derivative(const typename L::State& x, const typename L::State& dxdt, double t,
-                         typename L::State& ddx) const {
+  int second_derivative(const typename L::State& x, const typename L::State& dxdt, double t,
+                        typename L::State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
@@ -66,6 +66,7 @@ struct FreeFlightSystem {
       ddx.template segment<2>(L::kStatorVel) =
           model->stator_free_force_derivative(k, dxdt.template segment<2>(L::kStatorVel)) * model->inv_stator_mass();
     }
+    return 0;  // no derivative evaluation: the free forces' rates alone
   }
 };
 
@@ -78,6 +79,15 @@ struct ContactSystem {
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
     dynamics.derivative(x, segment.at(t), dxdt);
+  }
+  // The dense output's jerk in closed form (constrained_dynamics.hpp), one
+  // evaluation where the central difference took two.
+  static constexpr bool kClosedFormSecondDerivative = !kMotor;
+  int second_derivative(const typename L::State& x, const typename L::State& /*dxdt*/, double t,
+                        typename L::State& ddx) const {
+    ProfileScope scope(rhs_time_s);
+    dynamics.second_derivative(x, segment.at(t), ddx);
+    return 1;  // one constrained-dynamics evaluation
   }
 };
 

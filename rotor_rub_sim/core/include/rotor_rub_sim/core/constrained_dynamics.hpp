@@ -60,6 +60,9 @@ struct ConstrainedDynamics {
     double angle_acc_rad_per_s2 = 0.0;
     Vec2 stator_acc = Vec2::Zero();
     Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of the drive's angle (a sample's drive torque)
+    Vec2 normal = Vec2::UnitX();         // n(psi)
+    Vec2 rotor_free_N = Vec2::Zero();    // F_r, F_s: the free forces (prescribed drive; the jerk)
+    Vec2 stator_free_N = Vec2::Zero();
   };
 
   Kinematics kinematics(const State& x) const {
@@ -133,6 +136,7 @@ struct ConstrainedDynamics {
       r.kin = kinematics(x, g.normal, g.tangent);
       r.drive = d;
       r.unbalance_dir = unbalance_dir;
+      r.normal = g.normal;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
       const Vec2 fr = model->rotor_free_force(r.kin, d, unbalance_dir);
       const Vec2 fs = model->stator_free_force(r.kin);
@@ -157,7 +161,50 @@ struct ConstrainedDynamics {
       r.angle_acc_rad_per_s2 =
           (r.sliding_acc_m_per_s2 - d.accel_rad_per_s2 * p.rotor_radius_m) * model->inv_clearance();
       r.stator_acc = (fs + r.normal_force_N * g.normal - r.tangential_force_N * g.tangent) * ims;
+      r.rotor_free_N = fr;
+      r.stator_free_N = fs;
       return r;
+    }
+  }
+
+  // The state's second derivative in closed form under the prescribed drive
+  // (the jerk of the Hermite dense output, dense_high_order.hpp), from the
+  // time derivatives of the quantities above along the motion, A constant on
+  // a speed segment: n' = psi' t, t' = -psi' n, r_r'' = r_s'' + C psi'' t -
+  // C psi'^2 n, F_r' and F_s' from model.hpp's free force derivatives, and
+  //   F_n'    = m ((F_r'.n + psi' F_r.t) / m_r - (F_s'.n + psi' F_s.t) / m_s + 2 C psi' psi'')
+  //   free_t' = (F_r'.t - psi' F_r.n) / m_r - (F_s'.t - psi' F_s.n) / m_s
+  //   F_t'    = -f s F_n' (slip), -m free_t' (stick), 0 (no friction)
+  //   psi'''  = (free_t' + F_t' / m) / C
+  //   r_s'''  = (F_s' + F_n' n + F_n psi' t - F_t' t + F_t psi' n) / m_s.
+  void second_derivative(const State& x, const DriveState& reference, State& ddx) const {
+    static_assert(!kMotor, "the motor's spin couples: differenced instead");
+    const Result r = evaluate(x, reference);
+    const ModelParameters& p = model->parameters();
+    const double c = p.clearance_m, rate = x[L::kAngleRate], acc = r.angle_acc_rad_per_s2;
+    const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
+    const Vec2& n = r.normal;
+    const Vec2 t(-n.y(), n.x());
+    const Vec2 rotor_acc = r.stator_acc + c * acc * t - c * rate * rate * n;
+    const Vec2 fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
+    const Vec2 fs_rate = model->stator_free_force_derivative(r.kin, r.stator_acc);
+    const Vec2 &fr = r.rotor_free_N, &fs = r.stator_free_N;
+    const double fn_rate =
+        ((fr_rate.dot(n) + rate * fr.dot(t)) * imr - (fs_rate.dot(n) + rate * fs.dot(t)) * ims + 2.0 * c * rate * acc) *
+        model->effective_mass_kg();
+    const double free_t_rate = (fr_rate.dot(t) - rate * fr.dot(n)) * imr - (fs_rate.dot(t) - rate * fs.dot(n)) * ims;
+    double ft_rate = 0.0;
+    if (mode.stick) {
+      ft_rate = -free_t_rate * model->effective_mass_kg();
+    } else if (model->has_friction()) {
+      ft_rate = -p.friction_coefficient * mode.slip_sign * fn_rate;
+    }
+    ddx[L::kAngle] = acc;
+    ddx[L::kAngleRate] = (free_t_rate + ft_rate * im) * model->inv_clearance();
+    if constexpr (kStatorDof == 2) {
+      ddx.template segment<2>(L::kStatorPos) = r.stator_acc;
+      ddx.template segment<2>(L::kStatorVel) =
+          (fs_rate + fn_rate * n + r.normal_force_N * rate * t - ft_rate * t + r.tangential_force_N * rate * n) * ims;
     }
   }
 

@@ -201,14 +201,14 @@ class DenseHighOrder {
   // The state's second derivative d(dx/dt)/dt along the solution: the
   // central difference of the derivative along (dx/dt, 1) (kJerkStep_s).
   // A system that knows its second derivative in closed form
-  // (kClosedFormSecondDerivative, second_derivative(x, dxdt, t, ddx): free
-  // flight under the prescribed drive) gives it instead, exact and without
-  // the two evaluations. Returns the derivative evaluations spent.
+  // (kClosedFormSecondDerivative, second_derivative(x, dxdt, t, ddx)
+  // returning the derivative evaluations it spent: free flight and contact
+  // under the prescribed drive) gives it instead, exact and cheaper than the
+  // two evaluations. Returns the derivative evaluations spent.
   template <class System>
   static int second_derivative(System& sys, const State& x, const State& dxdt, double t_s, State& ddx) {
     if constexpr (has_closed_form_second_derivative<System>::value) {
-      sys.second_derivative(x, dxdt, t_s, ddx);
-      return 0;
+      return sys.second_derivative(x, dxdt, t_s, ddx);
     } else {
       State before, after;
       sys(State(x - kJerkStep_s * dxdt), before, t_s - kJerkStep_s);

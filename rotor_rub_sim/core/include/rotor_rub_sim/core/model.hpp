@@ -327,8 +327,12 @@ class JeffcottModel {
   // segment [N/s]: the unbalance m e (w^2 (c, s) + A (s, -c)) turning with
   // phi' = w, w' = A gives m e (3 w A (c, s) + w^3 (-s, c)).
   Vec2 rotor_free_force_rate(const DriveState& d) const {
+    return rotor_free_force_rate(d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+  }
+  // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
+  Vec2 rotor_free_force_rate(const DriveState& d, const Vec2& unbalance_dir) const {
     const double me = p_.rotor_mass_kg * p_.eccentricity_m;
-    const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
+    const double c = unbalance_dir.x(), s = unbalance_dir.y();
     const double w = d.speed_rad_per_s, a3 = 3.0 * w * d.accel_rad_per_s2, w3 = w * w * w;
     return me * Vec2(a3 * c - w3 * s, a3 * s + w3 * c);
   }
@@ -339,8 +343,12 @@ class JeffcottModel {
   // r_r'' + rotor_free_force_rate(d), d F_s / dt = -k_s r_s' - b_s r_s''
   // [N/s] (the jerk of free flight in closed form, dense_high_order.hpp).
   Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d) const {
+    return rotor_free_force_derivative(k, rotor_acc, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+  }
+  Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d,
+                                   const Vec2& unbalance_dir) const {
     return (-p_.rotor_stiffness_N_per_m * k.rotor_vel - p_.rotor_damping_N_s_per_m * rotor_acc) +
-           rotor_free_force_rate(d);
+           rotor_free_force_rate(d, unbalance_dir);
   }
   Vec2 stator_free_force_derivative(const Kinematics& k, const Vec2& stator_acc) const {
     if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
