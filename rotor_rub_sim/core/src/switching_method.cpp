@@ -29,9 +29,9 @@ struct FreeFlightSystem {
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
-    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
     if constexpr (kMotor) {
+      dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
+      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
       // The spin's acceleration and the rotor's depend on each other (model.hpp).
       const DriveState reference = segment.at(t);
       const DriveState d = model->drive_at(k, reference);
@@ -41,54 +41,99 @@ struct FreeFlightSystem {
       spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
     } else {
       const DriveState d = segment.at(t);
-      dxdt.template segment<2>(L::kRotorVel) = model->rotor_free_force(k, d) * model->inv_rotor_mass();
-      if constexpr (kStatorDof == 2) {
-        dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
-      }
+      derivative(k, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)), dxdt);
     }
   }
-  // The state's second derivative in closed form (DenseHighOrder's jerk,
-  // instead of two derivative evaluations): under the prescribed drive
-  // the free forces are linear in the state (model.hpp), so x'' is the
-  // derivative's own linear map applied to dxdt, plus the unbalance's rate.
+  // The derivative and the state's second derivative at a step's end, from
+  // one sin/cos of the unbalance (DenseHighOrder's jerk, instead of two
+  // derivative evaluations): under the prescribed drive the free forces are
+  // linear in the state (model.hpp), so x'' is the derivative's own linear
+  // map applied to dxdt, plus the unbalance's rate. The unbalance's
+  // direction is kept for the step's end sample (unbalance_at).
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
-  int second_derivative(const typename L::State& x, const typename L::State& dxdt, double t,
-                        typename L::State& ddx) const {
+  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
+    end_angle_rad_ = d.angle_rad;
+    end_unbalance_dir_ = Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad));
+    derivative(k, d, end_unbalance_dir_, dxdt);
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
     ddx.template segment<2>(L::kRotorVel) =
-        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d) * model->inv_rotor_mass();
+        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, end_unbalance_dir_) *
+        model->inv_rotor_mass();
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
       ddx.template segment<2>(L::kStatorVel) =
           model->stator_free_force_derivative(k, dxdt.template segment<2>(L::kStatorVel)) * model->inv_stator_mass();
     }
-    return 0;  // no derivative evaluation: the free forces' rates alone
+    return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
+  // (cos phi, sin phi) of angle_rad: the step end's, computed once.
+  Vec2 unbalance_at(double angle_rad) const {
+    if (angle_rad == end_angle_rad_) return end_unbalance_dir_;
+    return Vec2(std::cos(angle_rad), std::sin(angle_rad));
+  }
+
+ private:
+  void derivative(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir, typename L::State& dxdt) const {
+    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
+    if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
+    dxdt.template segment<2>(L::kRotorVel) = model->rotor_free_force(k, d, unbalance_dir) * model->inv_rotor_mass();
+    if constexpr (kStatorDof == 2) {
+      dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
+    }
+  }
+  mutable double end_angle_rad_ = std::numeric_limits<double>::quiet_NaN();
+  mutable Vec2 end_unbalance_dir_ = Vec2::UnitX();
 };
 
 template <int kStatorDof, bool kMotor>
 struct ContactSystem {
   using L = ContactLayout<kStatorDof, kMotor>;
-  ConstrainedDynamics<kStatorDof, kMotor> dynamics;
+  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor>;
+  using Result = typename Dynamics::Result;
+  Dynamics dynamics;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
     dynamics.derivative(x, segment.at(t), dxdt);
   }
-  // The dense output's jerk in closed form (constrained_dynamics.hpp), one
-  // evaluation where the central difference took two.
+  // The derivative and the jerk in closed form (constrained_dynamics.hpp)
+  // at a step's end from one evaluation, which is kept: the event scan's last
+  // point and the step's end sample ask for the same state (evaluate()).
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
-  int second_derivative(const typename L::State& x, const typename L::State& /*dxdt*/, double t,
-                        typename L::State& ddx) const {
+  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
     ProfileScope scope(rhs_time_s);
-    dynamics.second_derivative(x, segment.at(t), ddx);
+    const DriveState reference = segment.at(t);
+    end_ = {true, x, reference, dynamics.mode, dynamics.evaluate(x, reference)};
+    dynamics.derivative(x, end_.result, reference, dxdt);
+    dynamics.second_derivative(x, end_.result, reference, ddx);
     return 1;  // one constrained-dynamics evaluation
   }
+  // dynamics.evaluate(x, reference), the step end's kept where its inputs
+  // (state, drive, friction mode) are the same to the bit, so its bits are too.
+  Result evaluate(const typename L::State& x, const DriveState& reference) const {
+    if (end_.valid && end_.x == x && end_.reference.angle_rad == reference.angle_rad &&
+        end_.reference.speed_rad_per_s == reference.speed_rad_per_s &&
+        end_.reference.accel_rad_per_s2 == reference.accel_rad_per_s2 && end_.mode.stick == dynamics.mode.stick &&
+        end_.mode.slip_sign == dynamics.mode.slip_sign) {
+      return end_.result;
+    }
+    return dynamics.evaluate(x, reference);
+  }
+
+ private:
+  struct End {
+    bool valid = false;
+    typename L::State x;
+    DriveState reference;
+    FrictionMode mode;
+    Result result;
+  };
+  mutable End end_;
 };
 
 enum class Regime { kFree, kContact };
@@ -221,11 +266,13 @@ class SwitchingMethod final : public ContactMethod {
       typename FL::State x;
       free_int_.state_at(t_s, x);
       const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
-      return make_sample(model_, t_s, k, model_.drive_at(k, reference), 0.0, 0.0, false);
+      const DriveState d = model_.drive_at(k, reference);
+      return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), free_sys_.unbalance_at(d.angle_rad), 0.0,
+                         0.0, false);
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.dynamics.evaluate(x, reference);
+    const auto c = contact_sys_.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
@@ -272,7 +319,7 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.dynamics.evaluate(x, d);
+    const auto c = contact_sys_.evaluate(x, d);
     v.value[kGap] = -c.normal_force_N;
     const FrictionMode& mode = contact_sys_.dynamics.mode;
     if (mode.stick) {

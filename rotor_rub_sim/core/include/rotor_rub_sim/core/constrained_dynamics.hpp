@@ -178,8 +178,11 @@ struct ConstrainedDynamics {
   //   psi'''  = (free_t' + F_t' / m) / C
   //   r_s'''  = (F_s' + F_n' n + F_n psi' t - F_t' t + F_t psi' n) / m_s.
   void second_derivative(const State& x, const DriveState& reference, State& ddx) const {
+    second_derivative(x, evaluate(x, reference), reference, ddx);
+  }
+  // The same from the state's evaluation r = evaluate(x, reference).
+  void second_derivative(const State& x, const Result& r, const DriveState& reference, State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
-    const Result r = evaluate(x, reference);
     const ModelParameters& p = model->parameters();
     const double c = p.clearance_m, rate = x[L::kAngleRate], acc = r.angle_acc_rad_per_s2;
     const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
@@ -209,7 +212,10 @@ struct ConstrainedDynamics {
   }
 
   void derivative(const State& x, const DriveState& reference, State& dxdt) const {
-    const Result r = evaluate(x, reference);
+    derivative(x, evaluate(x, reference), reference, dxdt);
+  }
+  // The same from the state's evaluation r = evaluate(x, reference).
+  void derivative(const State& x, const Result& r, const DriveState& reference, State& dxdt) const {
     dxdt[L::kAngle] = x[L::kAngleRate];
     dxdt[L::kAngleRate] = r.angle_acc_rad_per_s2;
     if constexpr (kStatorDof == 2) {

@@ -15,10 +15,11 @@
 // polynomial's derivative, so the two stay consistent. A state without such
 // a pair (a motor drive's controller integral z) is the quintic matching z,
 // z' and z''. The second derivative of the state (a' and z'') is the
-// system's closed form where it has one (free flight under the prescribed
-// drive), else a central difference of the derivative along the solution's
-// tangent, two derivative evaluations per step: 15 per step in all for
-// rkf78, where 13 buy the step (14 for dop853, where 12 do).
+// system's closed form where it has one (free flight and contact under the
+// prescribed drive: from the step end's own evaluation, no extra one), else
+// a central difference of the derivative along the solution's tangent, two
+// derivative evaluations per step: 15 per step in all for rkf78, where 13
+// buy the step (14 for dop853, where 12 do).
 // Interpolation error for a motion of amplitude A and angular frequency w
 // over a step h: A (w h)^8 / 10321920 in position (4e-10 A at w h = 0.5,
 // 1e-7 A at w h = 1; the quintic without the jerk would be A (w h)^6 /
@@ -119,8 +120,7 @@ class DenseHighOrder {
   void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
     x_new_ = x_old_ = x;
     t_new_ = t_old_ = t_s;
-    sys(x_new_, dxdt_new_, t_new_);
-    stats.rhs_evals += 1 + second_derivative(sys, x_new_, dxdt_new_, t_new_, ddx_new_);
+    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, dxdt_new_, ddx_new_);
     dxdt_old_ = dxdt_new_;
     ddx_old_ = ddx_new_;
     dt_ = dt_s;
@@ -144,8 +144,8 @@ class DenseHighOrder {
     t_new_ = t;
     ++stats.steps;
     if (!x_new_.allFinite()) throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
-    sys(x_new_, dxdt_new_, t_new_);  // the dense output's end derivative and the next step's first stage
-    stats.rhs_evals += 1 + second_derivative(sys, x_new_, dxdt_new_, t_new_, ddx_new_);
+    // The dense output's end derivatives; the first is the next step's first stage.
+    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, dxdt_new_, ddx_new_);
     polynomial();
   }
 
@@ -198,23 +198,25 @@ class DenseHighOrder {
   long max_steps_;
   std::array<std::pair<int, int>, SecondOrderPairs<Layout>::kCount> pairs_;
   std::array<bool, State::RowsAtCompileTime> first_order_{};
-  // The state's second derivative d(dx/dt)/dt along the solution: the
-  // central difference of the derivative along (dx/dt, 1) (kJerkStep_s).
-  // A system that knows its second derivative in closed form
-  // (kClosedFormSecondDerivative, second_derivative(x, dxdt, t, ddx)
-  // returning the derivative evaluations it spent: free flight and contact
-  // under the prescribed drive) gives it instead, exact and cheaper than the
-  // two evaluations. Returns the derivative evaluations spent.
+  // The derivative dx/dt at a step's end and the state's second derivative
+  // d(dx/dt)/dt along the solution: the central difference of the
+  // derivative along (dx/dt, 1) (kJerkStep_s). A system that knows its
+  // second derivative in closed form (kClosedFormSecondDerivative,
+  // end_derivatives(x, t, dxdt, ddx) returning the derivative evaluations it
+  // spent: free flight and contact under the prescribed drive) gives both
+  // from one evaluation instead, the second exact. Returns the derivative
+  // evaluations spent.
   template <class System>
-  static int second_derivative(System& sys, const State& x, const State& dxdt, double t_s, State& ddx) {
+  static int end_derivatives(System& sys, const State& x, double t_s, State& dxdt, State& ddx) {
     if constexpr (has_closed_form_second_derivative<System>::value) {
-      return sys.second_derivative(x, dxdt, t_s, ddx);
+      return sys.end_derivatives(x, t_s, dxdt, ddx);
     } else {
+      sys(x, dxdt, t_s);
       State before, after;
       sys(State(x - kJerkStep_s * dxdt), before, t_s - kJerkStep_s);
       sys(State(x + kJerkStep_s * dxdt), after, t_s + kJerkStep_s);
       ddx = (after - before) / (2.0 * kJerkStep_s);
-      return 2;
+      return 3;
     }
   }
 
