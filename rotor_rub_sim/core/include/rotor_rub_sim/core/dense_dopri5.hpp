@@ -10,11 +10,23 @@
 #include <cmath>
 
 #include "rotor_rub_sim/core/run_types.hpp"
+#include "rotor_rub_sim/core/step_ends.hpp"
 
 namespace rotor_rub::core {
 
 template <class State>
-class DenseDopri5 {
+class DenseDopri5 : public StepEnds<State> {
+  using Ends = StepEnds<State>;
+  using Ends::dt_;
+  using Ends::dxdt_new_;
+  using Ends::dxdt_old_;
+  using Ends::max_steps_;
+  using Ends::min_step_s_;
+  using Ends::t_new_;
+  using Ends::t_old_;
+  using Ends::x_new_;
+  using Ends::x_old_;
+
  public:
   using Stepper = boost::numeric::odeint::runge_kutta_dopri5<State, double, State, double,
                                                              boost::numeric::odeint::vector_space_algebra>;
@@ -36,7 +48,7 @@ class DenseDopri5 {
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
   DenseDopri5(double atol, double rtol, double min_step_s, long max_steps)
-      : controlled_(ErrorChecker(atol, rtol, 1.0, 0.0)), min_step_s_(min_step_s), max_steps_(max_steps) {}
+      : Ends(min_step_s, max_steps), controlled_(ErrorChecker(atol, rtol, 1.0, 0.0)) {}
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
@@ -74,14 +86,7 @@ class DenseDopri5 {
   }
 
   // Undo the last accepted step and retry it with dt_s (a method's own rejection).
-  void retreat(double dt_s, RunStats& stats) {
-    x_new_ = x_old_;
-    dxdt_new_ = dxdt_old_;
-    t_new_ = t_old_;
-    dt_ = dt_s;
-    --stats.steps;
-    ++stats.rejected_steps;
-  }
+  void retreat(double dt_s, RunStats& stats) { Ends::retreat_ends(dt_s, stats); }
 
   void state_at(double t_s, State& x) const {
     if (t_new_ == t_old_) {  // no step yet: the initial state
@@ -91,19 +96,10 @@ class DenseDopri5 {
     controlled_.stepper().calc_state(t_s, x, x_old_, dxdt_old_, t_old_, x_new_, dxdt_new_, t_new_);
   }
 
-  double t_old() const { return t_old_; }
-  double t_new() const { return t_new_; }
-  double dt() const { return dt_; }
   void set_dt(double dt_s) { dt_ = dt_s; }
-  const State& x_old() const { return x_old_; }
-  const State& x_new() const { return x_new_; }
 
  private:
   mutable Controlled controlled_;
-  double min_step_s_;
-  long max_steps_;
-  State x_old_, x_new_, dxdt_old_, dxdt_new_;
-  double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
 };
 
 }  // namespace rotor_rub::core

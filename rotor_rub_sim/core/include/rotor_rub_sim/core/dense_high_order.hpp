@@ -36,6 +36,7 @@
 
 #include "rotor_rub_sim/core/dop853.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
+#include "rotor_rub_sim/core/step_ends.hpp"
 
 namespace rotor_rub::core {
 
@@ -98,7 +99,18 @@ struct has_closed_form_second_derivative<System, std::enable_if_t<System::kClose
 // The dense high-order integrator on a stepping Engine (OdeintRkf78,
 // Dop853): the engine's steps, the Hermite dense output of the header.
 template <class Layout, class Engine>
-class DenseHighOrder {
+class DenseHighOrder : public StepEnds<typename Layout::State> {
+  using Ends = StepEnds<typename Layout::State>;
+  using Ends::dt_;
+  using Ends::dxdt_new_;
+  using Ends::dxdt_old_;
+  using Ends::max_steps_;
+  using Ends::min_step_s_;
+  using Ends::t_new_;
+  using Ends::t_old_;
+  using Ends::x_new_;
+  using Ends::x_old_;
+
  public:
   using State = typename Layout::State;
   static_assert(2 * Layout::kDof + Layout::kSpinSize == State::RowsAtCompileTime, "positions, velocities, spin");
@@ -111,7 +123,7 @@ class DenseHighOrder {
   static constexpr double kJerkStep_s = 1e-6;
 
   DenseHighOrder(double atol, double rtol, double min_step_s, long max_steps)
-      : engine_(atol, rtol), min_step_s_(min_step_s), max_steps_(max_steps), pairs_(SecondOrderPairs<Layout>::pairs()) {
+      : Ends(min_step_s, max_steps), engine_(atol, rtol), pairs_(SecondOrderPairs<Layout>::pairs()) {
     first_order_.fill(true);
     for (const auto& [q, v] : pairs_) first_order_[q] = first_order_[v] = false;
   }
@@ -151,13 +163,8 @@ class DenseHighOrder {
 
   // Undo the last accepted step and retry it with dt_s (a method's own rejection).
   void retreat(double dt_s, RunStats& stats) {
-    x_new_ = x_old_;
-    dxdt_new_ = dxdt_old_;
+    Ends::retreat_ends(dt_s, stats);
     ddx_new_ = ddx_old_;
-    t_new_ = t_old_;
-    dt_ = dt_s;
-    --stats.steps;
-    ++stats.rejected_steps;
   }
 
   // The dense output at t_s: the step's polynomial (polynomial()) by
@@ -186,16 +193,8 @@ class DenseHighOrder {
              s * (coef_[2] + s * (coef_[3] + s * (coef_[4] + s * (coef_[5] + s * (coef_[6] + s * coef_[7]))))));
   }
 
-  double t_old() const { return t_old_; }
-  double t_new() const { return t_new_; }
-  double dt() const { return dt_; }
-  const State& x_old() const { return x_old_; }
-  const State& x_new() const { return x_new_; }
-
  private:
   Engine engine_;
-  double min_step_s_;
-  long max_steps_;
   std::array<std::pair<int, int>, SecondOrderPairs<Layout>::kCount> pairs_;
   std::array<bool, State::RowsAtCompileTime> first_order_{};
   // The derivative dx/dt at a step's end and the state's second derivative
@@ -263,9 +262,8 @@ class DenseHighOrder {
     }
   }
 
-  State x_old_, x_new_, dxdt_old_, dxdt_new_, ddx_old_, ddx_new_;
+  State ddx_old_, ddx_new_;                // the second derivatives at the ends
   std::array<State, kDegree + 1> coef_{};  // coef_[0] unused: x_old_
-  double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
 };
 
 template <class Layout>
