@@ -7,6 +7,7 @@
 #include <string>
 #include <type_traits>
 
+#include "rotor_rub_sim/core/angle_pair.hpp"
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
@@ -41,7 +42,26 @@ struct FreeFlightSystem {
       spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
     } else {
       const DriveState d = segment.at(t);
-      derivative(k, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)), dxdt);
+      derivative(k, d, unbalance_at(d.angle_rad), dxdt);
+    }
+  }
+  // Under the prescribed drive the unbalance's forcing depends on time
+  // alone: an attempt's stage times are told before its stages (dop853.hpp)
+  // and the unbalance's directions there taken two per libmvec call
+  // (angle_pair.hpp; the scalar sincos of each was a fifth of free flight's
+  // time).
+  void stage_times(const std::array<double, kDop853StageTimes>& t) const {
+    if constexpr (!kMotor) {
+      for (int i = 0; i < kDop853StageTimes; ++i) stage_angle_rad_[i] = segment.at(t[i]).angle_rad;
+      for (int i = 0; i + 1 < kDop853StageTimes; i += 2) {
+        unit_vectors(stage_angle_rad_[i], stage_angle_rad_[i + 1], stage_dir_[i], stage_dir_[i + 1]);
+      }
+      if constexpr (kDop853StageTimes % 2 == 1) {
+        Vec2 unused;
+        unit_vectors(stage_angle_rad_[kDop853StageTimes - 1], 0.0, stage_dir_[kDop853StageTimes - 1], unused);
+      }
+      stages_ = kDop853StageTimes;
+      next_stage_ = 0;
     }
   }
   // The derivative and the state's second derivative at a step's end, from
@@ -56,8 +76,8 @@ struct FreeFlightSystem {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
+    end_unbalance_dir_ = unbalance_at(d.angle_rad);
     end_angle_rad_ = d.angle_rad;
-    end_unbalance_dir_ = Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad));
     derivative(k, d, end_unbalance_dir_, dxdt);
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
     ddx.template segment<2>(L::kRotorVel) =
@@ -70,8 +90,15 @@ struct FreeFlightSystem {
     }
     return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
-  // (cos phi, sin phi) of angle_rad: the step end's, computed once.
+  // (cos phi, sin phi) of angle_rad: the last attempt's stage times' and
+  // the step end's are taken once (looked up by the angle, so the same
+  // angle always gets the same bits within a step), any other angle's by
+  // sincos.
   Vec2 unbalance_at(double angle_rad) const {
+    if (next_stage_ < stages_ && stage_angle_rad_[next_stage_] == angle_rad) return stage_dir_[next_stage_++];
+    for (int i = 0; i < stages_; ++i) {
+      if (stage_angle_rad_[i] == angle_rad) return stage_dir_[i];
+    }
     if (angle_rad == end_angle_rad_) return end_unbalance_dir_;
     return Vec2(std::cos(angle_rad), std::sin(angle_rad));
   }
@@ -87,6 +114,9 @@ struct FreeFlightSystem {
   }
   mutable double end_angle_rad_ = std::numeric_limits<double>::quiet_NaN();
   mutable Vec2 end_unbalance_dir_ = Vec2::UnitX();
+  mutable std::array<double, kDop853StageTimes> stage_angle_rad_{};
+  mutable std::array<Vec2, kDop853StageTimes> stage_dir_{};
+  mutable int stages_ = 0, next_stage_ = 0;
 };
 
 template <int kStatorDof, bool kMotor>

@@ -22,7 +22,10 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 namespace rotor_rub::core {
 
@@ -108,6 +111,16 @@ struct Dop853Tableau {
   static constexpr double er12 = -0.2235530786388629525884427845e-1;
 };
 
+// A system told an attempt's stage times before its stages (stage_times()):
+// one whose forcing depends on time alone can take it for all of them at once.
+inline constexpr int kDop853StageTimes = 11;  // c2..c11 and the end, c12 = 1
+template <class System, class = void>
+struct wants_stage_times : std::false_type {};
+template <class System>
+struct wants_stage_times<System, std::void_t<decltype(std::declval<const System&>().stage_times(
+                                     std::declval<const std::array<double, kDop853StageTimes>&>()))>> : std::true_type {
+};
+
 // The controlled stepper: the contract of odeint's controlled_runge_kutta
 // try_step(sys, x, dxdt, t, x_out, dt) (true: accepted, t advanced and dt
 // the next step's proposal; false: rejected, dt reduced).
@@ -130,6 +143,11 @@ class Dop853 {
   bool try_step(System& sys, const State& x, const State& k1, double& t, State& x_out, double& dt) {
     using T = Dop853Tableau;
     const double h = dt;
+    if constexpr (wants_stage_times<System>::value) {
+      // The same expressions as the stages' times below, so the same bits.
+      sys.stage_times({t + T::c2 * h, t + T::c3 * h, t + T::c4 * h, t + T::c5 * h, t + T::c6 * h, t + T::c7 * h,
+                       t + T::c8 * h, t + T::c9 * h, t + T::c10 * h, t + T::c11 * h, t + h});
+    }
     sys(State(x + h * T::a21 * k1), k2_, t + T::c2 * h);
     sys(State(x + h * (T::a31 * k1 + T::a32 * k2_)), k3_, t + T::c3 * h);
     sys(State(x + h * (T::a41 * k1 + T::a43 * k3_)), k4_, t + T::c4 * h);
