@@ -549,9 +549,9 @@ class IterationMethod final : public ContactMethod {
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
     long unused = 0;
-    const ContactForces f = probe.solve(k, d, g, system_.mode, false, t_s, unused);
-    return -system_.mode.slip_sign *
-           solver_.sliding_acceleration(k, d, g, model_.free_loads(k, d), f.normal_N, f.tangential_N);
+    const JeffcottModel::FreeLoads free = model_.free_loads(k, d);
+    const ContactForces f = probe.solve(k, d, g, free, system_.mode, false, t_s, unused);
+    return -system_.mode.slip_sign * solver_.sliding_acceleration(k, d, g, free, f.normal_N, f.tangential_N);
   }
 
   void end_engaged_step(std::vector<ContactEvent>& events) {

@@ -143,8 +143,11 @@ struct ContactSystem {
     dynamics.second_derivative(x, end_.result, reference, ddx);
     return 1;  // one constrained-dynamics evaluation
   }
-  // dynamics.evaluate(x, reference), the step end's kept where its inputs
-  // (state, drive, friction mode) are the same to the bit, so its bits are too.
+  // dynamics.evaluate(x, reference): the step end's, kept, where its inputs
+  // (state, drive reference, friction mode; the model is fixed) compare
+  // equal, so its result is what evaluating again would give. Filled by
+  // end_derivatives, under the prescribed drive only (whose reference has
+  // no motor torque).
   Result evaluate(const typename L::State& x, const DriveState& reference) const {
     if (end_.valid && end_.x == x && end_.reference.angle_rad == reference.angle_rad &&
         end_.reference.speed_rad_per_s == reference.speed_rad_per_s &&
@@ -568,7 +571,9 @@ class SwitchingMethod final : public ContactMethod {
   // on the paper run-up at rtol 1e-7). Every test passes as with four; only a forced contact
   // (scan()) moves, by a few atol, as it is placed from the scan's points.
   // rkf78's and dop853's steps are 4-6 times longer (up to ~3 rad of the
-  // spin at rtol 1e-3), so they keep the quarter points (8-10 % of a run).
+  // spin at rtol 1e-3), so they keep the quarter points (8-10 % of a run;
+  // on them the last point's evaluation is the step end's own, kept by
+  // ContactSystem).
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   JeffcottModel model_;
   FreeFlightSystem<kStatorDof, kMotor> free_sys_;

@@ -60,7 +60,7 @@ struct ConstrainedDynamics {
     double angle_acc_rad_per_s2 = 0.0;
     Vec2 stator_acc = Vec2::Zero();
     Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of the drive's angle (a sample's drive torque)
-    Vec2 normal = Vec2::UnitX();         // n(psi)
+    Vec2 normal = Vec2::UnitX();         // n(psi) (prescribed drive: the jerk)
     Vec2 rotor_free_N = Vec2::Zero();    // F_r, F_s: the free forces (prescribed drive; the jerk)
     Vec2 stator_free_N = Vec2::Zero();
   };

@@ -115,7 +115,8 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   using State = typename Layout::State;
   static_assert(2 * Layout::kDof + Layout::kSpinSize == State::RowsAtCompileTime, "positions, velocities, spin");
   static constexpr int kStagesPerAttempt = Engine::kStagesPerAttempt;
-  // The central difference's step for the state's second derivative [s]:
+  // The central difference's step for the state's second derivative [s]
+  // (where no closed form is known: under a motor drive):
   // its truncation error is (kJerkStep_s w)^2 / 6 of the jerk (1.5e-8 at
   // 300 rad/s); its rounding error 1e-16 |x| / (kJerkStep_s |x'|) (1e-9 for
   // a contact angle of 3000 rad turning at 300 rad/s; a one-sided 1e-9 s

@@ -341,7 +341,8 @@ class JeffcottModel {
   // velocities k and accelerations), under the prescribed drive d: the
   // free forces are linear in the state, so d F_r / dt = -k_r r_r' - b_r
   // r_r'' + rotor_free_force_rate(d), d F_s / dt = -k_s r_s' - b_s r_s''
-  // [N/s] (the jerk of free flight in closed form, dense_high_order.hpp).
+  // [N/s] (the jerks of free flight and contact in closed form,
+  // dense_high_order.hpp, constrained_dynamics.hpp).
   Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d) const {
     return rotor_free_force_derivative(k, rotor_acc, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
   }
