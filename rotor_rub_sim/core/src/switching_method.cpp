@@ -48,21 +48,10 @@ struct FreeFlightSystem {
   // Under the prescribed drive the unbalance's forcing depends on time
   // alone: an attempt's stage times are told before its stages (dop853.hpp)
   // and the unbalance's directions there taken two per libmvec call
-  // (angle_pair.hpp; the scalar sincos of each was a fifth of free flight's
-  // time).
+  // (PreparedUnitVectors, angle_pair.hpp; the scalar sincos of each was a
+  // fifth of free flight's time).
   void stage_times(const std::array<double, kDop853StageTimes>& t) const {
-    if constexpr (!kMotor) {
-      for (int i = 0; i < kDop853StageTimes; ++i) stage_angle_rad_[i] = segment.at(t[i]).angle_rad;
-      for (int i = 0; i + 1 < kDop853StageTimes; i += 2) {
-        unit_vectors(stage_angle_rad_[i], stage_angle_rad_[i + 1], stage_dir_[i], stage_dir_[i + 1]);
-      }
-      if constexpr (kDop853StageTimes % 2 == 1) {
-        Vec2 unused;
-        unit_vectors(stage_angle_rad_[kDop853StageTimes - 1], 0.0, stage_dir_[kDop853StageTimes - 1], unused);
-      }
-      stages_ = kDop853StageTimes;
-      next_stage_ = 0;
-    }
+    if constexpr (!kMotor) unbalance_.prepare(segment.angles_at(t));
   }
   // The derivative and the state's second derivative at a step's end, from
   // one sin/cos of the unbalance (DenseHighOrder's jerk, instead of two
@@ -76,12 +65,12 @@ struct FreeFlightSystem {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
-    end_unbalance_dir_ = unbalance_at(d.angle_rad);
-    end_angle_rad_ = d.angle_rad;
-    derivative(k, d, end_unbalance_dir_, dxdt);
+    const Vec2 unbalance_dir = unbalance_.at(d.angle_rad);
+    unbalance_.keep(d.angle_rad, unbalance_dir);
+    derivative(k, d, unbalance_dir, dxdt);
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
     ddx.template segment<2>(L::kRotorVel) =
-        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, end_unbalance_dir_) *
+        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, unbalance_dir) *
         model->inv_rotor_mass();
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
@@ -91,17 +80,8 @@ struct FreeFlightSystem {
     return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
   // (cos phi, sin phi) of angle_rad: the last attempt's stage times' and
-  // the step end's are taken once (looked up by the angle, so the same
-  // angle always gets the same bits within a step), any other angle's by
-  // sincos.
-  Vec2 unbalance_at(double angle_rad) const {
-    if (next_stage_ < stages_ && stage_angle_rad_[next_stage_] == angle_rad) return stage_dir_[next_stage_++];
-    for (int i = 0; i < stages_; ++i) {
-      if (stage_angle_rad_[i] == angle_rad) return stage_dir_[i];
-    }
-    if (angle_rad == end_angle_rad_) return end_unbalance_dir_;
-    return Vec2(std::cos(angle_rad), std::sin(angle_rad));
-  }
+  // the step end's taken once, any other angle's by sincos.
+  Vec2 unbalance_at(double angle_rad) const { return unbalance_.at(angle_rad); }
 
  private:
   void derivative(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir, typename L::State& dxdt) const {
@@ -112,11 +92,7 @@ struct FreeFlightSystem {
       dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
     }
   }
-  mutable double end_angle_rad_ = std::numeric_limits<double>::quiet_NaN();
-  mutable Vec2 end_unbalance_dir_ = Vec2::UnitX();
-  mutable std::array<double, kDop853StageTimes> stage_angle_rad_{};
-  mutable std::array<Vec2, kDop853StageTimes> stage_dir_{};
-  mutable int stages_ = 0, next_stage_ = 0;
+  mutable PreparedUnitVectors<kDop853StageTimes> unbalance_;
 };
 
 template <int kStatorDof, bool kMotor>
