@@ -275,8 +275,11 @@ def table2(t2_rows, wp_rows, out):
               "(from the work-precision sweep; atol = 1e-3 rtol):", "",
               "| method | integrator | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
               "|---|---|---|---|---|---|---|"]
-    for method, integrator in (("switching", "dopri5"), ("switching", "rkf78"), ("switching", "dop853"),
-                               ("iteration", "dopri5"), ("iteration", "dop853"), ("penalty", "dopri5")):
+    # Every method and integrator the sweep ran (its grid takes them from the
+    # registry: rotor_rub_run --list-solvers), the methods in this order.
+    order = {"switching": 0, "iteration": 1, "penalty": 2}
+    pairs = sorted({(r["method"], r["integrator"]) for r in wp_rows}, key=lambda p: (order.get(p[0], 3), p[1]))
+    for method, integrator in pairs:
         cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == integrator
                  and r["status"] in COMPLETED and fnum(r, "max_rotor_err_m") <= 1e-6]
         if not cands:

@@ -1,5 +1,5 @@
 // rotor_rub_run: the headless runner. No master, no ROS: a scene file in,
-// a CSV of samples and a JSON summary out. See README "Headless runner".
+// a CSV of samples and a JSON summary out. See docs/tools.md.
 //
 // Exit status: 0 ok; 2 bad input (usage, scene); 3 stalled; 4 diverged;
 // 5 not converged; 6 output file error; 7 timed out; 8 invariant violated.
@@ -16,6 +16,7 @@
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "run_output.hpp"
 
@@ -52,9 +53,9 @@ CLI::Validator key_value() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path, csv_path, summary_path, keyphasor_path, probes_path, method, rtol, atol, rate;
+  std::string scene_path, csv_path, summary_path, keyphasor_path, probes_path, method, integrator, rtol, atol, rate;
   std::vector<std::string> sets;
-  bool quiet = false, list_keys = false;
+  bool quiet = false, list_keys = false, list_solvers = false;
   CLI::App app(
       "The headless runner: runs a scene on the core (no master, no ROS) and writes its samples (CSV) "
       "and a summary (JSON).",
@@ -65,13 +66,16 @@ int main(int argc, char** argv) {
   app.add_option("--method", method, cli::scene_key_description("method"))
       ->type_name("NAME")
       ->check(cli::scene_key("method"));
+  app.add_option("--integrator", integrator, cli::scene_key_description("integrator"))
+      ->type_name("NAME")
+      ->check(cli::scene_key("integrator"));
   app.add_option("--rtol", rtol, cli::scene_key_description("rtol"))->type_name("R")->check(cli::scene_key("rtol"));
   app.add_option("--atol", atol, cli::scene_key_description("atol"))->type_name("A")->check(cli::scene_key("atol"));
   app.add_option("--rate", rate, cli::scene_key_description("output_rate_hz"))
       ->type_name("HZ")
       ->check(cli::scene_key("output_rate_hz"));
   app.add_option("--set", sets,
-                 "sets any scene key, repeatable; --method, --rtol, --atol and --rate win over --set of the same key")
+                 "sets any scene key, repeatable; --method, --integrator, --rtol, --atol and --rate win over --set of the same key")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false)
       ->check(key_value());
@@ -89,15 +93,21 @@ int main(int argc, char** argv) {
       ->type_name("FILE");
   app.add_flag("--quiet", quiet, "no summary line on stdout");
   app.add_flag("--list-keys", list_keys, "print every scene key with its default, accepted range and meaning; exit");
+  app.add_flag("--list-solvers", list_solvers,
+               "print each method's integrators, the one integrator auto picks, and when to use each; exit");
   app.footer(
       "Exit status: 0 ok; 2 bad input (usage, scene); 3 stalled; 4 diverged; 5 not converged; 6 output file error;\n"
-      "7 timed out; 8 invariant violated. See README \"Headless runner\".");
+      "7 timed out; 8 invariant violated. See docs/tools.md.");
   cli::parse_or_exit(app, argc, argv);
   if (list_keys) {
     for (const auto& k : core::scene_keys()) {
       std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(), k.default_value.c_str(),
                   k.accepted.c_str(), k.description.c_str());
     }
+    return 0;
+  }
+  if (list_solvers) {
+    std::printf("method     integrator          when to use it\n%s", core::solver_table_text().c_str());
     return 0;
   }
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
@@ -107,6 +117,7 @@ int main(int argc, char** argv) {
     overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
   }
   if (!method.empty()) overrides["method"] = method;
+  if (!integrator.empty()) overrides["integrator"] = integrator;
   if (!rtol.empty()) overrides["rtol"] = rtol;
   if (!atol.empty()) overrides["atol"] = atol;
   if (!rate.empty()) overrides["output_rate_hz"] = rate;
@@ -161,9 +172,10 @@ int main(int argc, char** argv) {
   if (!quiet) {
     const auto sustained = core::longest_contact(recorder.events, sim.time());
     std::printf(
-        "%-9s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
+        "%-9s %-11s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
         "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
-        core::to_string(scene.solver.method), scene.solver.rtol, core::first_contact_s(recorder.events),
+        core::to_string(scene.solver.method), core::to_string(sim.scene().solver.integrator), scene.solver.rtol,
+        core::first_contact_s(recorder.events),
         sustained.first, sustained.second, core::last_contact_end_s(recorder.events), recorder.max_orbit_m,
         recorder.max_normal_force_N, st.steps, st.rejected_steps, st.rhs_evals, st.root_iterations,
         st.wall_time_s * 1e3);

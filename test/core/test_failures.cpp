@@ -36,6 +36,7 @@ struct Outcome {
 
 Outcome run(const std::map<std::string, std::string>& overrides) {
   std::map<std::string, std::string> values = core::read_scene_values(test::source_path("config/paper_runup.yaml"));
+  values["integrator"] = "dopri5";  // kFailedStepSpan_s is of its steps
   for (const auto& [k, v] : overrides) values[k] = v;
   Outcome o;
   o.result = core::run_scene(core::scene_from_values(values), o.seen);
@@ -71,15 +72,18 @@ TEST(Failures, ChatterIsStalled) {
 }
 
 TEST(Failures, UnstableFixedStepIsDiverged) {
-  // validate_scene() refuses a step above RK4's bound (test_fixed_step.cpp);
-  // a core user who skips it still gets a loud failure, not a NaN.
+  // validate_scene() refuses a step above RK4's bound (test_fixed_step.cpp),
+  // and Simulation validates its scene; a core user who drives the method
+  // alone still gets a loud failure, not a NaN.
   core::Scene s = test::paper_scene();
   s.solver.method = core::Method::kPenalty;
   s.solver.integrator = core::Integrator::kRk4;
   s.solver.fixed_step_s = 1e-4;
-  Outcome o;
-  o.result = core::run_scene(s, o.seen);
-  expect_failure(o, core::FailureClass::kDiverged, "unstable");
+  EXPECT_THROW(core::Simulation{s}, core::SceneError);
+  const auto failure = test::run_method_alone(s);
+  ASSERT_TRUE(failure.has_value());
+  EXPECT_EQ(failure->failure_class, core::FailureClass::kDiverged) << failure->message;
+  EXPECT_NE(failure->message.find("unstable"), std::string::npos) << failure->message;
 }
 
 TEST(Failures, RootFinderBudgetIsNotConverged) {

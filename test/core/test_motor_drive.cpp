@@ -3,14 +3,11 @@
 // torque. Checked against closed forms (spin-up in the torque limit, the
 // power balance of the coupled rotor-spin equations in free flight, the
 // torque balance of the steady synchronous full rub), against each other
-// (all three methods on config/machine_runup.yaml), and the prescribed drive
-// against its own digits from before the motor existed.
+// (all three methods on config/machine_runup.yaml). The prescribed drive's
+// runs are held to their figures by test_golden.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
-#include <fstream>
-#include <sstream>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
@@ -25,33 +22,6 @@ namespace {
 core::Scene motor_scene(core::Scene s) {
   s.model.drive_model = core::DriveModel::kMotor;
   return s;
-}
-
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : text) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
-// The first n comma-separated columns of every line, each line ended by '\n'.
-std::string first_columns(const std::string& csv, int n) {
-  std::istringstream in(csv);
-  std::string line, out;
-  while (std::getline(in, line)) {
-    std::size_t end = 0;
-    for (int k = 0; k < n && end != std::string::npos; ++k) end = line.find(',', end == 0 ? 0 : end + 1);
-    out += line.substr(0, end) + "\n";
-  }
-  return out;
-}
-
-std::string hex(std::uint64_t v) {
-  char buf[20];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
 }
 
 // Kinetic plus potential energy of rotor, spin and stator [J] (no gravity):
@@ -78,46 +48,6 @@ double net_power_W(const core::ModelParameters& p, const core::Sample& s) {
 }
 
 }  // namespace
-
-TEST(MotorDrive, PrescribedDriveUnchangedToTheLastDigit) {
-  // test/data/prescribed_golden.txt: hashes of the runner's CSVs written by
-  // the commit before the motor drive, on four scenes (the paper's; a rigid
-  // stator with restitution 0.5 and f 0.3; gravity; f 0.8 far above the
-  // critical speed) in all three methods.
-  std::ifstream in(test::source_path("test/data/prescribed_golden.txt"));
-  ASSERT_TRUE(in.good());
-  std::string line;
-  int cases = 0;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string name, method, sets, csv_hash, marks_hash;
-    long rows = 0;
-    fields >> name >> method >> sets >> csv_hash >> marks_hash >> rows;
-    core::Scene scene = test::paper_scene();
-    core::set_scene_value(scene, "method", method);
-    if (sets != "-") {
-      std::istringstream items(sets);
-      std::string item;
-      while (std::getline(items, item, ',')) {
-        const auto eq = item.find('=');
-        core::set_scene_value(scene, item.substr(0, eq), item.substr(eq + 1));
-      }
-    }
-    core::validate_scene(scene);
-    tools::RunRecorder rec(true, true);
-    const core::RunResult r = core::run_scene(scene, rec);
-    ASSERT_FALSE(r.failure.has_value()) << name << " " << method;
-    std::ostringstream csv, marks;
-    tools::write_csv(csv, rec.samples);
-    tools::write_keyphasor_csv(marks, rec.marks);
-    EXPECT_EQ(static_cast<long>(rec.samples.size()), rows) << name << " " << method;
-    EXPECT_EQ(hex(fnv1a(first_columns(csv.str(), 19))), csv_hash) << name << " " << method;
-    EXPECT_EQ(hex(fnv1a(marks.str())), marks_hash) << name << " " << method;
-    ++cases;
-  }
-  EXPECT_EQ(cases, 12);
-}
 
 TEST(MotorDrive, SpinUpInTheTorqueLimitFollowsTheClosedForm) {
   // No unbalance, no gravity: the rotor stays centred and the spin sees only
@@ -237,7 +167,7 @@ TEST(MotorDrive, MethodsAgreeOnTheMachineScene) {
   // config/machine_runup.yaml: the rub drives the motor into its torque
   // limit (the speed falls behind the reference). The rigid methods model
   // the same contact exactly: they agree to their tolerance; penalty to its
-  // compliance (the paper scene's 3.6e-5 m floor, README).
+  // compliance (the paper scene's floor, docs/benchmarks.md).
   const core::Scene base = core::load_scene(test::source_path("config/machine_runup.yaml"));
   ASSERT_EQ(base.model.drive_model, core::DriveModel::kMotor);
   std::vector<test::Run> runs;

@@ -38,7 +38,7 @@ double max_error_until(const test::Run& r, double t_end_s) {
   return core::compare_trajectories(a, b).max_rotor_x_m;
 }
 
-// The bars of issue 2 (README "Accuracy and speed").
+// The bars of issue 2 (the figures: docs/benchmarks.md).
 constexpr double kFirstContactBar_s = 1e-4;
 constexpr double kSwitchingBar_m = 1e-7;
 constexpr double kIterationBar_m = 1e-5;

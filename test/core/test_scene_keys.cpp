@@ -86,25 +86,29 @@ TEST(SceneKeys, CrossKeyRules) {
             std::string::npos);
   EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "penalty"}}), "");
   EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "iteration"}})
-                .find("accepted for method 'iteration': dopri5, dop853"),
+                .find("accepted for method 'iteration': auto, dop853, dopri5"),
             std::string::npos);
   // The high-order integrators: rkf78 the switching method's, dop853 the
   // switching and iteration methods' (the penalty contact is stiff; the
   // iteration method let a graze through with rkf78).
   EXPECT_NE(error_of({{"integrator", "rkf78"}, {"method", "penalty"}})
                 .find("'rkf78' is accepted with method 'switching' only; accepted for method 'penalty': "
-                      "dopri5, rosenbrock4, rk4"),
+                      "auto, rosenbrock4, dopri5, rk4"),
             std::string::npos);
   EXPECT_NE(error_of({{"integrator", "rkf78"}, {"method", "iteration"}})
-                .find("accepted for method 'iteration': dopri5, dop853"),
+                .find("accepted for method 'iteration': auto, dop853, dopri5"),
             std::string::npos);
   EXPECT_EQ(error_of({{"integrator", "rkf78"}, {"method", "switching"}}), "");
   EXPECT_EQ(error_of({{"integrator", "dop853"}, {"method", "switching"}}), "");
   EXPECT_EQ(error_of({{"integrator", "dop853"}, {"method", "iteration"}}), "");
   EXPECT_NE(error_of({{"integrator", "dop853"}, {"method", "penalty"}})
                 .find("'dop853' is accepted with methods 'switching' and 'iteration' only; accepted for method "
-                      "'penalty': dopri5, rosenbrock4, rk4"),
+                      "'penalty': auto, rosenbrock4, dopri5, rk4"),
             std::string::npos);
+  // auto: every method's registry choice.
+  for (const char* m : {"penalty", "switching", "iteration"}) {
+    EXPECT_EQ(error_of({{"integrator", "auto"}, {"method", m}}), "") << m;
+  }
   EXPECT_NE(error_of({{"target_speed_rad_per_s", "3000"}}).find("max_speed_rad_per_s"), std::string::npos);
 }
 

@@ -1,6 +1,9 @@
 // Shared helpers of the core tests.
 #pragma once
 
+#include <initializer_list>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -8,6 +11,7 @@
 
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::test {
 
@@ -33,8 +37,12 @@ inline Run run(const core::Scene& s) {
   return r;
 }
 
+// The method on dopri5 (the paper's ode45 scheme), the integrator every
+// method runs on: the tests written for one integrator name it; the shared
+// suites run every pair of the registry (all_solvers).
 inline core::Scene with_method(core::Scene s, core::Method m, double rtol, double atol) {
   s.solver.method = m;
+  s.solver.integrator = core::Integrator::kDopri5;
   s.solver.rtol = rtol;
   s.solver.atol = atol;
   return s;
@@ -54,22 +62,46 @@ struct Solver {
 };
 inline void PrintTo(const Solver& s, std::ostream* os) { *os << s.name(); }
 
-// The rigid methods on every integrator each accepts (switching: dopri5,
-// rkf78 and dop853; iteration: dopri5 and dop853).
+// The registry's pairs (solver_registry.hpp) of the given methods, but rk4:
+// its fixed step has no tolerance, and the suites run at tolerances
+// (test_fixed_step.cpp runs it).
+inline std::vector<Solver> registry_solvers(std::initializer_list<core::Method> methods) {
+  std::vector<Solver> v;
+  for (const core::Method m : methods) {
+    for (const core::SolverEntry& e : core::solver_registry()) {
+      if (e.method == m && e.integrator != core::Integrator::kRk4) v.push_back({e.method, e.integrator});
+    }
+  }
+  return v;
+}
+// The rigid methods on every integrator each runs on.
 inline std::vector<Solver> rigid_solvers() {
-  using core::Integrator;
-  using core::Method;
-  return {{Method::kSwitching, Integrator::kDopri5},
-          {Method::kSwitching, Integrator::kRkf78},
-          {Method::kSwitching, Integrator::kDop853},
-          {Method::kIteration, Integrator::kDopri5},
-          {Method::kIteration, Integrator::kDop853}};
+  return registry_solvers({core::Method::kSwitching, core::Method::kIteration});
 }
 inline std::vector<Solver> all_solvers() {
-  std::vector<Solver> v = rigid_solvers();
-  v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
-  v.push_back({core::Method::kPenalty, core::Integrator::kRosenbrock4});
-  return v;
+  return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
+}
+
+// A contact method driven alone, without Simulation (and so without
+// validate_scene), as a core user who builds one with make_contact_method
+// does, until it fails or reaches the scene's end (the drive's first segment
+// must reach it). The failure it threw, if any.
+struct MethodAloneFailure {
+  core::FailureClass failure_class;
+  double time_s;
+  std::string message;
+};
+inline std::optional<MethodAloneFailure> run_method_alone(const core::Scene& s) {
+  const std::unique_ptr<core::ContactMethod> method = core::make_contact_method(s);
+  const core::SpeedProfile profile(s.speed);
+  method->start(0.0, core::JeffcottModel(s.model).initial_kinematics(profile.at(0.0)), profile.segment_at(0.0));
+  std::vector<core::ContactEvent> events;
+  try {
+    while (method->step_end() < s.end_time_s) method->step(s.end_time_s, events);
+  } catch (const core::MethodFailure& f) {
+    return MethodAloneFailure{f.failure_class, f.time_s, f.what()};
+  }
+  return std::nullopt;
 }
 
 inline core::Scene with_method(core::Scene s, const Solver& m, double rtol, double atol) {

@@ -21,7 +21,7 @@ N_STATES = int(END_S * RATE_HZ) + 1
 LAUNCH_TIMEOUT_S = 300.0  # wall bound on one launch (it takes seconds)
 # Accuracy of each method against switching at rtol 1e-7, at the tolerances
 # compare_methods.launch gives them (measured: iteration 2.1e-6 m, penalty
-# 1.8e-6 m, README "Measured figures"); the bound is the measured figure
+# 1.8e-6 m on dopri5, docs/benchmarks.md); the bound is the measured figure
 # rounded up to the next half decade, so a regression of the method fails.
 METHOD_MAX_ROTOR_DIFF_M = {"iteration": 5e-6, "penalty": 5e-6, "switching": 0.0}
 

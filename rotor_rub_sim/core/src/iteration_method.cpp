@@ -638,26 +638,19 @@ class IterationMethod final : public ContactMethod {
   double* restart_time_s_ = nullptr;  // profiling only
 };
 
-template <int kStatorDof, bool kMotor>
-using IterationDopri5 = IterationMethod<kStatorDof, kMotor, Integrator::kDopri5>;
-template <int kStatorDof, bool kMotor>
-using IterationDop853 = IterationMethod<kStatorDof, kMotor, Integrator::kDop853>;
+template <Integrator kScheme>
+struct IterationOn {
+  template <int kStatorDof, bool kMotor>
+  using Method = IterationMethod<kStatorDof, kMotor, kScheme>;
+};
 
 }  // namespace
 
+template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  switch (scene.solver.integrator) {
-    case Integrator::kDopri5:
-      return make_for_scene<IterationDopri5>(scene);
-    case Integrator::kDop853:
-      return make_for_scene<IterationDop853>(scene);
-    case Integrator::kRosenbrock4:
-    case Integrator::kRk4:
-    case Integrator::kRkf78:
-      break;  // validate_scene refuses them
-  }
-  throw std::invalid_argument(std::string("integrator ") + to_string(scene.solver.integrator) +
-                              " is not accepted with method iteration");
+  return make_for_scene<IterationOn<I>::template Method>(scene);
 }
+template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);
+template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

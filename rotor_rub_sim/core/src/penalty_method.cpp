@@ -10,6 +10,7 @@
 #include "rotor_rub_sim/core/dense_rk4.hpp"
 #include "rotor_rub_sim/core/dense_rodasp.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/penalty_law.hpp"
 #include "rotor_rub_sim/core/penalty_system.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
@@ -307,31 +308,27 @@ class PenaltyMethod final : public ContactMethod {
   double* restart_time_s_ = nullptr;  // profiling only
 };
 
-template <int kStatorDof, bool kMotor>
-std::unique_ptr<ContactMethod> make_for_dof(const Scene& scene) {
-  using State = typename FreeLayout<kStatorDof, kMotor>::State;
-  switch (scene.solver.integrator) {
-    case Integrator::kRosenbrock4:
-      return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseRodasp<State>>>(scene);
-    case Integrator::kRk4:
-      return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseRk4<State>>>(scene);
-    case Integrator::kDopri5:
-      break;
-    case Integrator::kRkf78:  // validate_scene refuses them: the penalty contact is stiff
-    case Integrator::kDop853:
-      throw std::invalid_argument(std::string("integrator ") + to_string(scene.solver.integrator) +
-                                  " is not accepted with method penalty");
-  }
-  return std::make_unique<PenaltyMethod<kStatorDof, kMotor, DenseDopri5<State>>>(scene);
-}
+// The dense stepper of each integrator the penalty method runs on.
+template <Integrator kScheme, class State>
+using PenaltyStepper =
+    std::conditional_t<kScheme == Integrator::kRosenbrock4, DenseRodasp<State>,
+                       std::conditional_t<kScheme == Integrator::kRk4, DenseRk4<State>, DenseDopri5<State>>>;
+
+template <Integrator kScheme>
+struct PenaltyOn {
+  template <int kStatorDof, bool kMotor>
+  using Method = PenaltyMethod<kStatorDof, kMotor, PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor>::State>>;
+};
 
 }  // namespace
 
+template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
-  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-  if (scene.model.drive_model == DriveModel::kMotor)
-    return rigid ? make_for_dof<0, true>(scene) : make_for_dof<2, true>(scene);
-  return rigid ? make_for_dof<0, false>(scene) : make_for_dof<2, false>(scene);
+  static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
+  return make_for_scene<PenaltyOn<I>::template Method>(scene);
 }
+template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRosenbrock4>(const Scene&);
+template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kDopri5>(const Scene&);
+template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRk4>(const Scene&);
 
 }  // namespace rotor_rub::core

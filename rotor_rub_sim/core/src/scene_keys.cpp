@@ -1,6 +1,7 @@
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::core {
 namespace {
@@ -87,18 +89,19 @@ KeyEntry integer(std::string key, long lo, long hi, std::string description, std
   return e;
 }
 
-template <class Enum, std::size_t N, class Table>
-KeyEntry choice(std::string key, const Table& table, std::string description, std::function<Enum&(Scene&)> ref) {
+template <class Enum, std::size_t N, class Ref>
+KeyEntry choice(std::string key, const std::array<Enum, N>& all, std::string description, Ref ref_fn) {
+  const std::function<Enum&(Scene&)> ref = ref_fn;
   std::string accepted = "one of";
-  for (const auto& row : table) accepted += std::string(" ") + row.name;
+  for (const Enum v : all) accepted += std::string(" ") + to_string(v);
   Scene defaults;
   KeyEntry e{{key, accepted, std::move(description), to_string(ref(defaults))}, nullptr, [ref](Scene s) {
                return std::string(to_string(ref(s)));
              }};
-  e.set = [key, table, accepted, ref](Scene& s, const std::string& text) {
-    for (const auto& row : table) {
-      if (text == row.name) {
-        ref(s) = row.value;
+  e.set = [key, all, accepted, ref](Scene& s, const std::string& text) {
+    for (const Enum v : all) {
+      if (text == to_string(v)) {
+        ref(s) = v;
         return;
       }
     }
@@ -121,7 +124,7 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.rotor_radius_m; }));
     t.push_back(real("eccentricity_m", 0, false, kInf, "mass-centre eccentricity e [m]",
                      [](Scene& s) -> double& { return s.model.eccentricity_m; }));
-    t.push_back(choice<StatorModel, 2>("stator_model", kStatorModelNames,
+    t.push_back(choice("stator_model", kAllStatorModels,
                                        "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only",
                                        [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
     t.push_back(real("stator_mass_kg", 0, true, kInf, "stator mass m_s [kg] (elastic stator)",
@@ -149,7 +152,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(real("stator_offset_y_m", -1.0, false, 1.0, "stator rest position, y; |offset| < clearance_m [m]",
                      [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
     // Drive.
-    t.push_back(choice<DriveModel, 2>("drive_model", kDriveModelNames,
+    t.push_back(choice("drive_model", kAllDriveModels,
                                       "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
                                       "drives the spin against the rub's friction torque",
                                       [](Scene& s) -> DriveModel& { return s.model.drive_model; }));
@@ -175,14 +178,13 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(real("max_speed_rad_per_s", 0, true, kInf, "largest speed a scene or command may ask [rad/s]",
                      [](Scene& s) -> double& { return s.speed.max_speed_rad_per_s; }));
     // Numerics.
-    t.push_back(choice<Method, 3>("method", kMethodNames,
+    t.push_back(choice("method", kAllMethods,
                                   "contact method: penalty (I), switching (II), iteration (III)",
                                   [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(choice<Integrator, 5>(
-        "integrator", kIntegratorNames,
-        "time integrator; rosenbrock4 (stiff) and rk4 (fixed step) for penalty only, rkf78 and dop853 (high "
-        "order, for tight tolerances; dop853 the faster on the paper run-up, its error an RMS over the state "
-        "where the others take the largest component) for switching, dop853 for iteration too",
+    t.push_back(choice(
+        "integrator", kAllIntegrators,
+        "time integrator; auto: the fastest for the method (penalty rosenbrock4, switching and iteration "
+        "dop853); each method's integrators: rotor_rub_run --list-solvers",
         [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
@@ -300,31 +302,22 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
 }
 
 void validate_scene(const Scene& s) {
-  // The rigid methods locate events on a dense output: dopri5's own, or
-  // the Hermite one of rkf78 and dop853: both for switching, dop853 for
-  // iteration too (with rkf78 the iteration method let a slow graze with
-  // gravity pass 2.3e-9 m beyond the bore at atol 1e-11,
-  // test_steady_response, before it located its lift-offs, and it has not
-  // been offered there since; dop853 passes every shared suite); the stiff
-  // and fixed-step integrators are for the penalty method.
-  const bool high_order = s.solver.integrator == Integrator::kRkf78 || s.solver.integrator == Integrator::kDop853;
-  const bool accepted_here =
-      s.solver.method == Method::kPenalty ? !high_order
-      : s.solver.method == Method::kSwitching
-          ? s.solver.integrator == Integrator::kDopri5 || high_order
-          : s.solver.integrator == Integrator::kDopri5 || s.solver.integrator == Integrator::kDop853;
-  if (!accepted_here) {
-    const char* accepted = s.solver.method == Method::kPenalty     ? "dopri5, rosenbrock4, rk4"
-                           : s.solver.method == Method::kSwitching ? "dopri5, rkf78, dop853"
-                                                                   : "dopri5, dop853";
-    const char* only = s.solver.integrator == Integrator::kRkf78    ? "method 'switching'"
-                       : s.solver.integrator == Integrator::kDop853 ? "methods 'switching' and 'iteration'"
-                                                                    : "method 'penalty'";
-    throw SceneError("scene key 'integrator': value '" + std::string(to_string(s.solver.integrator)) +
-                     "' is accepted with " + only + " only; accepted for method '" +
-                     std::string(to_string(s.solver.method)) + "': " + accepted);
+  // Which integrators each method runs on, and why: solver_registry.cpp.
+  const Integrator integrator = effective_integrator(s.solver);
+  if (find_solver(s.solver.method, integrator) == nullptr) {
+    std::vector<std::string> with;
+    for (const Method m : kAllMethods) {
+      if (find_solver(m, integrator) != nullptr) with.push_back("'" + std::string(to_string(m)) + "'");
+    }
+    std::string methods = with.size() == 1 ? "method " + with[0] : "methods ";
+    for (std::size_t i = 0; with.size() > 1 && i < with.size(); ++i) {
+      methods += (i == 0 ? "" : i + 1 == with.size() ? " and " : ", ") + with[i];
+    }
+    throw SceneError("scene key 'integrator': value '" + std::string(to_string(integrator)) + "' is accepted with " +
+                     methods + " only; accepted for method '" + to_string(s.solver.method) +
+                     "': auto, " + integrators_of(s.solver.method));
   }
-  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
+  if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4) {
     const double h_max = rk4_stable_step_s(JeffcottModel(s.model));
     if (s.solver.fixed_step_s > h_max) {
       throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +

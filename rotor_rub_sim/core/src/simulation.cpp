@@ -8,33 +8,38 @@
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
-#include "rotor_rub_sim/core/iteration_method.hpp"
-#include "rotor_rub_sim/core/penalty_method.hpp"
-#include "rotor_rub_sim/core/switching_method.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::core {
 
 std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
-  switch (scene.solver.method) {
-    case Method::kPenalty:
-      return make_penalty_method(scene);
-    case Method::kSwitching:
-      return make_switching_method(scene);
-    case Method::kIteration:
-      return make_iteration_method(scene);
-  }
-  throw std::logic_error("unknown method");
+  const SolverEntry* entry = find_solver(scene.solver.method, effective_integrator(scene.solver));
+  if (entry == nullptr) validate_scene(scene);  // throws SceneError naming the key and the accepted values
+  return entry->make(scene);
 }
 
+namespace {
+
+// The scene checked as a scene file's would be, with `auto` resolved, so
+// scene() tells which integrator runs.
+Scene checked_scene(Scene scene) {
+  validate_scene(scene);
+  scene.solver.integrator = effective_integrator(scene.solver);
+  return scene;
+}
+
+}  // namespace
+
 Simulation::Simulation(const Scene& scene)
-    : scene_(scene),
-      profile_(scene.speed),
-      method_(make_contact_method(scene)),
-      limits_(InvariantLimits::for_scene(scene)) {
+    : scene_(checked_scene(scene)),
+      profile_(scene_.speed),
+      method_(make_contact_method(scene_)),
+      limits_(InvariantLimits::for_scene(scene_)) {
   // Start at rest, centred: the run-up's initial condition.
-  method_->start(0.0, JeffcottModel(scene.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
+  method_->start(0.0, JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
-  next_mark_angle_rad_ = two_pi * (std::floor(scene.speed.initial_angle_rad / two_pi) + 1.0);
+  next_mark_angle_rad_ = two_pi * (std::floor(scene_.speed.initial_angle_rad / two_pi) + 1.0);
 }
 
 void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2) {

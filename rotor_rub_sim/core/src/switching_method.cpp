@@ -579,29 +579,20 @@ class SwitchingMethod final : public ContactMethod {
   bool end_sample_valid_ = false;
 };
 
-template <int kStatorDof, bool kMotor>
-using SwitchingDopri5 = SwitchingMethod<kStatorDof, kMotor, Integrator::kDopri5>;
-template <int kStatorDof, bool kMotor>
-using SwitchingRkf78 = SwitchingMethod<kStatorDof, kMotor, Integrator::kRkf78>;
-template <int kStatorDof, bool kMotor>
-using SwitchingDop853 = SwitchingMethod<kStatorDof, kMotor, Integrator::kDop853>;
+template <Integrator kScheme>
+struct SwitchingOn {
+  template <int kStatorDof, bool kMotor>
+  using Method = SwitchingMethod<kStatorDof, kMotor, kScheme>;
+};
 
 }  // namespace
 
+template <Integrator I>
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  switch (scene.solver.integrator) {
-    case Integrator::kRkf78:
-      return make_for_scene<SwitchingRkf78>(scene);
-    case Integrator::kDop853:
-      return make_for_scene<SwitchingDop853>(scene);
-    case Integrator::kDopri5:
-      return make_for_scene<SwitchingDopri5>(scene);
-    case Integrator::kRosenbrock4:
-    case Integrator::kRk4:
-      break;  // validate_scene refuses them: events are located on a dense output of the rigid methods' own
-  }
-  throw std::invalid_argument(std::string("integrator ") + to_string(scene.solver.integrator) +
-                              " is not accepted with method switching");
+  return make_for_scene<SwitchingOn<I>::template Method>(scene);
 }
+template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDopri5>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kRkf78>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

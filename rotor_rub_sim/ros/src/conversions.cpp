@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::ros_node {
 namespace {
@@ -63,7 +64,7 @@ void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_
 
 void to_msg(const core::RunStats& st, const core::Scene& scene, rotor_rub_msgs::SolverStats& msg) {
   msg.method = core::to_string(scene.solver.method);
-  msg.integrator = core::to_string(scene.solver.integrator);
+  msg.integrator = core::to_string(core::effective_integrator(scene.solver));
   msg.steps = st.steps;
   msg.rejected_steps = st.rejected_steps;
   msg.rhs_evaluations = st.rhs_evals;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "rotor_rub_msgs/SpeedCommandFeedback.h"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
 
 namespace rotor_rub::ros_node {
@@ -193,7 +194,7 @@ int SimNode::run() {
       "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
       config_.start_paused ? "paused at t = 0 s (call the resume or step service) before simulating" : "simulating",
-      core::to_string(scene_.solver.method), core::to_string(scene_.solver.integrator), scene_.solver.rtol,
+      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_.solver)), scene_.solver.rtol,
       scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
   set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
@@ -567,7 +568,7 @@ void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat)
   }
   const auto& st = sim_->stats();
   stat.add("method", core::to_string(scene_.solver.method));
-  stat.add("integrator", core::to_string(scene_.solver.integrator));
+  stat.add("integrator", core::to_string(core::effective_integrator(scene_.solver)));
   stat.add("simulated time [s]", sim_->time());
   stat.add("steps", st.steps);
   stat.add("rejected steps", st.rejected_steps);

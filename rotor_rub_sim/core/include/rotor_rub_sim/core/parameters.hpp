@@ -10,50 +10,24 @@
 
 namespace rotor_rub::core {
 
-// ---- Enum-like choices, each with an exhaustive name table -----------------
+// ---- Enum-like choices ------------------------------------------------------
+// Names through to_string (a switch the compiler checks for every value);
+// *_from_string reads them back and names the accepted ones. Which
+// integrators each method runs on is solver_registry.hpp's one table.
 
 enum class Method { kPenalty, kSwitching, kIteration };
-enum class Integrator { kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
+// kAuto: the registry's choice for the method (the fastest at a given
+// accuracy on the benchmark, docs/numerics.md), resolved when a run starts.
+enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
 enum class StatorModel { kElastic, kRigid };
 enum class DriveModel { kPrescribed, kMotor };
 
-struct MethodName {
-  Method value;
-  const char* name;
-};
-inline constexpr std::array<MethodName, 3> kMethodNames{{
-    {Method::kPenalty, "penalty"},      // paper method I
-    {Method::kSwitching, "switching"},  // paper method II
-    {Method::kIteration, "iteration"},  // paper method III
-}};
-struct IntegratorName {
-  Integrator value;
-  const char* name;
-};
-inline constexpr std::array<IntegratorName, 5> kIntegratorNames{{
-    {Integrator::kDopri5, "dopri5"},            // explicit embedded RK 5(4), ode45's scheme
-    {Integrator::kRosenbrock4, "rosenbrock4"},  // RODASP, linearly implicit 4(3), stiff (penalty only)
-    {Integrator::kRk4, "rk4"},                  // classic RK4, fixed step fixed_step_s (penalty only)
-    {Integrator::kRkf78, "rkf78"},              // explicit embedded RK 7(8), Hermite dense output (switching only)
-    {Integrator::kDop853, "dop853"},  // explicit embedded RK 8(5,3), Hermite dense output (switching, iteration)
-}};
-struct StatorModelName {
-  StatorModel value;
-  const char* name;
-};
-inline constexpr std::array<StatorModelName, 2> kStatorModelNames{{
-    {StatorModel::kElastic, "elastic"},  // stator on springs: 4 DOF in all
-    {StatorModel::kRigid, "rigid"},      // immovable stator: rotor's 2 DOF only
-}};
-
-struct DriveModelName {
-  DriveModel value;
-  const char* name;
-};
-inline constexpr std::array<DriveModelName, 2> kDriveModelNames{{
-    {DriveModel::kPrescribed, "prescribed"},  // the speed profile is the spin (the paper's kinematic drive)
-    {DriveModel::kMotor, "motor"},            // spin a state: a speed-controlled motor against the rub's torque
-}};
+inline constexpr std::array<Method, 3> kAllMethods{Method::kPenalty, Method::kSwitching, Method::kIteration};
+inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,        Integrator::kDopri5,
+                                                           Integrator::kRosenbrock4, Integrator::kRk4,
+                                                           Integrator::kRkf78,       Integrator::kDop853};
+inline constexpr std::array<StatorModel, 2> kAllStatorModels{StatorModel::kElastic, StatorModel::kRigid};
+inline constexpr std::array<DriveModel, 2> kAllDriveModels{DriveModel::kPrescribed, DriveModel::kMotor};
 
 const char* to_string(Method m);
 const char* to_string(Integrator i);
@@ -118,7 +92,7 @@ struct SpeedProfileParameters {
 
 struct SolverSettings {
   Method method = Method::kSwitching;
-  Integrator integrator = Integrator::kDopri5;
+  Integrator integrator = Integrator::kAuto;
   double rtol = 1.0e-6;
   double atol = 1.0e-9;  // applies to every state component (m and m/s)
   double initial_step_s = 1.0e-5;

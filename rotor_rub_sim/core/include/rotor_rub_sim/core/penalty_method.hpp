@@ -14,6 +14,10 @@
 
 namespace rotor_rub::core {
 
+/// The method on integrator I, for the scene's stator and drive. Instantiated
+/// for the integrators solver_registry.cpp offers with it (rosenbrock4, dopri5 and rk4);
+/// a registry row without its instantiation fails to link.
+template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene);
 
 }  // namespace rotor_rub::core

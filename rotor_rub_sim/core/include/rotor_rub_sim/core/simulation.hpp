@@ -44,7 +44,8 @@ struct RunFailure {
 
 class Simulation {
  public:
-  // The scene must be valid (validate_scene). Starts at rest at t = 0.
+  /// Checks the scene (validate_scene: throws SceneError naming the key, the
+  /// value and the accepted range) and starts at rest at t = 0.
   explicit Simulation(const Scene& scene);
 
   // Advances to min(t_s, end_time_s), delivering samples with t <= t_s.
@@ -63,6 +64,7 @@ class Simulation {
   void set_end_time(double t_s);
 
   double time() const { return time_s_; }  // simulated time delivered so far
+  /// The scene as run: integrator `auto` resolved to the registry's choice.
   const Scene& scene() const { return scene_; }
   const SpeedProfile& profile() const { return profile_; }
   const RunStats& stats() const { return method_->stats(); }

@@ -41,8 +41,9 @@ class SimNode : public core::SimulationObserver {
   // Throws std::runtime_error when the record_bag cannot be opened.
   SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup);
   // Runs until shutdown or, with end_action exit, the end of the scene.
-  // Returns the process exit status: 0 ok, 1 start-up failure, 3/4/5 the
-  // method failed (stalled / diverged / not converged, as rotor_rub_run).
+  // Returns the process exit status: 0 ok, 1 start-up failure, or the
+  // method's failure as rotor_rub_run gives it (core::exit_status): 3
+  // stalled, 4 diverged, 5 not converged, 7 timed out, 8 invariant violated.
   int run();
 
   void on_sample(const core::Sample& s) override;

@@ -1,0 +1,52 @@
+/// @file
+/// The one table of contact methods and the time integrators each runs on.
+/// Validation (validate_scene), the factory (make_contact_method), the
+/// tools' --help and --list-solvers, the tests' solver lists, the bench and
+/// the charts all read it: adding an integrator to a method is a row here and
+/// an explicit instantiation of the method's factory (docs/architecture.md).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::core {
+
+class ContactMethod;
+struct Scene;
+
+/// Builds a contact method for a scene whose method and integrator are the row's.
+using ContactMethodFactory = std::unique_ptr<ContactMethod> (*)(const Scene&);
+
+/// One method on one integrator.
+struct SolverEntry {
+  Method method;
+  Integrator integrator;
+  /// The integrator `auto` resolves to for this method (one row per method).
+  bool is_auto_choice;
+  ContactMethodFactory make;
+  /// When to use it, one line (--list-solvers, docs/numerics.md).
+  const char* note;
+};
+
+/// Every offered pair, methods in paper order, the auto choice first per method.
+const std::vector<SolverEntry>& solver_registry();
+
+/// The row of a method on a concrete integrator; nullptr when not offered.
+const SolverEntry* find_solver(Method method, Integrator integrator);
+
+/// The integrator `auto` stands for with this method.
+Integrator auto_integrator(Method method);
+
+/// The integrator a run of these settings uses (`auto` resolved).
+Integrator effective_integrator(const SolverSettings& solver);
+
+/// "dopri5, rkf78, dop853": the integrators offered with a method.
+std::string integrators_of(Method method);
+
+/// A table for --help / --list-solvers: method, integrator, the auto mark, note.
+std::string solver_table_text();
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,54 @@
+#!/usr/bin/python3
+"""Writes the parameter tables of docs/node.md from the key tables themselves
+(rotor_rub_run --list-keys: the scene's, rotor_rub_sim_node --list-keys: the
+node's), between the lines <!-- BEGIN GENERATED: scene keys --> and
+<!-- END GENERATED: scene keys --> (and the same for "node keys").
+With --check, writes nothing and exits 1 when the page differs (run_tests.sh).
+
+usage: gen_param_tables.py [--check] RUNNER NODE docs/node.md"""
+import subprocess
+import sys
+
+
+def rows(program):
+    """(key, default, accepted, description) of a --list-keys listing: a line
+    'KEY default VALUE accepted RANGE', then the description indented."""
+    lines = subprocess.run([program, "--list-keys"], check=True, capture_output=True, text=True).stdout.splitlines()
+    out = []
+    for head, desc in zip(lines[0::2], lines[1::2]):
+        key, rest = head.split(None, 1)
+        default = rest.split("default", 1)[1].split("accepted")[0].strip()
+        accepted = rest.split("accepted", 1)[1].strip()
+        out.append((key, default, accepted, desc.strip()))
+    return out
+
+
+def table(entries):
+    cell = lambda s: s.replace("|", "\\|")
+    lines = ["| key | default | accepted | meaning |", "|---|---|---|---|"]
+    lines += ["| `%s` | %s | %s | %s |" % (k, cell(d), cell(a), cell(m)) for k, d, a, m in entries]
+    return lines
+
+
+def replace_block(text, name, lines):
+    begin, end = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
+    if begin not in text or end not in text:
+        sys.exit("gen_param_tables: %s has no '%s' ... '%s' block" % (PAGE, begin, end))
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    return head + begin + "\n" + "\n".join(lines) + "\n" + end + tail
+
+
+args = sys.argv[1:]
+check = args[:1] == ["--check"]
+if check:
+    args = args[1:]
+RUNNER, NODE, PAGE = args
+old = open(PAGE).read()
+new = replace_block(old, "scene keys", table(rows(RUNNER)))
+new = replace_block(new, "node keys", table(rows(NODE)))
+if check:
+    if new != old:
+        sys.exit("gen_param_tables: %s is out of date with the key tables; run scripts/gen_param_tables.py" % PAGE)
+elif new != old:
+    open(PAGE, "w").write(new)
