@@ -4,9 +4,11 @@
 #   lint        catkin_lint -W2 --strict on both packages (with the rosdep rules of
 #               scripts/setup_deps.sh): no error, warning or notice
 #   clang       build every C++ target, the tests' included, with clang++ (-std=c++17,
-#               as CMakeLists.txt sets) in $WS/build_clang, then `catkin_make install`
-#               into a fresh $WS/install_check: the install space the next steps use
-#               (so the second compiler costs one build, not two)
+#               as CMakeLists.txt sets) under ASan and UBSan (-O1 -g1) in $WS/build_clang:
+#               the second compiler and the sanitizers in one build, whose core tests
+#               scripts/run_sanitizers.sh runs
+#   install     `catkin_make install` of the main (g++ Release) build into a fresh
+#               $WS/install: the install space the next steps use (no second build)
 #   layout      the install space holds the core's headers and library, every program,
 #               every script of rotor_rub_sim/tools and examples, config/ and launch/
 #   downstream  a user's package (test/install/rub_downstream) in a workspace of its own:
@@ -19,8 +21,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
-INSTALL="$WS/install_check"
-STEP="${1:?usage: check_package.sh lint|clang|layout|downstream|ros-tools}"
+INSTALL="$WS/install"
+STEP="${1:?usage: check_package.sh lint|clang|install|layout|downstream|ros-tools}"
 LOG="$WS/check_$STEP.log"
 : > "$LOG"
 
@@ -39,29 +41,34 @@ lint)
     "$WS/src/rotor_rub_sim" "$WS/src/rotor_rub_msgs" >> "$LOG" 2>&1 || { cat "$LOG" >&2; fail "catkin_lint found problems"; }
   ;;
 clang)
-  rm -rf "$INSTALL"
   B="$WS/build_clang"
-  # A cache made with another compiler or prefix is started afresh: CMake drops
-  # the whole cache when the compiler changes, and with it the install prefix.
-  cache_ok() {
-    grep -qx "CMAKE_CXX_COMPILER:[A-Z]*=\(/usr/bin/\)\?clang++" "$B/CMakeCache.txt" \
-      && grep -qx "CMAKE_INSTALL_PREFIX:PATH=$INSTALL" "$B/CMakeCache.txt"
-  }
-  [ ! -f "$B/CMakeCache.txt" ] || cache_ok || rm -rf "$B" "$WS/devel_clang"
-  ARGS=(--build build_clang -DCATKIN_DEVEL_PREFIX="$WS/devel_clang" -DCMAKE_INSTALL_PREFIX="$INSTALL"
-    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3)
+  # A cache made with another compiler is started afresh (CMake drops the
+  # whole cache when the compiler changes).
+  if [ -f "$B/CMakeCache.txt" ] && ! grep -qx "CMAKE_CXX_COMPILER:[A-Z]*=\(/usr/bin/\)\?clang++" "$B/CMakeCache.txt"; then
+    rm -rf "$B" "$WS/devel_clang"
+  fi
+  # RelWithDebInfo's flags made -O1 -g1: the sanitizers' usual level, line
+  # tables for their reports, and a third of -O2's compile time.
+  ARGS=(--build build_clang -DCATKIN_DEVEL_PREFIX="$WS/devel_clang" -Drotor_rub_sim_SANITIZE=ON
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPYTHON_EXECUTABLE=/usr/bin/python3)
   (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" all tests) >> "$LOG" 2>&1 \
     || { tail -n 40 "$LOG" >&2; fail "the clang++ build failed (log: $LOG)"; }
-  # Never install anywhere but the check's prefix.
-  cache_ok || fail "build_clang is not configured with clang++ and prefix $INSTALL"
-  (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" install) >> "$LOG" 2>&1 \
-    || { tail -n 40 "$LOG" >&2; fail "catkin_make install failed (log: $LOG)"; }
   # Warnings are reported, not fatal (the g++ build is the warning-free one).
   n=$(grep -c "warning:" "$LOG" || true)
   [ "$n" -eq 0 ] || echo "check_package clang: $n compiler warnings (log: $LOG)" >&2
   ;;
+install)
+  # The main build (scripts/build.sh) installed, as a user would: catkin_make's
+  # default prefix is $WS/install. Started afresh so a file no longer installed
+  # cannot linger.
+  rm -rf "$INSTALL"
+  (cd "$WS" && clean catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+      -DCMAKE_INSTALL_PREFIX="$INSTALL" install) >> "$LOG" 2>&1 \
+    || { tail -n 40 "$LOG" >&2; fail "catkin_make install failed (log: $LOG)"; }
+  ;;
 layout)
-  [ -d "$INSTALL" ] || fail "no install space (run the clang step first)"
+  [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
   missing=()
   for h in "$ROOT"/rotor_rub_sim/core/include/rotor_rub_sim/core/*.hpp; do
     [ -f "$INSTALL/include/rotor_rub_sim/core/$(basename "$h")" ] || missing+=("include/rotor_rub_sim/core/$(basename "$h")")
@@ -88,7 +95,7 @@ layout)
     || fail "exported include dirs: $(grep 'set(_include_dirs' "$cfg") (expected include;/usr/include/eigen3)"
   ;;
 downstream)
-  [ -d "$INSTALL" ] || fail "no install space (run the clang step first)"
+  [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
   DWS="$WS/downstream_check"
   rm -rf "$DWS"
   mkdir -p "$DWS/src"
@@ -101,7 +108,7 @@ downstream)
   tail -n 1 "$LOG"
   ;;
 ros-tools)
-  [ -d "$INSTALL" ] || fail "no install space (run the clang step first)"
+  [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
   share="$(installed rospack find rotor_rub_sim 2>>"$LOG")" || fail "rospack find rotor_rub_sim failed"
   [ "$share" = "$INSTALL/share/rotor_rub_sim" ] || fail "rospack find rotor_rub_sim: $share"
   share="$(installed rospack find rotor_rub_msgs 2>>"$LOG")" || fail "rospack find rotor_rub_msgs failed"
@@ -119,6 +126,6 @@ ros-tools)
   grep -qF " $INSTALL/lib/rotor_rub_sim/rotor_rub_sim_node " <<< " $args " || fail "roslaunch resolves the node to: $args"
   ;;
 *)
-  fail "unknown step (lint, clang, layout, downstream, ros-tools)"
+  fail "unknown step (lint, clang, install, layout, downstream, ros-tools)"
   ;;
 esac

@@ -1,15 +1,48 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the core's gtests, the runner's and
-# sweep's CLI tests, the node's gtests and rostests, the core's tests again
-# under ASan/UBSan, the chart command on a small grid, checks that every
-# ROS tool sees both packages, catkin_lint, a clang++ build, and the install
-# space with a downstream package built against it. Ends with the line
-# "N passed, N failed" counted from the test results; exits non-zero on any
-# failure (catkin_make run_tests alone exits 0 even then).
+# sweep's CLI tests, the node's gtests and rostests; a clang++ build of every
+# target under ASan/UBSan and the core's tests from it; the chart and
+# bifurcation commands on small grids; the ROS tools on both packages;
+# catkin_lint; the install space with a downstream package built against it;
+# the docs' generated tables; the README's quick start, verbatim; sweeps on a
+# throwaway Slurm cluster. Ends with the line "N passed, N failed" counted
+# from the test results; exits non-zero on any failure (catkin_make run_tests
+# alone exits 0 even then).
+#
+# Two builds, one per configuration: g++ Release (the product: the tests,
+# the install space, the tools' checks) and clang++ with the sanitizers (the
+# second compiler and ASan/UBSan at once). The clang build runs niced while
+# the rostests, which mostly wait, use the other core; the sanitized tests run
+# beside the package checks. Each phase's wall time goes to $WS/phases.txt
+# (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-"$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
 source "$ROOT/scripts/workspace.sh"
+START=$(date +%s)
+mkdir -p "$WS"
+PHASES="$WS/phases.txt"
+: > "$PHASES"
+CHECKS="$WS/checks.txt"
+: > "$CHECKS"
+# timed NAME CMD...: runs CMD, appends "NAME: S s (from T0 to T1 s)" to the phase log.
+timed() {
+  local name="$1" t0 t1 rc; shift
+  t0=$(date +%s)
+  "$@"; rc=$?
+  t1=$(date +%s)
+  printf '%-40s %5d s  (%4d .. %4d s)%s\n' "$name" $((t1 - t0)) $((t0 - START)) $((t1 - START)) \
+    "$([ $rc -eq 0 ] || echo "  exit $rc")" >> "$PHASES"
+  return $rc
+}
+# check NAME CMD...: one counted test, its verdict in $CHECKS (safe from a background stream).
+check() {
+  local name="$1"; shift
+  if "$@" > /dev/null 2>&1; then echo "[  OK  ] $name" | tee -a "$CHECKS"
+  else echo "[FAILED] $name" | tee -a "$CHECKS"; fi
+}
+
+timed "setup: apt and rosdep" "$ROOT/scripts/setup_deps.sh" || { echo "0 passed, 1 failed"; exit 1; }
+timed "build: g++ Release, all" "$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
 export PATH="/usr/bin:$PATH"
 cd "$WS" || exit 1
 # The rostests' Python test nodes import the generated rotor_rub_msgs: they
@@ -19,66 +52,89 @@ set +u; source "$WS/devel/setup.bash"; set -u
 rm -rf build/test_results
 # --force-cmake: catkin caches the test environment at configure time, and on a
 # fresh clone that was before the generated Python messages existed.
-catkin_make --force-cmake run_tests -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
-grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
-# The core's tests again under ASan and UBSan (their XML joins the results).
-"$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize"
-catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
-results_rc=$?
+timed "build: g++ Release, tests" catkin_make --force-cmake tests -DCMAKE_BUILD_TYPE=Release \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test_build.log" 2>&1 \
+  || { tail -n 40 "$WS/test_build.log"; echo "0 passed, 1 failed"; exit 1; }
 
-# ROS tools see both packages (needs the workspace environment, no master).
-# shellcheck disable=SC1091
-set +u; source "$WS/devel/setup.bash"; set -u
-tool_pass=0; tool_fail=0
-check() {
-  local name="$1"; shift
-  if "$@" > /dev/null 2>&1; then tool_pass=$((tool_pass + 1)); echo "[  OK  ] $name"
-  else tool_fail=$((tool_fail + 1)); echo "[FAILED] $name"; fi
-}
+# The clang++/sanitizer build, niced, beside the tests (which mostly wait on ROS).
+( timed "build: clang++ ASan/UBSan, all + tests" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
+  > "$WS/clang_stream.log" 2>&1 &
+CLANG_PID=$!
+timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
+grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
+if wait "$CLANG_PID"; then echo "[  OK  ] clang++ -std=c++17 with ASan/UBSan: every C++ target, tests included" | tee -a "$CHECKS"
+else echo "[FAILED] clang++ -std=c++17 with ASan/UBSan: every C++ target, tests included" | tee -a "$CHECKS"
+  tail -n 15 "$WS/check_clang.log"; fi
+
+# Stream A, beside stream B: the core's tests under ASan and UBSan (their XML joins the results).
+( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
+  > "$WS/sanitize_stream.log" 2>&1 &
+SAN_PID=$!
+
+# Stream B: the package as others consume it, the tools and the docs.
+# ROS tools see both packages (the workspace environment, no master).
 BAG="$WS/tool_check.bag"
-check "ros tool: rospack find rotor_rub_sim" rospack find rotor_rub_sim
-check "ros tool: rospack find rotor_rub_msgs" rospack find rotor_rub_msgs
-check "ros tool: rosmsg show rotor_rub_msgs/RotorState" rosmsg show rotor_rub_msgs/RotorState
-check "ros tool: rosrun finds rotor_rub_run" rosrun rotor_rub_sim rotor_rub_run --help
-check "ros tool: write a bag of RotorState" /usr/bin/python3 -c "
+tools_check() {
+  check "ros tool: rospack find rotor_rub_sim" rospack find rotor_rub_sim
+  check "ros tool: rospack find rotor_rub_msgs" rospack find rotor_rub_msgs
+  check "ros tool: rosmsg show rotor_rub_msgs/RotorState" rosmsg show rotor_rub_msgs/RotorState
+  check "ros tool: rosrun finds rotor_rub_run" rosrun rotor_rub_sim rotor_rub_run --help
+  check "ros tool: write a bag of RotorState" /usr/bin/python3 -c "
 import rosbag, rospy
 from rotor_rub_msgs.msg import RotorState
 with rosbag.Bag('$BAG', 'w') as b:
     m = RotorState(); m.header.stamp = rospy.Time(1, 0); m.normal_force = 1.5
     b.write('/rotor_rub_sim/state', m, m.header.stamp)"
-check "ros tool: rosbag info" rosbag info "$BAG"
-check "ros tool: rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
+  check "ros tool: rosbag info" rosbag info "$BAG"
+  check "ros tool: rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
+}
+timed "checks: ROS tools" tools_check
+# The package as others consume it (scripts/check_package.sh): catkin_lint; the
+# main build installed; a downstream package built against it; the ROS tools
+# on it. A failed step shows the end of its log.
+check_pkg() {
+  local step="$1" name="$2"
+  check "$name" "$ROOT/scripts/check_package.sh" "$step" || true
+  tail -n 1 "$CHECKS" | grep -q '^\[FAILED\]' && tail -n 15 "$WS/check_$step.log"
+  return 0
+}
+package_checks() {
+  check_pkg lint "catkin_lint -W2 --strict: rotor_rub_sim and rotor_rub_msgs"
+  check_pkg install "install: catkin_make install of the g++ build"
+  check_pkg layout "install: core headers and library, programs, tools and examples, config, launch"
+  check_pkg downstream "install: a downstream package (find_package rotor_rub_sim) builds and runs a scene"
+  check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
+}
+timed "checks: lint, install, downstream" package_checks
+# The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
+BIN="$WS/devel/lib/rotor_rub_sim"
+timed "checks: docs tables" check "docs: docs/node.md's parameter tables match the key tables" \
+  /usr/bin/python3 "$ROOT/scripts/gen_param_tables.py" --check "$BIN/rotor_rub_run" "$BIN/rotor_rub_sim_node" \
+  "$ROOT/docs/node.md"
+# The README's quick start, verbatim (scripts/check_quickstart.sh).
+timed "checks: README quick start" check "README: the quick start runs verbatim" \
+  bash -c "'$ROOT/scripts/check_quickstart.sh' > '$WS/quickstart_check.log' 2>&1"
 # The chart command end to end on the small CI grid (the images are not
 # judged, but every one must be drawn, and the failed run must be in the CSV).
 CHARTS="$WS/charts_check"
 rm -rf "$CHARTS"
-check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
+timed "checks: charts --quick" check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
   && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
   && test -s '$CHARTS/table2.md' && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
-
-# The package as others consume it (scripts/check_package.sh): catkin_lint; the
-# C++ built again with clang++, and `catkin_make install` of that build into a
-# fresh prefix; a downstream package built against the install space; the ROS
-# tools on it. A failed step shows the end of its log.
-check_pkg() {
-  local step="$1" name="$2" before=$tool_fail
-  check "$name" "$ROOT/scripts/check_package.sh" "$step"
-  [ "$tool_fail" -eq "$before" ] || tail -n 15 "$WS/check_$step.log"
-}
-check_pkg lint "catkin_lint -W2 --strict: rotor_rub_sim and rotor_rub_msgs"
-check_pkg clang "clang++ -std=c++17: every C++ target, tests included; catkin_make install"
-check_pkg layout "install: core headers and library, programs, tools and examples, config, launch"
-check_pkg downstream "install: a downstream package (find_package rotor_rub_sim) builds and runs a scene"
-check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
-
 # The bifurcation chart command end to end on a small grid (every picture drawn).
 BIF="$WS/bifurcation_check"
 rm -rf "$BIF"
-check "bifurcation: make_bifurcation.sh --quick" bash -c "'$ROOT/scripts/make_bifurcation.sh' --quick '$BIF' \
+timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --quick" bash -c "'$ROOT/scripts/make_bifurcation.sh' --quick '$BIF' \
   > '$WS/bifurcation_check.log' 2>&1 && for f in bifurcation bifurcation_map poincare_sections; do \
   test -s '$BIF/'\$f.png || exit 1; done && grep -q ',up,' '$BIF/data/bifurcation.csv'"
 # Sweeps on a real, throwaway single-node Slurm cluster (its cases join the results).
-"$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
+timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
+
+wait "$SAN_PID"
+cat "$WS/sanitize_stream.log"
+catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
+results_rc=$?
 
 read -r passed failed < <(/usr/bin/python3 - "$WS/build/test_results" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET
@@ -97,7 +153,10 @@ for path in glob.glob(sys.argv[1] + "/**/*.xml", recursive=True):
 print(p, f)
 PY
 )
+tool_pass=$(grep -c '^\[  OK  \]' "$CHECKS"); tool_fail=$(grep -c '^\[FAILED\]' "$CHECKS")
 passed=$((passed + tool_pass)); failed=$((failed + tool_fail))
 if [ "$results_rc" -ne 0 ] && [ "$failed" -eq 0 ]; then failed=1; cat "$WS/test_results.txt"; fi
+printf '%-40s %5d s\n' "total" $(($(date +%s) - START)) >> "$PHASES"
+echo "wall time by phase ($PHASES):"; cat "$PHASES"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
