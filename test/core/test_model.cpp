@@ -108,7 +108,7 @@ TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
   // per state (model.hpp); the trajectories must not move by a bit for it.
   // Against the formulas as they were written before (each call taking its
   // own sin/cos and free forces), under both drives, with gravity and an
-  // offset stator (the golden hashes of test_motor_drive.cpp hold whole runs).
+  // offset stator (test_golden.cpp holds whole runs).
   for (const DriveModel drive : {DriveModel::kPrescribed, DriveModel::kMotor}) {
     ModelParameters p;
     p.drive_model = drive;
@@ -222,29 +222,6 @@ TEST(ConstrainedDynamics, JerkIsTheDerivativeOfTheDerivativeAlongTheMotion) {
   rigid.stator_model = StatorModel::kRigid;
   expect_contact_jerk_closed_form<0>(rigid, forward, "rigid, slip s = +1");
   expect_contact_jerk_closed_form<0>(rigid, stick, "rigid, stick");
-}
-
-TEST(AnglePair, PreparedUnitVectorsAreTheAnglesOwnInAnyOrder) {
-  // The switching method's free flight takes the unbalance's direction at
-  // an attempt's stage times from here: each prepared angle's own unit
-  // vector (libmvec: within 4 ulp, 1e-15), asked in order or not, the same
-  // bits every time it is asked; the kept angle's as kept; any other
-  // angle's exactly std::cos, std::sin. Angles up to a run-up's 600 rad.
-  const std::array<double, 5> angles = {0.3, 12.7, 600.25, -3.1, 12.7 + 1e-12};
-  PreparedUnitVectors<5> u;
-  u.prepare(angles);
-  u.keep(42.0, Vec2(0.6, 0.8));
-  for (const int i : {0, 1, 2, 3, 4, 2, 0, 4}) {
-    const Vec2 v = u.at(angles[i]);
-    EXPECT_NEAR(v.x(), std::cos(angles[i]), 1e-15) << angles[i];
-    EXPECT_NEAR(v.y(), std::sin(angles[i]), 1e-15) << angles[i];
-    EXPECT_EQ(v, u.at(angles[i])) << angles[i];
-  }
-  EXPECT_EQ(u.at(42.0), Vec2(0.6, 0.8));
-  EXPECT_EQ(u.at(1.0), Vec2(std::cos(1.0), std::sin(1.0)));
-  // Prepared again, the old angles are gone.
-  u.prepare({1.0, 2.0, 3.0, 4.0, 5.0});
-  EXPECT_EQ(u.at(600.25), Vec2(std::cos(600.25), std::sin(600.25)));
 }
 
 TEST(ContactLaw, PenaltyFrictionNeverInjectsEnergyAndStaysInTheCone) {

@@ -45,28 +45,18 @@ struct FreeFlightSystem {
       derivative(k, d, unbalance_at(d.angle_rad), dxdt);
     }
   }
-  // Under the prescribed drive the unbalance's forcing depends on time
-  // alone: an attempt's stage times are told before its stages (dop853.hpp)
-  // and the unbalance's directions there taken two per libmvec call
-  // (PreparedUnitVectors, angle_pair.hpp; the scalar sincos of each was a
-  // fifth of free flight's time).
-  void stage_times(const std::array<double, kDop853StageTimes>& t) const {
-    if constexpr (!kMotor) unbalance_.prepare(segment.angles_at(t));
-  }
   // The derivative and the state's second derivative at a step's end, from
   // one sin/cos of the unbalance (DenseHighOrder's jerk, instead of two
   // derivative evaluations): under the prescribed drive the free forces are
   // linear in the state (model.hpp), so x'' is the derivative's own linear
-  // map applied to dxdt, plus the unbalance's rate. The unbalance's
-  // direction is kept for the step's end sample (unbalance_at).
+  // map applied to dxdt, plus the unbalance's rate.
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
   int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
-    const Vec2 unbalance_dir = unbalance_.at(d.angle_rad);
-    unbalance_.keep(d.angle_rad, unbalance_dir);
+    const Vec2 unbalance_dir = unbalance_at(d.angle_rad);
     derivative(k, d, unbalance_dir, dxdt);
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
     ddx.template segment<2>(L::kRotorVel) =
@@ -79,9 +69,8 @@ struct FreeFlightSystem {
     }
     return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
-  // (cos phi, sin phi) of angle_rad: the last attempt's stage times' and
-  // the step end's taken once, any other angle's by sincos.
-  Vec2 unbalance_at(double angle_rad) const { return unbalance_.at(angle_rad); }
+  // The unbalance's direction (cos phi, sin phi) at the spin angle phi.
+  static Vec2 unbalance_at(double angle_rad) { return Vec2(std::cos(angle_rad), std::sin(angle_rad)); }
 
  private:
   void derivative(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir, typename L::State& dxdt) const {
@@ -92,7 +81,6 @@ struct FreeFlightSystem {
       dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
     }
   }
-  mutable PreparedUnitVectors<kDop853StageTimes> unbalance_;
 };
 
 template <int kStatorDof, bool kMotor>
@@ -108,41 +96,19 @@ struct ContactSystem {
     dynamics.derivative(x, segment.at(t), dxdt);
   }
   // The derivative and the jerk in closed form (constrained_dynamics.hpp)
-  // at a step's end from one evaluation, which is kept: the event scan's last
-  // point and the step's end sample ask for the same state (evaluate()).
+  // at a step's end from one evaluation.
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
   int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
     ProfileScope scope(rhs_time_s);
     const DriveState reference = segment.at(t);
-    end_ = {true, x, reference, dynamics.mode, dynamics.evaluate(x, reference)};
-    dynamics.derivative(x, end_.result, reference, dxdt);
-    dynamics.second_derivative(x, end_.result, reference, ddx);
+    const Result r = dynamics.evaluate(x, reference);
+    dynamics.derivative(x, r, reference, dxdt);
+    dynamics.second_derivative(x, r, reference, ddx);
     return 1;  // one constrained-dynamics evaluation
   }
-  // dynamics.evaluate(x, reference): the step end's, kept, where its inputs
-  // (state, drive reference, friction mode; the model is fixed) compare
-  // equal, so its result is what evaluating again would give. Filled by
-  // end_derivatives, under the prescribed drive only (whose reference has
-  // no motor torque).
   Result evaluate(const typename L::State& x, const DriveState& reference) const {
-    if (end_.valid && end_.x == x && end_.reference.angle_rad == reference.angle_rad &&
-        end_.reference.speed_rad_per_s == reference.speed_rad_per_s &&
-        end_.reference.accel_rad_per_s2 == reference.accel_rad_per_s2 && end_.mode.stick == dynamics.mode.stick &&
-        end_.mode.slip_sign == dynamics.mode.slip_sign) {
-      return end_.result;
-    }
     return dynamics.evaluate(x, reference);
   }
-
- private:
-  struct End {
-    bool valid = false;
-    typename L::State x;
-    DriveState reference;
-    FrictionMode mode;
-    Result result;
-  };
-  mutable End end_;
 };
 
 enum class Regime { kFree, kContact };
@@ -542,14 +508,11 @@ class SwitchingMethod final : public ContactMethod {
   // excursion to the far side and back between two points is missed either
   // way in principle (a graze is not, while the gap has one extremum
   // between two points: the gap's rate locates it), and the quarter points
-  // cost 15 % of the paper run at rtol 1e-7 (a constrained-dynamics
-  // evaluation each: 5.35 ms with four points, 4.41 ms with two, measured
-  // on the paper run-up at rtol 1e-7). Every test passes as with four; only a forced contact
-  // (scan()) moves, by a few atol, as it is placed from the scan's points.
-  // rkf78's and dop853's steps are 4-6 times longer (up to ~3 rad of the
-  // spin at rtol 1e-3), so they keep the quarter points (8-10 % of a run;
-  // on them the last point's evaluation is the step end's own, kept by
-  // ContactSystem).
+  // cost a constrained-dynamics evaluation each. Every test passes as with
+  // four; only a forced contact (scan()) moves, by a few atol, as it is
+  // placed from the scan's points. rkf78's and dop853's steps are 4-6 times
+  // longer (up to ~3 rad of the spin at rtol 1e-3), so they keep the
+  // quarter points.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   JeffcottModel model_;
   FreeFlightSystem<kStatorDof, kMotor> free_sys_;

@@ -1,6 +1,6 @@
 // Opt-in measurement of where a run's time goes (derivative evaluation,
 // force iteration), for the benchmark's Table-2 shares. Off by default: the
-// clock reads would cost a noticeable part of a ~50 ns right-hand side.
+// clock reads would cost a noticeable part of a right-hand side.
 #pragma once
 
 #include <chrono>

@@ -111,16 +111,6 @@ struct Dop853Tableau {
   static constexpr double er12 = -0.2235530786388629525884427845e-1;
 };
 
-// A system told an attempt's stage times before its stages (stage_times()):
-// one whose forcing depends on time alone can take it for all of them at once.
-inline constexpr int kDop853StageTimes = 11;  // c2..c11 and the end, c12 = 1
-template <class System, class = void>
-struct wants_stage_times : std::false_type {};
-template <class System>
-struct wants_stage_times<System, std::void_t<decltype(std::declval<const System&>().stage_times(
-                                     std::declval<const std::array<double, kDop853StageTimes>&>()))>> : std::true_type {
-};
-
 // The controlled stepper: the contract of odeint's controlled_runge_kutta
 // try_step(sys, x, dxdt, t, x_out, dt) (true: accepted, t advanced and dt
 // the next step's proposal; false: rejected, dt reduced).
@@ -143,11 +133,6 @@ class Dop853 {
   bool try_step(System& sys, const State& x, const State& k1, double& t, State& x_out, double& dt) {
     using T = Dop853Tableau;
     const double h = dt;
-    if constexpr (wants_stage_times<System>::value) {
-      // The same expressions as the stages' times below, so the same bits.
-      sys.stage_times({t + T::c2 * h, t + T::c3 * h, t + T::c4 * h, t + T::c5 * h, t + T::c6 * h, t + T::c7 * h,
-                       t + T::c8 * h, t + T::c9 * h, t + T::c10 * h, t + T::c11 * h, t + h});
-    }
     sys(State(x + h * T::a21 * k1), k2_, t + T::c2 * h);
     sys(State(x + h * (T::a31 * k1 + T::a32 * k2_)), k3_, t + T::c3 * h);
     sys(State(x + h * (T::a41 * k1 + T::a43 * k3_)), k4_, t + T::c4 * h);
@@ -198,9 +183,8 @@ class Dop853 {
       return false;
     }
     // The step-size factor h_new / h = 0.9 err^(-1/8), bounded.
-    // err^(1/8) as three square roots: about half the price of std::pow
-    // (7.5 against 13-16 ns in a loop of 2^22 on the CI machine; pow was 2 %
-    // of a switching run) and within 1 ulp of it (10^6 values from 1e-12 up).
+    // err^(1/8) as three square roots: about half the price of std::pow and
+    // within 1 ulp of it (10^6 values from 1e-12 up).
     static_assert(kExponent == 0.125, "the square roots below take the eighth root");
     const double shrink = std::sqrt(std::sqrt(std::sqrt(err)));
     if (err <= 1.0) {

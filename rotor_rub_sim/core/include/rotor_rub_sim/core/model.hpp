@@ -299,8 +299,8 @@ class JeffcottModel {
     const double c = unbalance_dir.x(), s = unbalance_dir.y();
     const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
     // Written per component and packed once at the end: a lane written to
-    // memory and the pair read back stalls the store forwarding (measured:
-    // a fifth of the contact derivative's time). Same sums, same bits as
+    // memory and the pair read back stalls the store forwarding. Same sums,
+    // same bits as
     // f = -k_r (r_r - c) - b_r r_r', f.y += ...
     const double kr = -p_.rotor_stiffness_N_per_m, br = p_.rotor_damping_N_s_per_m;
     const double fx = (kr * (k.rotor_pos.x() - rotor_spring_centre_.x()) - br * k.rotor_vel.x()) +
@@ -391,9 +391,8 @@ class JeffcottModel {
 
   // The loads of a state that do not depend on the contact forces: where
   // several trial forces meet one state (the iteration method's roots, a
-  // sample) they are computed once, with the unbalance's sin/cos (measured:
-  // a quarter of an iteration run's time went to the same sin/cos taken
-  // again for every trial force).
+  // sample) they are computed once, with the unbalance's sin/cos, not again
+  // for every trial force.
   struct FreeLoads {
     Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of d.angle_rad
     Vec2 rotor_N = Vec2::Zero();         // prescribed: rotor_free_force; motor: shaft_force

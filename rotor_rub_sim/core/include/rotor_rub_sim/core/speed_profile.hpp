@@ -34,13 +34,6 @@ struct SpeedSegment {
     return {start_angle_rad + start_speed_rad_per_s * tau + 0.5 * accel_rad_per_s2 * tau * tau,
             start_speed_rad_per_s + accel_rad_per_s2 * tau, accel_rad_per_s2};
   }
-  // The spin angles at the times t_s, as at() gives them [rad].
-  template <std::size_t N>
-  std::array<double, N> angles_at(const std::array<double, N>& t_s) const {
-    std::array<double, N> angles{};
-    for (std::size_t i = 0; i < N; ++i) angles[i] = at(t_s[i]).angle_rad;
-    return angles;
-  }
 };
 
 class SpeedProfile {
