@@ -17,6 +17,7 @@
 
 #include "cli_support.hpp"
 #include "package_paths.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -60,7 +61,7 @@ TEST(BenchCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
 // on a 1.5 s run (through the first contact), in the table, in the CSV the
 // charts read, and CVODE's ratio against ours measured in the same run.
 TEST(BenchCli, MethodsAndCsvWithCvodeBesideUs) {
-  const std::string scene = "/tmp/rotor_rub_bench_short." + std::to_string(::getpid()) + ".yaml";
+  const std::string scene = rotor_rub::test::tmp() + "rotor_rub_bench_short." + std::to_string(::getpid()) + ".yaml";
   const std::string csv = scene + ".csv";
   std::ofstream(scene) << "end_time_s: 1.5\n";
   const Result r = bench("--scene " + scene + " --quick --repeats 1 --methods switching,cvode --csv " + csv);

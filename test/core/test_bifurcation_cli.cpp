@@ -13,6 +13,7 @@
 #include "cli_support.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/steady_response.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -34,7 +35,8 @@ const std::string kArgs = "--scene " + kScene +
 // within 0.6 % from 80 to 160 rad/s).
 constexpr double kRampForceRelTol = 0.02;
 // A constant-speed run from rest after 10 s: the transient has decayed by
-// exp(-zeta w_n 10 s) = 2e-7 of its 1 mm; rtol 1e-6 adds ~1e-9 m.
+// exp(-zeta w_n 10 s) = 2e-7 of its 1 mm; the integration at rtol 1e-7 adds
+// less (measured 2.5e-10 m in all; 1.5e-9 m at rtol 1e-6 on dop853).
 constexpr double kPoincarePointTol_m = 1e-6 * 1e-3;
 
 std::string slurp(const std::string& path) {
@@ -57,12 +59,12 @@ TEST(BifurcationCli, HelpDescribesEveryOption) {
 }
 
 TEST(BifurcationCli, RampsAgreeWithTheClosedFormsAndShowTheHysteresis) {
-  const auto r = bif(kArgs + " --directions up,down --out /tmp/rr_bif.csv");
+  const auto r = bif(kArgs + " --directions up,down --out " + rotor_rub::test::tmp() + "rr_bif.csv");
   ASSERT_EQ(r.status, 0) << r.err;
   const core::ModelParameters p = core::load_scene(kScene).model;
   const double onset = core::rub_onset_speed_rad_per_s(p);
   int full_rub_checked = 0, hysteresis_checked = 0;
-  for (const Row& row : read_rows("/tmp/rr_bif.csv")) {
+  for (const Row& row : read_rows(rotor_rub::test::tmp() + "rr_bif.csv")) {
     const double w = std::stod(row.at("speed_rad_per_s"));
     const std::string& dir = row.at("direction");
     ASSERT_EQ(row.at("status"), "ok") << w;
@@ -96,10 +98,12 @@ TEST(BifurcationCli, RampsAgreeWithTheClosedFormsAndShowTheHysteresis) {
 TEST(BifurcationCli, ConstantSpeedPoincarePointIsTheUnbalanceResponse) {
   const auto r = bif("--scene " + kScene +
                      " --speed-from 40 --speed-to 60 --speeds 3 --settle-s 10 --revolutions 64 --directions constant "
-                     "--out /tmp/rr_bif_c.csv");
+                     "--set rtol=1e-7 "
+                     "--out " +
+                     rotor_rub::test::tmp() + "rr_bif_c.csv");
   ASSERT_EQ(r.status, 0) << r.err;
   const core::ModelParameters p = core::load_scene(kScene).model;
-  const auto rows = read_rows("/tmp/rr_bif_c.csv");
+  const auto rows = read_rows(rotor_rub::test::tmp() + "rr_bif_c.csv");
   ASSERT_EQ(rows.size(), 3u);
   for (const Row& row : rows) {
     EXPECT_EQ(row.at("class"), "no_contact");
@@ -108,7 +112,7 @@ TEST(BifurcationCli, ConstantSpeedPoincarePointIsTheUnbalanceResponse) {
     EXPECT_EQ(row.at("points"), "64");
   }
   int checked = 0;
-  for (const Row& pt : read_rows("/tmp/rr_bif_c.csv.points.csv")) {
+  for (const Row& pt : read_rows(rotor_rub::test::tmp() + "rr_bif_c.csv.points.csv")) {
     const auto z = core::unbalance_response_m(p, std::stod(pt.at("speed_rad_per_s")));
     EXPECT_NEAR(std::stod(pt.at("x_rel_m")), z.real(), kPoincarePointTol_m);
     EXPECT_NEAR(std::stod(pt.at("y_rel_m")), z.imag(), kPoincarePointTol_m);
@@ -124,39 +128,46 @@ TEST(BifurcationCli, ShardsMergeIntoTheUnsplitResult) {
   auto r = bif(small + " --count-runs");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "14\n");  // 2 frictions x (5 speeds + up + down)
-  ASSERT_EQ(bif(small + " --out /tmp/rr_bif_all.csv").status, 0);
+  ASSERT_EQ(bif(small + " --out " + rotor_rub::test::tmp() + "rr_bif_all.csv").status, 0);
   for (int i = 0; i < 3; ++i) {
-    ASSERT_EQ(
-        bif(small + " --shard " + std::to_string(i) + "/3 --out /tmp/rr_bif_" + std::to_string(i) + ".csv").status, 0);
+    ASSERT_EQ(bif(small + " --shard " + std::to_string(i) + "/3 --out " + rotor_rub::test::tmp() + "rr_bif_" +
+                  std::to_string(i) + ".csv")
+                  .status,
+              0);
   }
-  r = bif("--merge /tmp/rr_bif_merged.csv /tmp/rr_bif_2.csv /tmp/rr_bif_0.csv /tmp/rr_bif_1.csv");
+  r = bif("--merge " + rotor_rub::test::tmp() + "rr_bif_merged.csv " + rotor_rub::test::tmp() + "rr_bif_2.csv " +
+          rotor_rub::test::tmp() + "rr_bif_0.csv " + rotor_rub::test::tmp() + "rr_bif_1.csv");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(slurp("/tmp/rr_bif_merged.csv"), slurp("/tmp/rr_bif_all.csv"));
-  EXPECT_EQ(slurp("/tmp/rr_bif_merged.csv.points.csv"), slurp("/tmp/rr_bif_all.csv.points.csv"));
+  EXPECT_EQ(slurp(rotor_rub::test::tmp() + "rr_bif_merged.csv"), slurp(rotor_rub::test::tmp() + "rr_bif_all.csv"));
+  EXPECT_EQ(slurp(rotor_rub::test::tmp() + "rr_bif_merged.csv.points.csv"),
+            slurp(rotor_rub::test::tmp() + "rr_bif_all.csv.points.csv"));
   // A missing shard is an error naming the run.
-  r = bif("--merge /tmp/rr_bif_merged.csv /tmp/rr_bif_0.csv /tmp/rr_bif_1.csv");
+  r = bif("--merge " + rotor_rub::test::tmp() + "rr_bif_merged.csv " + rotor_rub::test::tmp() + "rr_bif_0.csv " +
+          rotor_rub::test::tmp() + "rr_bif_1.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("is in no shard"), std::string::npos) << r.err;
 }
 
 TEST(BifurcationCli, BadInputIsOneLineAndExitTwo) {
-  auto r = bif("--speed-from 100 --speed-to 50 --out /tmp/rr_bif_bad.csv");
+  auto r = bif("--speed-from 100 --speed-to 50 --out " + rotor_rub::test::tmp() + "rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--speed-to"), std::string::npos) << r.err;
-  r = bif("--speeds 0 --out /tmp/rr_bif_bad.csv");
+  r = bif("--speeds 0 --out " + rotor_rub::test::tmp() + "rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--speeds"), std::string::npos) << r.err;
-  r = bif("--set frictoin_coefficient=0.1 --out /tmp/rr_bif_bad.csv");
+  r = bif("--set frictoin_coefficient=0.1 --out " + rotor_rub::test::tmp() + "rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("friction_coefficient"), std::string::npos) << r.err;  // the nearest key
   // One speed is a grid of one (constant runs only).
   r =
       bif("--speeds 1 --speed-from 100 --speed-to 100 --directions constant --settle-s 1 --revolutions 16 "
-          "--out /tmp/rr_bif_one.csv");
+          "--out " +
+          rotor_rub::test::tmp() + "rr_bif_one.csv");
   EXPECT_EQ(r.status, 0) << r.err;
-  r = bif("--speeds 1 --speed-from 100 --speed-to 100 --out /tmp/rr_bif_bad.csv");  // ramps need a range
+  r = bif("--speeds 1 --speed-from 100 --speed-to 100 --out " + rotor_rub::test::tmp() +
+          "rr_bif_bad.csv");  // ramps need a range
   EXPECT_EQ(r.status, 2);
-  r = bif("--directions sideways --out /tmp/rr_bif_bad.csv");
+  r = bif("--directions sideways --out " + rotor_rub::test::tmp() + "rr_bif_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
 }

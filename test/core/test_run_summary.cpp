@@ -9,6 +9,7 @@
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "run_comparison.hpp"
 #include "run_output.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace rotor_rub;
@@ -23,8 +24,9 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
   ASSERT_FALSE(recorder.events.empty());
 
   // A path with a quote, a backslash and a newline was written unescaped.
-  const std::string odd_path = "/tmp/a \"quoted\" \\ path\n.yaml";
-  const std::string csv = "/tmp/rotor_rub_summary_test.csv", json = "/tmp/rotor_rub_summary_test.json";
+  const std::string odd_path = rotor_rub::test::tmp() + "a \"quoted\" \\ path\n.yaml";
+  const std::string csv = rotor_rub::test::tmp() + "rotor_rub_summary_test.csv",
+                    json = rotor_rub::test::tmp() + "rotor_rub_summary_test.json";
   {
     std::ofstream os(csv);
     tools::write_csv(os, recorder.samples);
@@ -61,7 +63,8 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
 }
 
 TEST(RunSummary, ABrokenSummaryIsAnErrorNamingTheFile) {
-  const std::string csv = "/tmp/rotor_rub_summary_bad.csv", json = "/tmp/rotor_rub_summary_bad.json";
+  const std::string csv = rotor_rub::test::tmp() + "rotor_rub_summary_bad.csv",
+                    json = rotor_rub::test::tmp() + "rotor_rub_summary_bad.json";
   std::ofstream(csv)
       << "t,x_r,y_r,x_s,y_s,vx_r,vy_r,vx_s,vy_s,normal_force,friction_force,fx_contact,fy_contact,"
          "penetration,sliding_velocity,in_contact,spin_angle,speed,sticking,drive_torque,friction_torque\n";

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -33,9 +34,10 @@ const std::string kScene = std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_ru
 
 TEST(RunnerCli, WritesCsvOnTheGridAndSummary) {
   const Result r = run("--scene " + kScene + " --method switching --rtol 1e-6 --atol 1e-9 --rate 200 " +
-                       "--set end_time_s=1.5 --csv /tmp/rr.csv --summary /tmp/rr.json");
+                       "--set end_time_s=1.5 --csv " + rotor_rub::test::tmp() + "rr.csv --summary " +
+                       rotor_rub::test::tmp() + "rr.json");
   ASSERT_EQ(r.status, 0) << r.err;
-  std::ifstream csv("/tmp/rr.csv");
+  std::ifstream csv(rotor_rub::test::tmp() + "rr.csv");
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("t,x_r,y_r,x_s,y_s,", 0), 0u) << header;
@@ -48,7 +50,7 @@ TEST(RunnerCli, WritesCsvOnTheGridAndSummary) {
     ++n;
   }
   EXPECT_EQ(n, 301);  // 0 .. 1.5 s inclusive
-  const std::string json = read("/tmp/rr.json");
+  const std::string json = read(rotor_rub::test::tmp() + "rr.json");
   for (const char* key : {"\"events\"", "\"kind\": \"touchdown\"", "\"steps\"", "\"rhs_evals\"", "\"wall_time_s\"",
                           "\"status\": \"ok\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
@@ -68,24 +70,24 @@ TEST(RunnerCli, BadInputExitsNonZeroWithOneLineReason) {
   EXPECT_EQ(r.status, 2);
   // A bad value in the file is an error even where a flag overrides its key
   // (the issue's case: output_rate_hz: abc with --rate 1000 used to run).
-  std::ofstream("/tmp/rr_bad_rate.yaml") << "output_rate_hz: abc\n";
-  r = run("--scene /tmp/rr_bad_rate.yaml --rate 1000 --set end_time_s=0.1");
+  std::ofstream(rotor_rub::test::tmp() + "rr_bad_rate.yaml") << "output_rate_hz: abc\n";
+  r = run("--scene " + rotor_rub::test::tmp() + "rr_bad_rate.yaml --rate 1000 --set end_time_s=0.1");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("output_rate_hz"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("/tmp/rr_bad_rate.yaml:1:17"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(rotor_rub::test::tmp() + "rr_bad_rate.yaml:1:17"), std::string::npos) << r.err;
   // `rtol:1.0e-4` (no space) is no key to YAML or rosparam: an error, not rtol.
-  std::ofstream("/tmp/rr_nospace.yaml") << "method: switching\nrtol:1.0e-4\n";
-  r = run("--scene /tmp/rr_nospace.yaml");
+  std::ofstream(rotor_rub::test::tmp() + "rr_nospace.yaml") << "method: switching\nrtol:1.0e-4\n";
+  r = run("--scene " + rotor_rub::test::tmp() + "rr_nospace.yaml");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("rr_nospace.yaml:"), std::string::npos) << r.err;
 }
 
 TEST(RunnerCli, FailedRunExitsWithItsClassAndKeepsTheSamples) {
   // A step budget far too small: the run stalls after 300 steps.
-  const Result r = run("--scene " + kScene + " --set max_steps=300 --csv /tmp/rr_fail.csv");
+  const Result r = run("--scene " + kScene + " --set max_steps=300 --csv " + rotor_rub::test::tmp() + "rr_fail.csv");
   EXPECT_EQ(r.status, 3) << r.err;
   EXPECT_NE(r.err.find("stalled"), std::string::npos) << r.err;
-  const std::string csv = read("/tmp/rr_fail.csv");
+  const std::string csv = read(rotor_rub::test::tmp() + "rr_fail.csv");
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 10);
 }
 
@@ -127,9 +129,10 @@ TEST(RunnerCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
 TEST(RunnerCli, KeyphasorAndProbeCsvs) {
   Result r = run("--scene " + kScene +
                  " --set initial_speed_rad_per_s=100 --set target_speed_rad_per_s=100 --set end_time_s=1"
-                 " --set probe_rate_hz=2000 --keyphasor /tmp/rr_kp.csv --probes /tmp/rr_pr.csv --quiet");
+                 " --set probe_rate_hz=2000 --keyphasor " +
+                 rotor_rub::test::tmp() + "rr_kp.csv --probes " + rotor_rub::test::tmp() + "rr_pr.csv --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
-  std::ifstream kp("/tmp/rr_kp.csv");
+  std::ifstream kp(rotor_rub::test::tmp() + "rr_kp.csv");
   std::string line;
   std::getline(kp, line);
   EXPECT_EQ(line, "t,revolution,speed");
@@ -139,10 +142,10 @@ TEST(RunnerCli, KeyphasorAndProbeCsvs) {
     EXPECT_NEAR(std::stod(line.substr(0, line.find(','))), 2 * M_PI * n / 100.0, 1e-12) << line;
   }
   EXPECT_EQ(n, 15);  // 100 rad/s for 1 s: 15.9 revolutions
-  const std::string probes = read("/tmp/rr_pr.csv");
+  const std::string probes = read(rotor_rub::test::tmp() + "rr_pr.csv");
   EXPECT_EQ(probes.rfind("t,x_V,y_V,x_m,y_m\n", 0), 0u);
   EXPECT_EQ(std::count(probes.begin(), probes.end(), '\n'), 2001);  // header + 2000 samples
-  r = run("--scene " + kScene + " --set end_time_s=0.1 --probes /tmp/rr_pr0.csv");
+  r = run("--scene " + kScene + " --set end_time_s=0.1 --probes " + rotor_rub::test::tmp() + "rr_pr0.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("probe_rate_hz"), std::string::npos) << r.err;
 }

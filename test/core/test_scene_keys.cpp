@@ -4,6 +4,7 @@
 
 #include "range_violation.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace rotor_rub;
@@ -113,7 +114,7 @@ TEST(SceneKeys, CrossKeyRules) {
 }
 
 TEST(SceneFile, RejectsNestedYamlAndDuplicates) {
-  const std::string path = "/tmp/rotor_rub_test_nested.yaml";
+  const std::string path = rotor_rub::test::tmp() + "rotor_rub_test_nested.yaml";
   {
     std::ofstream f(path);
     f << "rotor:\n  mass_kg: 1.0\n";

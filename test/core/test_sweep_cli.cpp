@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -31,7 +32,7 @@ using rotor_rub::test::split;
 const std::string kScene = std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_runup.yaml";
 
 // A small grid: two methods, a run that spends its step budget, and the
-// reference's own settings. 1.5 s covers the first contacts (from 1.11 s).
+// reference's own settings (switching on dopri5, sweep_reference.cpp). 1.5 s covers the first contacts (from 1.11 s).
 const std::string kGrid =
     "method: [switching, iteration]\n"
     "rtol: 1.0e-5\n"
@@ -41,6 +42,7 @@ const std::string kGrid =
     "max_steps: 50\n"
     "---\n"
     "method: switching\n"
+    "integrator: dopri5\n"
     "rtol: 1.0e-10\n"
     "atol: 1.0e-13\n"
     "---\n"
@@ -48,9 +50,9 @@ const std::string kGrid =
     "max_wall_time_s: 1.0e-4\n";
 
 std::string common_args() {
-  std::ofstream("/tmp/rotor_rub_sweep_grid.yaml") << kGrid;
-  return "--scene " + kScene +
-         " --grid /tmp/rotor_rub_sweep_grid.yaml --set end_time_s=1.5 --repeats 1 --jobs 2 --no-progress"
+  std::ofstream(rotor_rub::test::tmp() + "rotor_rub_sweep_grid.yaml") << kGrid;
+  return "--scene " + kScene + " --grid " + rotor_rub::test::tmp() +
+         "rotor_rub_sweep_grid.yaml --set end_time_s=1.5 --repeats 1 --jobs 2 --no-progress"
          " --reference-rtol 1e-10 --reference-atol 1e-13 --error-rate 10000";
 }
 
@@ -59,9 +61,9 @@ double num(const Row& r, const std::string& k) { return std::stod(r.at(k)); }
 }  // namespace
 
 TEST(SweepCli, RowsStatusesAndErrors) {
-  const Result r = sweep(common_args() + " --out /tmp/sweep_all.csv");
+  const Result r = sweep(common_args() + " --out " + rotor_rub::test::tmp() + "sweep_all.csv");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto rows = read_rows("/tmp/sweep_all.csv");
+  const auto rows = read_rows(rotor_rub::test::tmp() + "sweep_all.csv");
   ASSERT_EQ(rows.size(), 5u);
   const char* methods[] = {"switching", "iteration", "penalty", "switching", "penalty"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -100,15 +102,17 @@ TEST(SweepCli, RowsStatusesAndErrors) {
 }
 
 TEST(SweepCli, ShardsMergeIntoTheUnsplitResult) {
-  ASSERT_EQ(sweep(common_args() + " --out /tmp/sweep_full.csv").status, 0);
-  ASSERT_EQ(sweep(common_args() + " --shard 0/3 --out /tmp/sweep_s0.csv").status, 0);
-  ASSERT_EQ(sweep(common_args() + " --shard 1/3 --out /tmp/sweep_s1.csv").status, 0);
-  ASSERT_EQ(sweep(common_args() + " --shard 2/3 --out /tmp/sweep_s2.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --out " + rotor_rub::test::tmp() + "sweep_full.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 0/3 --out " + rotor_rub::test::tmp() + "sweep_s0.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 1/3 --out " + rotor_rub::test::tmp() + "sweep_s1.csv").status, 0);
+  ASSERT_EQ(sweep(common_args() + " --shard 2/3 --out " + rotor_rub::test::tmp() + "sweep_s2.csv").status, 0);
   // Out of order on purpose: the merge sorts by run.
-  const Result m = sweep("--merge /tmp/sweep_merged.csv /tmp/sweep_s2.csv /tmp/sweep_s0.csv /tmp/sweep_s1.csv");
+  const Result m =
+      sweep("--merge " + rotor_rub::test::tmp() + "sweep_merged.csv " + rotor_rub::test::tmp() + "sweep_s2.csv " +
+            rotor_rub::test::tmp() + "sweep_s0.csv " + rotor_rub::test::tmp() + "sweep_s1.csv");
   ASSERT_EQ(m.status, 0) << m.err;
-  auto full = read_rows("/tmp/sweep_full.csv");
-  auto merged = read_rows("/tmp/sweep_merged.csv");
+  auto full = read_rows(rotor_rub::test::tmp() + "sweep_full.csv");
+  auto merged = read_rows(rotor_rub::test::tmp() + "sweep_merged.csv");
   ASSERT_EQ(full.size(), merged.size());
   for (std::size_t i = 0; i < full.size(); ++i) {
     // Wall time is a measurement; everything else is deterministic, except
@@ -125,16 +129,17 @@ TEST(SweepCli, ShardsMergeIntoTheUnsplitResult) {
     EXPECT_EQ(full[i], merged[i]) << "run " << i;
   }
   // A missing shard is an error that names the missing runs.
-  const Result bad = sweep("--merge /tmp/sweep_bad.csv /tmp/sweep_s0.csv /tmp/sweep_s1.csv");
+  const Result bad = sweep("--merge " + rotor_rub::test::tmp() + "sweep_bad.csv " + rotor_rub::test::tmp() +
+                           "sweep_s0.csv " + rotor_rub::test::tmp() + "sweep_s1.csv");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("missing: 2"), std::string::npos) << bad.err;
 }
 
 TEST(SweepCli, BadInputNamesTheProblem) {
-  Result r = sweep("--scene " + kScene + " --set rtoll=1e-3 --out /tmp/sweep_bad.csv");
+  Result r = sweep("--scene " + kScene + " --set rtoll=1e-3 --out " + rotor_rub::test::tmp() + "sweep_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("did you mean 'rtol'"), std::string::npos) << r.err;
-  r = sweep("--scene " + kScene + " --set rtol=1e-3 --shard 3/3 --out /tmp/sweep_bad.csv");
+  r = sweep("--scene " + kScene + " --set rtol=1e-3 --shard 3/3 --out " + rotor_rub::test::tmp() + "sweep_bad.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("accepted: I/N with 0 <= I < N"), std::string::npos) << r.err;
   r = sweep("--scene " + kScene + " --set rtol=1e-3");
@@ -156,7 +161,8 @@ TEST(SweepCli, HelpDescribesEveryOption) {
 
 TEST(SweepCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   auto expect_usage = [](const std::string& args, std::initializer_list<const char*> parts) {
-    const Result r = sweep("--scene " + kScene + " --set rtol=1e-3 --out /tmp/sweep_usage.csv " + args);
+    const Result r =
+        sweep("--scene " + kScene + " --set rtol=1e-3 --out " + rotor_rub::test::tmp() + "sweep_usage.csv " + args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;  // one line
     for (const char* p : parts) EXPECT_NE(r.err.find(p), std::string::npos) << p << " in " << r.err;
@@ -172,8 +178,8 @@ TEST(SweepCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   expect_usage("--set rtol", {"--set", "'rtol'"});
   expect_usage("--grid /nonexistent_grid.yaml", {"--grid", "/nonexistent_grid.yaml"});
   expect_usage("--bogus", {"unknown option '--bogus'"});
-  expect_usage("--merge /tmp/a.csv /tmp/b.csv", {"excludes --merge"});
-  const Result m = sweep("--merge /tmp/only_out.csv");
+  expect_usage("--merge " + rotor_rub::test::tmp() + "a.csv " + rotor_rub::test::tmp() + "b.csv", {"excludes --merge"});
+  const Result m = sweep("--merge " + rotor_rub::test::tmp() + "only_out.csv");
   EXPECT_EQ(m.status, 2);
   EXPECT_NE(m.err.find("--merge"), std::string::npos) << m.err;
 }
@@ -184,10 +190,11 @@ TEST(SweepCli, DefaultSceneFromAnyDirectory) {
   for (const char* prefix : {"cd /tmp &&", "cd / && env -u ROS_PACKAGE_PATH"}) {
     const Result r = sweep(
         "--set end_time_s=0.2 --set method=switching --repeats 1 --jobs 1 --no-progress "
-        "--out /tmp/sweep_default_scene.csv",
+        "--out " +
+            rotor_rub::test::tmp() + "sweep_default_scene.csv",
         prefix);
     ASSERT_EQ(r.status, 0) << prefix << ": " << r.err;
-    const auto rows = read_rows("/tmp/sweep_default_scene.csv");
+    const auto rows = read_rows(rotor_rub::test::tmp() + "sweep_default_scene.csv");
     ASSERT_EQ(rows.size(), 1u);
     EXPECT_EQ(rows[0].at("status"), "ok") << rows[0].at("message");
     EXPECT_NE(r.err.find("/config/paper_runup.yaml)"), std::string::npos) << r.err;  // the scene it used

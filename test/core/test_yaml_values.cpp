@@ -10,6 +10,7 @@
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/yaml_values.hpp"
 #include "sweep_grid.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace rotor_rub;
@@ -19,7 +20,7 @@ using core::YamlError;
 namespace {
 
 std::string write(const std::string& name, const std::string& text) {
-  const std::string path = "/tmp/rotor_rub_yaml_" + name + ".yaml";
+  const std::string path = rotor_rub::test::tmp() + "rotor_rub_yaml_" + name + ".yaml";
   std::ofstream(path) << text;
   return path;
 }

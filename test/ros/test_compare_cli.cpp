@@ -12,6 +12,7 @@
 #include <string>
 
 #include "../core/cli_support.hpp"
+#include "../core/temp_dir.hpp"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_sim/ros/bag_appender.hpp"
 
@@ -42,22 +43,23 @@ void write_states(const std::string& path) {
 }  // namespace
 
 TEST(CompareCli, MissingFile) {
-  const Result r = compare("/tmp/no_such_rotor_rub.bag");
+  const Result r = compare(rotor_rub::test::tmp() + "no_such_rotor_rub.bag");
   expect_clear_error(r, "no such file");
   EXPECT_EQ(r.err.find("reindex"), std::string::npos) << r.err;  // reindex mends unclosed bags only
 }
 
 TEST(CompareCli, TruncatedBag) {
-  write_states("/tmp/rotor_rub_whole.bag");
-  std::ifstream in("/tmp/rotor_rub_whole.bag", std::ios::binary);
+  write_states(rotor_rub::test::tmp() + "rotor_rub_whole.bag");
+  std::ifstream in(rotor_rub::test::tmp() + "rotor_rub_whole.bag", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_GT(bytes.size(), 20000u);
-  std::ofstream("/tmp/rotor_rub_truncated.bag", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  expect_clear_error(compare("/tmp/rotor_rub_truncated.bag"), "rosbag reindex");
+  std::ofstream(rotor_rub::test::tmp() + "rotor_rub_truncated.bag", std::ios::binary)
+      << bytes.substr(0, bytes.size() / 2);
+  expect_clear_error(compare(rotor_rub::test::tmp() + "rotor_rub_truncated.bag"), "rosbag reindex");
   // The whole one is fine: the tool itself works on this bag. It holds states
   // only (as `rosbag record` of one topic would): the figures it lacks print
   // as "-", never as nan or -1.
-  const Result whole = compare("/tmp/rotor_rub_whole.bag");
+  const Result whole = compare(rotor_rub::test::tmp() + "rotor_rub_whole.bag");
   EXPECT_EQ(whole.status, 0) << whole.err;
   EXPECT_EQ(whole.out.find("nan"), std::string::npos) << whole.out;
   EXPECT_EQ(whole.out.find(" -1 "), std::string::npos) << whole.out;
@@ -65,20 +67,21 @@ TEST(CompareCli, TruncatedBag) {
 }
 
 TEST(CompareCli, NotABag) {
-  std::ofstream("/tmp/rotor_rub_foreign.bag") << "these are not the bags you are looking for\n";
-  const Result r = compare("/tmp/rotor_rub_foreign.bag");
+  std::ofstream(rotor_rub::test::tmp() + "rotor_rub_foreign.bag") << "these are not the bags you are looking for\n";
+  const Result r = compare(rotor_rub::test::tmp() + "rotor_rub_foreign.bag");
   expect_clear_error(r, "is not a rosbag 2.0 file");
   EXPECT_EQ(r.err.find("reindex"), std::string::npos) << r.err;
 }
 
 TEST(CompareCli, BagWithoutRotorStates) {
   {
-    rosbag::Bag b("/tmp/rotor_rub_other.bag", rosbag::bagmode::Write);
+    rosbag::Bag b(rotor_rub::test::tmp() + "rotor_rub_other.bag", rosbag::bagmode::Write);
     std_msgs::String s;
     s.data = "hello";
     b.write("/chatter", ros::Time(1, 0), s);
   }
-  expect_clear_error(compare("/tmp/rotor_rub_other.bag"), "holds no rotor_rub_msgs/RotorState topic");
+  expect_clear_error(compare(rotor_rub::test::tmp() + "rotor_rub_other.bag"),
+                     "holds no rotor_rub_msgs/RotorState topic");
 }
 
 TEST(CompareCli, HelpDescribesEveryOption) {
@@ -95,9 +98,11 @@ TEST(CompareCli, UsageErrors) {
   expect_clear_error(compare("--bogus"), "unknown option '--bogus'");
   expect_clear_error(compare("--runner"), "--runner");
   expect_clear_error(compare("--quiet"), "no runs given");
-  write_states("/tmp/rotor_rub_usage.bag");
-  expect_clear_error(compare("/tmp/rotor_rub_usage.bag --reference nosuchrun"), "no run named 'nosuchrun'");
+  write_states(rotor_rub::test::tmp() + "rotor_rub_usage.bag");
+  expect_clear_error(compare(rotor_rub::test::tmp() + "rotor_rub_usage.bag --reference nosuchrun"),
+                     "no run named 'nosuchrun'");
   // Bags and --runner in any order: the options take one value each.
-  const Result r = compare("--quiet /tmp/rotor_rub_usage.bag --csv /tmp/rotor_rub_usage.csv");
+  const Result r = compare("--quiet " + rotor_rub::test::tmp() + "rotor_rub_usage.bag --csv " + rotor_rub::test::tmp() +
+                           "rotor_rub_usage.csv");
   EXPECT_EQ(r.status, 0) << r.err;
 }
