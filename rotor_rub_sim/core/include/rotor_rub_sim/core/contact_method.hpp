@@ -1,7 +1,8 @@
-// The interface of a contact method: it owns its integrator and internal
-// state, advances one accepted step at a time, and answers the physical state
-// anywhere inside its last step (dense output), so output sampling never
-// shortens a step.
+/// @file
+/// The interface of a contact method: it owns its integrator and internal
+/// state, advances one accepted step at a time, and answers the physical state
+/// anywhere inside its last step (dense output), so output sampling never
+/// shortens a step.
 #pragma once
 
 #include <memory>
@@ -16,24 +17,24 @@ class ContactMethod {
  public:
   virtual ~ContactMethod() = default;
 
-  // Starts integration at t_s from a physical state under a drive segment.
+  /// Starts integration at t_s from a physical state under a drive segment.
   virtual void start(double t_s, const Kinematics& k, const SpeedSegment& segment) = 0;
 
-  // Restarts integration at t_s in [step_begin(), step_end()] from the
-  // method's own state there, under a new drive segment (a drive
-  // discontinuity). The contact regime carries over.
+  /// Restarts integration at t_s in [step_begin(), step_end()] from the
+  /// method's own state there, under a new drive segment (a drive
+  /// discontinuity). The contact regime carries over.
   virtual void change_segment(double t_s, const SpeedSegment& segment) = 0;
 
-  // One accepted step, valid on [step_begin(), step_end()]. An event ends a
-  // step early; so does t_limit_s (the next drive discontinuity or the end
-  // time), where the caller must call change_segment() or stop. Events found
-  // are appended (at times <= step_end()). Throws MethodFailure.
+  /// One accepted step, valid on [step_begin(), step_end()]. An event ends a
+  /// step early; so does t_limit_s (the next drive discontinuity or the end
+  /// time), where the caller must call change_segment() or stop. Events found
+  /// are appended (at times <= step_end()). Throws MethodFailure.
   virtual void step(double t_limit_s, std::vector<ContactEvent>& events) = 0;
 
   virtual double step_begin() const = 0;
   virtual double step_end() const = 0;
 
-  // The physical state at t_s in [step_begin(), step_end()].
+  /// The physical state at t_s in [step_begin(), step_end()].
   virtual Sample sample(double t_s) const = 0;
 
   virtual const RunStats& stats() const = 0;

@@ -1,4 +1,4 @@
-// Lookups in the enum name tables ({value, name} rows, e.g. kMethodNames):
+// Lookups in the enum name tables ({value, name} rows, e.g. kWhirlNames):
 // one implementation for every enum of the core and the tools.
 #pragma once
 

@@ -1,6 +1,7 @@
-// Plain configuration structs of the simulation core (no ROS, no YAML here).
-// Units are SI and stated in the member names. Defaults are the paper's Table 1
-// (Hynek 2002) where the paper gives a value.
+/// @file
+/// Plain configuration structs of the simulation core (no ROS, no YAML here).
+/// Units are SI and stated in the member names. Defaults are the paper's Table 1
+/// (Hynek 2002) where the paper gives a value.
 #pragma once
 
 #include <array>
@@ -11,13 +12,13 @@
 namespace rotor_rub::core {
 
 // ---- Enum-like choices ------------------------------------------------------
-// Names through to_string (a switch the compiler checks for every value);
-// *_from_string reads them back and names the accepted ones. Which
-// integrators each method runs on is solver_registry.hpp's one table.
+/// Names through to_string (a switch the compiler checks for every value);
+/// *_from_string reads them back and names the accepted ones. Which
+/// integrators each method runs on is solver_registry.hpp's one table.
 
 enum class Method { kPenalty, kSwitching, kIteration };
-// kAuto: the registry's choice for the method (the fastest at a given
-// accuracy on the benchmark, docs/numerics.md), resolved when a run starts.
+/// kAuto: the registry's choice for the method (the fastest at a given
+/// accuracy on the benchmark, docs/numerics.md), resolved when a run starts.
 enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
 enum class StatorModel { kElastic, kRigid };
 enum class DriveModel { kPrescribed, kMotor };
@@ -33,7 +34,7 @@ const char* to_string(Method m);
 const char* to_string(Integrator i);
 const char* to_string(StatorModel s);
 const char* to_string(DriveModel d);
-// Throw std::invalid_argument naming the accepted names.
+/// Throw std::invalid_argument naming the accepted names.
 Method method_from_string(const std::string& s);
 Integrator integrator_from_string(const std::string& s);
 StatorModel stator_model_from_string(const std::string& s);
@@ -45,37 +46,37 @@ struct ModelParameters {
   double rotor_mass_kg = 0.418;
   double rotor_stiffness_N_per_m = 2493.0;
   double rotor_damping_N_s_per_m = 1.3;
-  double rotor_radius_m = 0.010;   // R_r: contact point radius (sliding velocity)
-  double eccentricity_m = 0.4e-3;  // e: mass centre to geometric centre
+  double rotor_radius_m = 0.010;   ///< R_r: contact point radius (sliding velocity)
+  double eccentricity_m = 0.4e-3;  ///< e: mass centre to geometric centre
   StatorModel stator_model = StatorModel::kElastic;
   double stator_mass_kg = 0.86;
   double stator_stiffness_N_per_m = 38166.0;
   double stator_damping_N_s_per_m = 3.61;
-  double clearance_m = 2.0e-3;        // C: radial clearance
-  double friction_coefficient = 0.1;  // f: Coulomb (stick and slip, contact_law.hpp)
-  double restitution = 0.0;           // normal coefficient of restitution, 0 = plastic
-  // Impacts whose rebound velocity falls below this settle into sustained
-  // contact (ends a Zeno sequence of ever smaller bounces).
+  double clearance_m = 2.0e-3;        ///< C: radial clearance
+  double friction_coefficient = 0.1;  ///< f: Coulomb (stick and slip, contact_law.hpp)
+  double restitution = 0.0;           ///< normal coefficient of restitution, 0 = plastic
+  /// Impacts whose rebound velocity falls below this settle into sustained
+  /// contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;
-  double contact_stiffness_N_per_m = 1.0e9;  // k_c, penalty method only
-  double gravity_m_per_s2 = 0.0;             // along -y; 0: vertical machine, as in the paper
-  // The stator's rest position (a misaligned or thermally bowed casing): the
-  // centre its springs pull it to, or where a rigid stator sits. A static
-  // offset below the clearance gives partial rub on one side.
+  double contact_stiffness_N_per_m = 1.0e9;  ///< k_c, penalty method only
+  double gravity_m_per_s2 = 0.0;             ///< along -y; 0: vertical machine, as in the paper
+  /// The stator's rest position (a misaligned or thermally bowed casing): the
+  /// centre its springs pull it to, or where a rigid stator sits. A static
+  /// offset below the clearance gives partial rub on one side.
   double stator_offset_x_m = 0.0;
   double stator_offset_y_m = 0.0;
-  // The drive (model.hpp): prescribed, the speed profile is the spin; motor,
-  // the spin is a state driven by a PI speed controller (with acceleration
-  // feed-forward, a torque limit and back-calculation anti-windup) that
-  // follows the speed profile, against the rub's friction torque.
+  /// The drive (model.hpp): prescribed, the speed profile is the spin; motor,
+  /// the spin is a state driven by a PI speed controller (with acceleration
+  /// feed-forward, a torque limit and back-calculation anti-windup) that
+  /// follows the speed profile, against the rub's friction torque.
   DriveModel drive_model = DriveModel::kPrescribed;
-  // J_G: the rotating train's polar moment of inertia about the spin axis
-  // through its mass centre (disc, shaft, coupling, motor rotor) [kg m^2].
-  // The prescribed drive uses it only to report the torque it applies.
+  /// J_G: the rotating train's polar moment of inertia about the spin axis
+  /// through its mass centre (disc, shaft, coupling, motor rotor) [kg m^2].
+  /// The prescribed drive uses it only to report the torque it applies.
   double rotor_polar_inertia_kg_m2 = 1.0e-3;
-  double drive_torque_limit_N_m = 0.5;                 // |T_m| <= limit (motoring and braking)
-  double drive_proportional_gain_N_m_s_per_rad = 0.1;  // K_p: per rad/s of speed error
-  double drive_integral_gain_N_m_per_rad = 2.5;        // K_i: per rad of integrated speed error
+  double drive_torque_limit_N_m = 0.5;                 ///< |T_m| <= limit (motoring and braking)
+  double drive_proportional_gain_N_m_s_per_rad = 0.1;  ///< K_p: per rad/s of speed error
+  double drive_integral_gain_N_m_per_rad = 2.5;        ///< K_i: per rad of integrated speed error
 };
 
 // ---- Drive: piecewise constant angular acceleration ------------------------
@@ -83,9 +84,9 @@ struct ModelParameters {
 struct SpeedProfileParameters {
   double initial_angle_rad = 0.0;
   double initial_speed_rad_per_s = 0.0;
-  double acceleration_rad_per_s2 = 70.0;  // magnitude used toward the target
-  double target_speed_rad_per_s = 280.0;  // 70 rad/s^2 for 4 s, as in the paper
-  double max_speed_rad_per_s = 2000.0;    // limit for speed commands
+  double acceleration_rad_per_s2 = 70.0;  ///< magnitude used toward the target
+  double target_speed_rad_per_s = 280.0;  ///< 70 rad/s^2 for 4 s, as in the paper
+  double max_speed_rad_per_s = 2000.0;    ///< limit for speed commands
 };
 
 // ---- Numerical settings ----------------------------------------------------
@@ -94,43 +95,43 @@ struct SolverSettings {
   Method method = Method::kSwitching;
   Integrator integrator = Integrator::kAuto;
   double rtol = 1.0e-6;
-  double atol = 1.0e-9;  // applies to every state component (m and m/s)
+  double atol = 1.0e-9;  ///< applies to every state component (m and m/s)
   double initial_step_s = 1.0e-5;
-  double fixed_step_s = 1.0e-6;  // integrator rk4 only: the fixed step h
-  double min_step_s = 1.0e-14;   // below it a run is declared stalled
-  long max_steps = 20'000'000;   // accepted + rejected step budget
-  // Wall-time budget of the integration (cost, not simulated time): a run
-  // that spends it fails as timed_out instead of hanging a sweep or a node.
+  double fixed_step_s = 1.0e-6;  ///< integrator rk4 only: the fixed step h
+  double min_step_s = 1.0e-14;   ///< below it a run is declared stalled
+  long max_steps = 20'000'000;   ///< accepted + rejected step budget
+  /// Wall-time budget of the integration (cost, not simulated time): a run
+  /// that spends it fails as timed_out instead of hanging a sweep or a node.
   double max_wall_time_s = 600.0;
-  // Method III: relative tolerance on the normal force root.
+  /// Method III: relative tolerance on the normal force root.
   double iteration_force_rtol = 1.0e-12;
-  long iteration_max_iterations = 100;  // root-finder evaluations per solve
-  // Switching/iteration: more contact events than this per simulated
-  // millisecond is chattering, reported as stalled.
+  long iteration_max_iterations = 100;  ///< root-finder evaluations per solve
+  /// Switching/iteration: more contact events than this per simulated
+  /// millisecond is chattering, reported as stalled.
   double max_events_per_ms = 200.0;
-  // Benchmark only (not a scene key): measure the time spent in derivative
-  // evaluation, force iteration, event location, restarts and output
-  // (RunStats::rhs_time_s, iteration_time_s, event_time_s, restart_time_s,
-  // output_time_s).
+  /// Benchmark only (not a scene key): measure the time spent in derivative
+  /// evaluation, force iteration, event location, restarts and output
+  /// (RunStats::rhs_time_s, iteration_time_s, event_time_s, restart_time_s,
+  /// output_time_s).
   bool profile_cost = false;
 };
 
 // ---- Proximity probes (what a machinery-protection system reads) -----------
-// An X/Y pair of eddy-current probes on the casing (the inertial frame, not
-// the elastically supported stator), each measuring the rotor centre's
-// displacement along its axis, at angle theta counter-clockwise from +x.
-// The default mounting is API 670's: 45 deg right (X) and 45 deg left (Y) of
-// top dead centre (+y). The signal is the dynamic (AC) part in volts:
-//   v = S (r_r . u_theta + runout(phi) . u_theta) + noise,
-// runout(phi) = runout (cos(phi + runout_phase), sin(phi + runout_phase)) a
-// once-per-revolution pattern fixed to the shaft (mechanical/electrical
-// runout), noise Gaussian with a fixed seed.
+/// An X/Y pair of eddy-current probes on the casing (the inertial frame, not
+/// the elastically supported stator), each measuring the rotor centre's
+/// displacement along its axis, at angle theta counter-clockwise from +x.
+/// The default mounting is API 670's: 45 deg right (X) and 45 deg left (Y) of
+/// top dead centre (+y). The signal is the dynamic (AC) part in volts:
+///   v = S (r_r . u_theta + runout(phi) . u_theta) + noise,
+/// runout(phi) = runout (cos(phi + runout_phase), sin(phi + runout_phase)) a
+/// once-per-revolution pattern fixed to the shaft (mechanical/electrical
+/// runout), noise Gaussian with a fixed seed.
 struct ProbeParameters {
-  double rate_hz = 0.0;  // 0: no probe signals
+  double rate_hz = 0.0;  ///< 0: no probe signals
   double x_angle_rad = 0.25 * 3.14159265358979323846;
   double y_angle_rad = 0.75 * 3.14159265358979323846;
-  double sensitivity_V_per_m = 7874.0;  // 200 mV/mil (API 670)
-  double noise_V = 0.0;                 // standard deviation
+  double sensitivity_V_per_m = 7874.0;  ///< 200 mV/mil (API 670)
+  double noise_V = 0.0;                 ///< standard deviation
   long noise_seed = 1;
   double runout_m = 0.0;
   double runout_phase_rad = 0.0;

@@ -1,4 +1,5 @@
-// What a run reports: samples, contact events, cost, failures.
+/// @file
+/// What a run reports: samples, contact events, cost, failures.
 #pragma once
 
 #include <cmath>
@@ -10,22 +11,22 @@
 
 namespace rotor_rub::core {
 
-// The physical state at one instant, whatever the method's internal state.
+/// The physical state at one instant, whatever the method's internal state.
 struct Sample {
   double t_s = 0.0;
   Kinematics kin;
   DriveState drive;
   double normal_force_N = 0.0;
-  double friction_force_N = 0.0;  // signed along the tangent t, on the rotor
+  double friction_force_N = 0.0;  ///< signed along the tangent t, on the rotor
   Vec2 contact_force_on_rotor_N = Vec2::Zero();
-  double penetration_m = 0.0;  // delta - C: < 0 is the gap
+  double penetration_m = 0.0;  ///< delta - C: < 0 is the gap
   double sliding_velocity_m_per_s = 0.0;
   bool in_contact = false;
-  // In contact and sticking (rolling, v_slide held at 0): the rigid methods'
-  // stick regime; the penalty method's creep band |c_t v_slide| < f F_n.
+  /// In contact and sticking (rolling, v_slide held at 0): the rigid methods'
+  /// stick regime; the penalty method's creep band |c_t v_slide| < f F_n.
   bool sticking = false;
-  // The drive's torque on the rotor (the motor's, or what an ideal
-  // prescribed drive applies) and the rub's, R_r F_t [N m] (model.hpp).
+  /// The drive's torque on the rotor (the motor's, or what an ideal
+  /// prescribed drive applies) and the rub's, R_r F_t [N m] (model.hpp).
   double drive_torque_N_m = 0.0;
   double friction_torque_N_m = 0.0;
 };
@@ -50,36 +51,36 @@ inline const char* to_string(EventKind k) {
 struct ContactEvent {
   double t_s = 0.0;
   EventKind kind = EventKind::kTouchdown;
-  double normal_velocity_m_per_s = 0.0;  // closing speed at touchdown/graze
-  double impulse_N_s = 0.0;              // impact impulse (rigid methods)
+  double normal_velocity_m_per_s = 0.0;  ///< closing speed at touchdown/graze
+  double impulse_N_s = 0.0;              ///< impact impulse (rigid methods)
 };
 
-// The cost of a run. wall_time_s is the integration's own time.
+/// The cost of a run. wall_time_s is the integration's own time.
 struct RunStats {
-  long steps = 0;            // accepted steps
-  long rejected_steps = 0;   // rejected by error control or by a method rule
-  long rhs_evals = 0;        // right-hand-side (derivative) evaluations
-  long jacobian_evals = 0;   // stiff integrator only
-  long root_iterations = 0;  // root-finder function evaluations (events, forces)
+  long steps = 0;            ///< accepted steps
+  long rejected_steps = 0;   ///< rejected by error control or by a method rule
+  long rhs_evals = 0;        ///< right-hand-side (derivative) evaluations
+  long jacobian_evals = 0;   ///< stiff integrator only
+  long root_iterations = 0;  ///< root-finder function evaluations (events, forces)
   long touchdowns = 0, liftoffs = 0, grazes = 0;
-  long restarts = 0;              // integrator restarts (events, profile breaks, projections)
-  long friction_transitions = 0;  // rigid methods: slip -> stick, stick -> slip, slip reversals
+  long restarts = 0;              ///< integrator restarts (events, profile breaks, projections)
+  long friction_transitions = 0;  ///< rigid methods: slip -> stick, stick -> slip, slip reversals
   double wall_time_s = 0.0;
-  double rhs_time_s = 0.0;        // profile_cost only: in derivative evaluation, iteration included
-  double iteration_time_s = 0.0;  // profile_cost only: in the normal force iteration
-  double event_time_s = 0.0;      // profile_cost only: event scan, location and handling (impact law), no RHS
-  double restart_time_s = 0.0;    // profile_cost only: entering the next regime, restarts (their RHS in rhs too)
-  double output_time_s = 0.0;     // profile_cost only: samples, keyphasor and probes delivered, with their checks
-  double max_constraint_violation_m = 0.0;          // rigid methods: max |delta - C| in contact at step ends
-  double min_abs_sliding_velocity_m_per_s = 1e300;  // over contact, at step ends
+  double rhs_time_s = 0.0;        ///< profile_cost only: in derivative evaluation, iteration included
+  double iteration_time_s = 0.0;  ///< profile_cost only: in the normal force iteration
+  double event_time_s = 0.0;      ///< profile_cost only: event scan, location and handling (impact law), no RHS
+  double restart_time_s = 0.0;    ///< profile_cost only: entering the next regime, restarts (their RHS in rhs too)
+  double output_time_s = 0.0;     ///< profile_cost only: samples, keyphasor and probes delivered, with their checks
+  double max_constraint_violation_m = 0.0;          ///< rigid methods: max |delta - C| in contact at step ends
+  double min_abs_sliding_velocity_m_per_s = 1e300;  ///< over contact, at step ends
 };
 
-// How a run fails. stalled: the step budget, the minimum step or the chatter
-// counter; diverged: a non-finite or blown-up state; not_converged: the normal
-// force root finder; timed_out: the wall-time budget (max_wall_time_s);
-// invariant_violated: an accepted step broke what the contact law guarantees
-// (non-penetration of a rigid method, the friction cone, dissipative friction,
-// finiteness; see invariants.hpp): a defect made loud, never an `ok` run.
+/// How a run fails. stalled: the step budget, the minimum step or the chatter
+/// counter; diverged: a non-finite or blown-up state; not_converged: the normal
+/// force root finder; timed_out: the wall-time budget (max_wall_time_s);
+/// invariant_violated: an accepted step broke what the contact law guarantees
+/// (non-penetration of a rigid method, the friction cone, dissipative friction,
+/// finiteness; see invariants.hpp): a defect made loud, never an `ok` run.
 enum class FailureClass { kStalled, kDiverged, kNotConverged, kTimedOut, kInvariantViolated };
 inline const char* to_string(FailureClass c) {
   switch (c) {
@@ -97,9 +98,9 @@ inline const char* to_string(FailureClass c) {
   return "?";
 }
 
-// The process exit status of a run that failed, shared by the runner and the
-// node: 3 stalled, 4 diverged, 5 not converged, 7 timed out (6 is the
-// runner's output error), 8 invariant violated.
+/// The process exit status of a run that failed, shared by the runner and the
+/// node: 3 stalled, 4 diverged, 5 not converged, 7 timed out (6 is the
+/// runner's output error), 8 invariant violated.
 inline int exit_status(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -116,7 +117,7 @@ inline int exit_status(FailureClass c) {
   return 1;
 }
 
-// A failed run: thrown by the methods, caught by the simulation loop.
+/// A failed run: thrown by the methods, caught by the simulation loop.
 class MethodFailure : public std::runtime_error {
  public:
   MethodFailure(FailureClass c, double t_s, const std::string& what)
@@ -125,8 +126,8 @@ class MethodFailure : public std::runtime_error {
   double time_s;
 };
 
-// Shared guard of the adaptive integrators: a run that spends its step
-// budget or whose step collapses is stalled, reported rather than hung.
+/// Shared guard of the adaptive integrators: a run that spends its step
+/// budget or whose step collapses is stalled, reported rather than hung.
 inline void check_step_budget(const RunStats& stats, long max_steps, double dt_s, double min_step_s, double t_s) {
   if (stats.steps + stats.rejected_steps >= max_steps) {
     throw MethodFailure(FailureClass::kStalled, t_s, "step budget of " + std::to_string(max_steps) + " steps spent");

@@ -1,6 +1,7 @@
-// Reads a scene file: one YAML mapping of scene keys to scalars, the same file
-// a launch file hands to rosparam, read with the meaning rosparam gives it
-// (yaml_values.hpp: any YAML, flow mappings, anchors and quotes included).
+/// @file
+/// Reads a scene file: one YAML mapping of scene keys to scalars, the same file
+/// a launch file hands to rosparam, read with the meaning rosparam gives it
+/// (yaml_values.hpp: any YAML, flow mappings, anchors and quotes included).
 #pragma once
 
 #include <map>
@@ -10,12 +11,12 @@
 
 namespace rotor_rub::core {
 
-// key -> value text, each value already checked against its key's range (so a
-// bad value is an error even where an override replaces it). Throws
-// SceneError naming the file, line and column.
+/// key -> value text, each value already checked against its key's range (so a
+/// bad value is an error even where an override replaces it). Throws
+/// SceneError naming the file, line and column.
 std::map<std::string, std::string> read_scene_values(const std::string& path);
 
-// Defaults, then the file, then the overrides (key=value); validated.
+/// Defaults, then the file, then the overrides (key=value); validated.
 Scene load_scene(const std::string& path, const std::map<std::string, std::string>& overrides = {});
 
 }  // namespace rotor_rub::core

@@ -1,6 +1,7 @@
-// The scene's parameter table: every key a scene file, `--set key=value` or a
-// rosparam may set, with its accepted range. One table, used by the YAML
-// loader, the runner and the node, so every entry point validates alike.
+/// @file
+/// The scene's parameter table: every key a scene file, `--set key=value` or a
+/// rosparam may set, with its accepted range. One table, used by the YAML
+/// loader, the runner and the node, so every entry point validates alike.
 #pragma once
 
 #include <map>
@@ -12,7 +13,7 @@
 
 namespace rotor_rub::core {
 
-// A bad scene value: the message names the key, the value and the range.
+/// A bad scene value: the message names the key, the value and the range.
 class SceneError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
@@ -20,33 +21,33 @@ class SceneError : public std::invalid_argument {
 
 struct SceneKeyInfo {
   std::string key;
-  std::string accepted;     // human-readable accepted range or names
-  std::string description;  // one line, with the unit
+  std::string accepted;     ///< human-readable accepted range or names
+  std::string description;  ///< one line, with the unit
   std::string default_value;
 };
 
-// All keys, in documentation order.
+/// All keys, in documentation order.
 const std::vector<SceneKeyInfo>& scene_keys();
 
-// Sets one key from its text form. Throws SceneError on an unknown key (with
-// the nearest known key as a suggestion), an unparsable or non-finite number,
-// or a value outside the accepted range.
+/// Sets one key from its text form. Throws SceneError on an unknown key (with
+/// the nearest known key as a suggestion), an unparsable or non-finite number,
+/// or a value outside the accepted range.
 void set_scene_value(Scene& scene, const std::string& key, const std::string& value);
 
-// Every key's value in a scene, as text that set_scene_value reads back to
-// the same value (doubles exactly): scene_from_values(scene_values(s)) == s.
-// Two scenes are the same scene when these maps are equal.
+/// Every key's value in a scene, as text that set_scene_value reads back to
+/// the same value (doubles exactly): scene_from_values(scene_values(s)) == s.
+/// Two scenes are the same scene when these maps are equal.
 std::map<std::string, std::string> scene_values(const Scene& scene);
 
-// Checks that hold between keys (e.g. rosenbrock4 is for the penalty method).
+/// Checks that hold between keys (e.g. rosenbrock4 is for the penalty method).
 void validate_scene(const Scene& scene);
 
-// Applies a flat key->value map onto the defaults and validates the result.
+/// Applies a flat key->value map onto the defaults and validates the result.
 Scene scene_from_values(const std::map<std::string, std::string>& values);
 
-// The nearest key by edit distance ("" when nothing is close).
+/// The nearest key by edit distance ("" when nothing is close).
 std::string nearest_scene_key(const std::string& key);
-// The same over any list of names (the node's own keys, say).
+/// The same over any list of names (the node's own keys, say).
 std::string nearest_key(const std::string& key, const std::vector<std::string>& candidates);
 
 }  // namespace rotor_rub::core

@@ -1,8 +1,9 @@
-// The simulation loop: drives a contact method through time, restarts it at
-// every drive discontinuity, and delivers samples on the output grid
-// (t_k = k / output_rate_hz exactly, from dense output) and contact events, in
-// time order, to an observer. Time is an argument, never read from a clock
-// (the wall clock only measures cost).
+/// @file
+/// The simulation loop: drives a contact method through time, restarts it at
+/// every drive discontinuity, and delivers samples on the output grid
+/// (t_k = k / output_rate_hz exactly, from dense output) and contact events, in
+/// time order, to an observer. Time is an argument, never read from a clock
+/// (the wall clock only measures cost).
 #pragma once
 
 #include <memory>
@@ -22,16 +23,16 @@ class SimulationObserver {
   virtual ~SimulationObserver() = default;
   virtual void on_sample(const Sample& /*s*/) {}
   virtual void on_event(const ContactEvent& /*e*/) {}
-  // A keyphasor: once per revolution, when the spin angle phi passes a
-  // multiple of 2 pi (the unbalance pointing along +x), the state at that
-  // instant from the method's dense output (not the nearest sample). Called
-  // only when wants_keyphasor(); in time order with the samples. The mark at
-  // the start angle itself (t = 0) is not one.
+  /// A keyphasor: once per revolution, when the spin angle phi passes a
+  /// multiple of 2 pi (the unbalance pointing along +x), the state at that
+  /// instant from the method's dense output (not the nearest sample). Called
+  /// only when wants_keyphasor(); in time order with the samples. The mark at
+  /// the start angle itself (t = 0) is not one.
   virtual bool wants_keyphasor() const { return false; }
   virtual void on_keyphasor(const Sample& /*s*/) {}
-  // The proximity probes' samples: the state at k / scene.probes.rate_hz
-  // (k >= 1) from the dense output, called only when wants_probes() and the
-  // rate is > 0; in time order with the samples (probes.hpp reads them).
+  /// The proximity probes' samples: the state at k / scene.probes.rate_hz
+  /// (k >= 1) from the dense output, called only when wants_probes() and the
+  /// rate is > 0; in time order with the samples (probes.hpp reads them).
   virtual bool wants_probes() const { return false; }
   virtual void on_probe_sample(const Sample& /*s*/) {}
 };
@@ -48,22 +49,22 @@ class Simulation {
   /// value and the accepted range) and starts at rest at t = 0.
   explicit Simulation(const Scene& scene);
 
-  // Advances to min(t_s, end_time_s), delivering samples with t <= t_s.
-  // Returns false once the method has failed (see failure()); samples and
-  // events up to the end of the last completed step have been delivered (the
-  // failing step's are withheld: its state is not trusted).
+  /// Advances to min(t_s, end_time_s), delivering samples with t <= t_s.
+  /// Returns false once the method has failed (see failure()); samples and
+  /// events up to the end of the last completed step have been delivered (the
+  /// failing step's are withheld: its state is not trusted).
   bool advance_to(double t_s, SimulationObserver& observer);
 
-  // A speed command taking effect at the current time(): a ramp at
-  // accel_magnitude to target_rad_per_s, then held. Throws
-  // std::invalid_argument (naming the value and range) when out of range.
+  /// A speed command taking effect at the current time(): a ramp at
+  /// accel_magnitude to target_rad_per_s, then held. Throws
+  /// std::invalid_argument (naming the value and range) when out of range.
   void command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2);
 
-  // Moves the end (e.g. to infinity, for a node that keeps running at the
-  // last speed after the scene's end_time_s). Must not be before time().
+  /// Moves the end (e.g. to infinity, for a node that keeps running at the
+  /// last speed after the scene's end_time_s). Must not be before time().
   void set_end_time(double t_s);
 
-  double time() const { return time_s_; }  // simulated time delivered so far
+  double time() const { return time_s_; }  ///< simulated time delivered so far
   /// The scene as run: integrator `auto` resolved to the registry's choice.
   const Scene& scene() const { return scene_; }
   const SpeedProfile& profile() const { return profile_; }
@@ -74,8 +75,8 @@ class Simulation {
   void deliver_until(double t_s, SimulationObserver& observer);
   void deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer);
   void deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer);
-  // The first time in [time(), t_s] at which a motor's spin angle reaches
-  // angle_rad, on the dense output; infinity if it does not get there.
+  /// The first time in [time(), t_s] at which a motor's spin angle reaches
+  /// angle_rad, on the dense output; infinity if it does not get there.
   double spin_angle_time(double angle_rad, double t_s) const;
   void count_and_deliver(const ContactEvent& e, SimulationObserver& observer);
 
@@ -85,20 +86,20 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double next_mark_angle_rad_ = 0.0;       // the next keyphasor angle (a multiple of 2 pi)
-  long next_probe_sample_ = 1;             // the probes' next sample index (k / probe rate)
-  double t_limit_s_ = 0.0;                 // the drive discontinuity the last step was bounded by
-  bool break_due_ = false;                 // the last step ended on it
-  std::vector<ContactEvent> step_events_;  // found, not yet delivered
+  double next_mark_angle_rad_ = 0.0;       ///< the next keyphasor angle (a multiple of 2 pi)
+  long next_probe_sample_ = 1;             ///< the probes' next sample index (k / probe rate)
+  double t_limit_s_ = 0.0;                 ///< the drive discontinuity the last step was bounded by
+  bool break_due_ = false;                 ///< the last step ended on it
+  std::vector<ContactEvent> step_events_;  ///< found, not yet delivered
   std::optional<RunFailure> failure_;
 };
 
-// Throws std::invalid_argument (naming the value and the accepted range) when
-// a speed command is out of range for the scene: the check command_speed
-// makes, for callers that queue a command for later.
+/// Throws std::invalid_argument (naming the value and the accepted range) when
+/// a speed command is out of range for the scene: the check command_speed
+/// makes, for callers that queue a command for later.
 void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2);
 
-// Runs the whole scene from 0 to end_time_s.
+/// Runs the whole scene from 0 to end_time_s.
 struct RunResult {
   RunStats stats;
   std::vector<ContactEvent> events;

@@ -1,9 +1,10 @@
 /// @file
 /// The one table of contact methods and the time integrators each runs on.
-/// Validation (validate_scene), the factory (make_contact_method), the
-/// tools' --help and --list-solvers, the tests' solver lists, the bench and
-/// the charts all read it: adding an integrator to a method is a row here and
-/// an explicit instantiation of the method's factory (docs/architecture.md).
+/// Validation (validate_scene), the factory (make_contact_method),
+/// rotor_rub_run --list-solvers, the tests' solver lists (test_support.hpp)
+/// and the bench's rows all read it: adding an integrator to a method is a
+/// row here and an explicit instantiation of the method's factory
+/// (docs/architecture.md).
 #pragma once
 
 #include <memory>
@@ -43,7 +44,7 @@ Integrator auto_integrator(Method method);
 /// The integrator a run of these settings uses (`auto` resolved).
 Integrator effective_integrator(const SolverSettings& solver);
 
-/// "dopri5, rkf78, dop853": the integrators offered with a method.
+/// "dop853, dopri5, rkf78": the integrators offered with a method, in the registry's order.
 std::string integrators_of(Method method);
 
 /// A table for --help / --list-solvers: method, integrator, the auto mark, note.
