@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Pictures of runs (issue 6) for the README: the paper's open-loop run-up
+# Pictures of runs (issue 6) for docs/closed_loop.md: the paper's open-loop run-up
 # (headless runner CSV) and the closed loop (closed_loop.launch, recorded bag),
 # a partial rub (a stator offset) and the motor-driven run-up (plot_machine.py, docs/run_machine/), drawn by rotor_rub_sim/tools/plot_run.py
 # into docs/run_paper/, docs/run_partial_rub/ and docs/run_closed_loop/. Uses its own ROS master on port 11911.

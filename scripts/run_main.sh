@@ -14,7 +14,7 @@ OUT="$ROOT/out"
 mkdir -p "$OUT"
 echo "paper run-up (config/paper_runup.yaml); the paper reads contact from ~1.14 s to ~2.6 s off its Figure 7."
 echo "  Ours (below) touches at 1.113 s and ends contact at 2.935 s: the paper's undamped contact spring and"
-echo "  its rtol 1e-3 end the contact earlier (README \"Against the paper's times\" measures both)."
+echo "  its rtol 1e-3 end the contact earlier (docs/benchmarks.md, \"Against the paper's times\", measures both)."
 echo "1. headless reference: switching at rtol 1e-10"
 "$BIN/rotor_rub_run" --scene "$ROOT/config/paper_runup.yaml" --method switching --rtol 1e-10 --atol 1e-13 \
   --csv "$OUT/reference.csv" --summary "$OUT/reference.json" --quiet

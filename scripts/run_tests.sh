@@ -107,6 +107,11 @@ package_checks() {
   check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
 }
 timed "checks: lint, install, downstream" package_checks
+# Every C++ file of the repository as .clang-format lays it out.
+format_check() (
+  cd "$ROOT" && git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
+)
+timed "checks: clang-format" check "clang-format: every C++ file as .clang-format lays it out" format_check
 # The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
 BIN="$WS/devel/lib/rotor_rub_sim"
 timed "checks: docs tables" check "docs: docs/node.md's parameter tables match the key tables" \

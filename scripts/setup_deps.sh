@@ -18,9 +18,10 @@ export PATH="/usr/bin:$PATH"
 
 # Not dependencies of the packages, so in no package.xml: the compiler and
 # CMake (every catkin package assumes them), rosdep itself (the bootstrap), and
-# the checkers scripts/run_tests.sh runs (catkin_lint, the clang++ build), and
+# the checkers scripts/run_tests.sh runs (catkin_lint, the clang++ build,
+# clang-format), and
 # the Slurm test's throwaway cluster (slurm-wlm, munge: test/slurm/).
-TOOLS=(build-essential cmake python3-rosdep2 catkin-lint clang slurm-wlm munge)
+TOOLS=(build-essential cmake python3-rosdep2 catkin-lint clang clang-format slurm-wlm munge)
 
 SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO="sudo"

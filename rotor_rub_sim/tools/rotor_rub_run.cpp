@@ -75,7 +75,8 @@ int main(int argc, char** argv) {
       ->type_name("HZ")
       ->check(cli::scene_key("output_rate_hz"));
   app.add_option("--set", sets,
-                 "sets any scene key, repeatable; --method, --integrator, --rtol, --atol and --rate win over --set of the same key")
+                 "sets any scene key, repeatable; --method, --integrator, --rtol, --atol and --rate win over --set of "
+                 "the same key")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false)
       ->check(key_value());
@@ -175,10 +176,9 @@ int main(int argc, char** argv) {
         "%-9s %-11s rtol %-7.0e first contact %9.6f s  sustained contact %9.6f .. %9.6f s  last contact end %9.6f s"
         "  max orbit %.6e m  max F_n %8.4f N  steps %7ld (+%ld rej)  rhs %8ld  iter %8ld  wall %8.3f ms\n",
         core::to_string(scene.solver.method), core::to_string(sim.scene().solver.integrator), scene.solver.rtol,
-        core::first_contact_s(recorder.events),
-        sustained.first, sustained.second, core::last_contact_end_s(recorder.events), recorder.max_orbit_m,
-        recorder.max_normal_force_N, st.steps, st.rejected_steps, st.rhs_evals, st.root_iterations,
-        st.wall_time_s * 1e3);
+        core::first_contact_s(recorder.events), sustained.first, sustained.second,
+        core::last_contact_end_s(recorder.events), recorder.max_orbit_m, recorder.max_normal_force_N, st.steps,
+        st.rejected_steps, st.rhs_evals, st.root_iterations, st.wall_time_s * 1e3);
   }
   if (const auto& f = sim.failure()) {
     const core::Sample& last = recorder.last_sample;

@@ -60,7 +60,7 @@ export SLURM_CONF="$CLUSTER/slurm.conf"
 # 1. The sweep: 9 runs in 3 shards, against the single-process sweep.
 GRID="$ROOT/config/sweeps/smoke.yaml"
 "$BIN/rotor_rub_sweep" --grid "$GRID" --jobs 1 --no-progress --out "$TMP/single.csv" 2>/dev/null
-# No SWEEP_ARGS: the plain form the README shows.
+# No SWEEP_ARGS: the plain form docs/studies.md shows.
 out="$(SWEEP_SHARDS=3 ROTOR_RUB_SWEEP="$BIN/rotor_rub_sweep" \
   "$ROOT/scripts/slurm_sweep.sh" "$GRID" "$TMP/slurm.csv" 2>&1)"
 rc=$?
@@ -120,7 +120,7 @@ if [ $rc -eq 0 ]; then
   out="classes or points differ"
 fi
 record "the bifurcation tool's shards through slurm_sweep.sh: identical CSVs" $rc "$out"
-# 4. Slurm's own cost per task (printed, for the README's projection): an
+# 4. Slurm's own cost per task (printed, for docs/benchmarks.md's projection): an
 # array of 16 empty tasks on this node's cores.
 t0=$(date +%s.%N)
 job="$(sbatch --parsable --array=0-15 --output=/dev/null --wrap true 2>&1)"

@@ -72,9 +72,7 @@ const char* to_string(DriveModel d) {
 
 Method method_from_string(const std::string& s) { return value_named(kAllMethods, s, "method"); }
 Integrator integrator_from_string(const std::string& s) { return value_named(kAllIntegrators, s, "integrator"); }
-StatorModel stator_model_from_string(const std::string& s) {
-  return value_named(kAllStatorModels, s, "stator_model");
-}
+StatorModel stator_model_from_string(const std::string& s) { return value_named(kAllStatorModels, s, "stator_model"); }
 DriveModel drive_model_from_string(const std::string& s) { return value_named(kAllDriveModels, s, "drive_model"); }
 
 }  // namespace rotor_rub::core

@@ -317,7 +317,8 @@ using PenaltyStepper =
 template <Integrator kScheme>
 struct PenaltyOn {
   template <int kStatorDof, bool kMotor>
-  using Method = PenaltyMethod<kStatorDof, kMotor, PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor>::State>>;
+  using Method =
+      PenaltyMethod<kStatorDof, kMotor, PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor>::State>>;
 };
 
 }  // namespace

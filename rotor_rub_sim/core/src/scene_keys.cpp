@@ -125,8 +125,8 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(real("eccentricity_m", 0, false, kInf, "mass-centre eccentricity e [m]",
                      [](Scene& s) -> double& { return s.model.eccentricity_m; }));
     t.push_back(choice("stator_model", kAllStatorModels,
-                                       "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only",
-                                       [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
+                       "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only",
+                       [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
     t.push_back(real("stator_mass_kg", 0, true, kInf, "stator mass m_s [kg] (elastic stator)",
                      [](Scene& s) -> double& { return s.model.stator_mass_kg; }));
     t.push_back(real("stator_stiffness_N_per_m", 0, false, kInf, "stator support stiffness k_s [N/m]",
@@ -153,9 +153,9 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
     // Drive.
     t.push_back(choice("drive_model", kAllDriveModels,
-                                      "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
-                                      "drives the spin against the rub's friction torque",
-                                      [](Scene& s) -> DriveModel& { return s.model.drive_model; }));
+                       "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
+                       "drives the spin against the rub's friction torque",
+                       [](Scene& s) -> DriveModel& { return s.model.drive_model; }));
     t.push_back(real("rotor_polar_inertia_kg_m2", 0, true, kInf,
                      "polar moment of inertia J_G of the rotating train about its mass centre [kg m^2]",
                      [](Scene& s) -> double& { return s.model.rotor_polar_inertia_kg_m2; }));
@@ -178,14 +178,13 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(real("max_speed_rad_per_s", 0, true, kInf, "largest speed a scene or command may ask [rad/s]",
                      [](Scene& s) -> double& { return s.speed.max_speed_rad_per_s; }));
     // Numerics.
-    t.push_back(choice("method", kAllMethods,
-                                  "contact method: penalty (I), switching (II), iteration (III)",
-                                  [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(choice(
-        "integrator", kAllIntegrators,
-        "time integrator; auto: the fastest for the method (penalty rosenbrock4, switching and iteration "
-        "dop853); each method's integrators: rotor_rub_run --list-solvers",
-        [](Scene& s) -> Integrator& { return s.solver.integrator; }));
+    t.push_back(choice("method", kAllMethods, "contact method: penalty (I), switching (II), iteration (III)",
+                       [](Scene& s) -> Method& { return s.solver.method; }));
+    t.push_back(
+        choice("integrator", kAllIntegrators,
+               "time integrator; auto: the fastest for the method (penalty rosenbrock4, switching and iteration "
+               "dop853); each method's integrators: rotor_rub_run --list-solvers",
+               [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
     t.push_back(real("atol", 1e-16, false, 1.0, "absolute error tolerance per step [m, m/s]",
@@ -314,8 +313,8 @@ void validate_scene(const Scene& s) {
       methods += (i == 0 ? "" : i + 1 == with.size() ? " and " : ", ") + with[i];
     }
     throw SceneError("scene key 'integrator': value '" + std::string(to_string(integrator)) + "' is accepted with " +
-                     methods + " only; accepted for method '" + to_string(s.solver.method) +
-                     "': auto, " + integrators_of(s.solver.method));
+                     methods + " only; accepted for method '" + to_string(s.solver.method) + "': auto, " +
+                     integrators_of(s.solver.method));
   }
   if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4) {
     const double h_max = rk4_stable_step_s(JeffcottModel(s.model));

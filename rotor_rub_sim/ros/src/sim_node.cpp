@@ -194,12 +194,14 @@ int SimNode::run() {
       "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
       config_.start_paused ? "paused at t = 0 s (call the resume or step service) before simulating" : "simulating",
-      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_.solver)), scene_.solver.rtol,
-      scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
+      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_.solver)),
+      scene_.solver.rtol, scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
   set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
-  // Chunks of at least one output period and at most 1 ms of simulated time:
-  // callbacks are served between chunks, and pacing sleeps per chunk.
+  // Chunks of 1 ms of simulated time, or of one output period when that is
+  // longer (never shorter than either), ending on multiples of the chunk;
+  // in lockstep a chunk also ends at the next control-period boundary.
+  // Callbacks are served between chunks, and pacing sleeps per chunk.
   const double chunk_s = std::max(1.0 / scene_.output_rate_hz, 1e-3);
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {

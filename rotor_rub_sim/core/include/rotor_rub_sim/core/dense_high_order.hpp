@@ -1,10 +1,9 @@
 // The high-order explicit integrators, with a dense output: Runge-Kutta-
 // Fehlberg 7(8) (Boost.Odeint's, integrator rkf78) and Dormand-Prince
 // 8(5,3) (dop853.hpp, integrator dop853), for tight tolerances, where
-// Dormand-Prince 5(4) needs many short steps (on the paper run-up at rtol
-// 1e-6 rkf78 takes 13 488 derivative evaluations where dopri5 takes
-// 24 364, rotor_rub_bench). The interface of DenseDopri5 but set_dt(),
-// which only the penalty method uses.
+// Dormand-Prince 5(4) needs many short steps (the measured costs:
+// docs/benchmarks.md, rotor_rub_bench). The interface of DenseDopri5 but
+// set_dt(), which only the penalty method uses.
 //
 // Neither pair's own continuous extension is used (odeint gives rkf78
 // none; dop853's costs 3 more stages), so the dense output is Hermite
@@ -185,9 +184,8 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
       return;
     }
     // Horner's rule as one expression: Eigen evaluates it in a single pass
-    // over the state, where the loop's first copy went through a
-    // non-inlined unrolled copy that reloads its pointers after every store
-    // (6.5 % of a switching run). The same operations in the same order.
+    // over the state (a loop's first copy went through a non-inlined
+    // unrolled copy). The same operations in the same order.
     static_assert(kDegree == 7, "the expression below is written for degree 7");
     x = x_old_ +
         s * (coef_[1] +
@@ -226,8 +224,7 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   // velocity v = q' / h that polynomial's derivative; a first-order state
   // the quintic matching z, z', z''. Built once a step, so that each of the
   // step's ~10 dense evaluations (event scan, samples, location) is a Horner
-  // pass over the state (measured: state_at was 16 % of the paper run-up at
-  // rtol 1e-6 with the basis evaluated per call). The coefficients come from
+  // pass over the state, not the basis evaluated per call. The coefficients come from
   // the ends' differences, not their values, so that an angle that keeps
   // growing (psi, phi) does not lose eps |q| / h to cancellation.
   static constexpr int kDegree = 7;

@@ -17,13 +17,18 @@
 //   is released (0).
 // * After every engaged step the drift of delta from C and of delta' from 0
 //   (of the order of the local error) is projected out, mass-weighted.
-// * Touchdown without event location: a free step that ends more than
-//   atol beyond the clearance is rejected and retried with half the step,
-//   until it ends within [-atol, atol] of the bore; there the impact law
-//   applies and the contact engages if F_n > 0. The rotor thus stays within
-//   the stator to atol, and the touchdown time is resolved to about
-//   atol / v_closing.
-// * Lift-off is decided at step ends, when F_n = 0 already separates.
+// * Touchdown without event location: a free step that reaches more than
+//   atol beyond the clearance anywhere on its dense output (the scan's
+//   points, and a graze's located maximum inside the step) is rejected and
+//   retried with half the step, until it ends within [-atol, atol] of the
+//   bore; there the impact law applies and the contact engages if F_n > 0.
+//   The rotor thus stays within the stator to atol, and the touchdown time
+//   is resolved to about atol / v_closing.
+// * Lift-off is located inside an engaged step, on its dense output, where
+//   the pressing on the bore falls through zero (locate_liftoff); the free
+//   flight restarts there from the state placed on the bore. A step that was
+//   not pressed at its start is decided at its end, when F_n = 0 already
+//   separates. Stick/slip transitions are located inside a step too.
 #pragma once
 
 #include <memory>
