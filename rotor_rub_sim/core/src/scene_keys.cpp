@@ -182,8 +182,9 @@ const std::vector<KeyEntry>& entries() {
                        [](Scene& s) -> Method& { return s.solver.method; }));
     t.push_back(
         choice("integrator", kAllIntegrators,
-               "time integrator; auto: the fastest for the method (penalty rosenbrock4, switching and iteration "
-               "dop853); each method's integrators: rotor_rub_run --list-solvers",
+               "time integrator; auto: the fastest for the method at the rtol (penalty rosenbrock4; switching and "
+               "iteration dop853 up to rtol 1e-4, dopri5 above); each method's integrators: rotor_rub_run "
+               "--list-solvers",
                [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));

@@ -17,8 +17,9 @@ namespace rotor_rub::core {
 /// integrators each method runs on is solver_registry.hpp's one table.
 
 enum class Method { kPenalty, kSwitching, kIteration };
-/// kAuto: the registry's choice for the method (the fastest at a given
-/// accuracy on the benchmark, docs/numerics.md), resolved when a run starts.
+/// kAuto: the registry's choice for the method and the rtol (the fastest
+/// there at dopri5's accuracy or better, solver_registry.cpp), resolved when
+/// a run starts.
 enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
 enum class StatorModel { kElastic, kRigid };
 enum class DriveModel { kPrescribed, kMotor };

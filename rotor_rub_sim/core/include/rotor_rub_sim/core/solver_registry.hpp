@@ -25,21 +25,22 @@ using ContactMethodFactory = std::unique_ptr<ContactMethod> (*)(const Scene&);
 struct SolverEntry {
   Method method;
   Integrator integrator;
-  /// The integrator `auto` resolves to for this method (one row per method).
-  bool is_auto_choice;
+  /// `auto` resolves to this row's integrator for rtol up to this value
+  /// (the method's first such row in the table); 0: never.
+  double auto_up_to_rtol;
   ContactMethodFactory make;
   /// When to use it, one line (--list-solvers, docs/numerics.md).
   const char* note;
 };
 
-/// Every offered pair, methods in paper order, the auto choice first per method.
+/// Every offered pair, methods in paper order, the auto choices first per method.
 const std::vector<SolverEntry>& solver_registry();
 
 /// The row of a method on a concrete integrator; nullptr when not offered.
 const SolverEntry* find_solver(Method method, Integrator integrator);
 
-/// The integrator `auto` stands for with this method.
-Integrator auto_integrator(Method method);
+/// The integrator `auto` stands for with this method at this rtol.
+Integrator auto_integrator(Method method, double rtol);
 
 /// The integrator a run of these settings uses (`auto` resolved).
 Integrator effective_integrator(const SolverSettings& solver);
@@ -47,7 +48,7 @@ Integrator effective_integrator(const SolverSettings& solver);
 /// "dop853, dopri5, rkf78": the integrators offered with a method, in the registry's order.
 std::string integrators_of(Method method);
 
-/// A table for --help / --list-solvers: method, integrator, the auto mark, note.
+/// A table for --list-solvers: method, integrator, where auto picks it, note.
 std::string solver_table_text();
 
 }  // namespace rotor_rub::core

@@ -1,0 +1,89 @@
+// The registry of methods and integrators (solver_registry.hpp): what auto
+// resolves to, that every row builds and runs the scene, that validation and
+// the factory agree with it, and that a run reports the integrator it ran.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
+#include "test_support.hpp"
+
+namespace rotor_rub {
+namespace {
+
+using core::Integrator;
+using core::Method;
+
+TEST(SolverRegistry, AutoIsDop853UpToRtol1e4ThenDopri5AndRosenbrock4ForPenalty) {
+  for (const Method m : {Method::kSwitching, Method::kIteration}) {
+    for (const double rtol : {1e-10, 1e-6, 1e-4}) EXPECT_EQ(core::auto_integrator(m, rtol), Integrator::kDop853);
+    for (const double rtol : {1.01e-4, 1e-3, 1e-2, 1.0}) EXPECT_EQ(core::auto_integrator(m, rtol), Integrator::kDopri5);
+  }
+  for (const double rtol : {1e-10, 1e-6, 1e-3, 1.0}) {
+    EXPECT_EQ(core::auto_integrator(Method::kPenalty, rtol), Integrator::kRosenbrock4);
+  }
+  core::SolverSettings s;
+  EXPECT_EQ(s.integrator, Integrator::kAuto);  // the default
+  s.method = Method::kSwitching;
+  s.rtol = 1e-3;
+  EXPECT_EQ(core::effective_integrator(s), Integrator::kDopri5);
+  s.integrator = Integrator::kRkf78;  // a named one is itself
+  EXPECT_EQ(core::effective_integrator(s), Integrator::kRkf78);
+}
+
+TEST(SolverRegistry, EveryRowIsOfferedOnceAndEveryOtherPairRefused) {
+  std::set<std::pair<Method, Integrator>> rows;
+  for (const core::SolverEntry& e : core::solver_registry()) {
+    EXPECT_TRUE(rows.insert({e.method, e.integrator}).second) << core::to_string(e.integrator) << " twice";
+    EXPECT_NE(e.integrator, Integrator::kAuto);
+    EXPECT_NE(e.make, nullptr);
+    EXPECT_GT(std::string(e.note).size(), 10u);
+  }
+  for (const Method m : core::kAllMethods) {
+    for (const Integrator i : core::kAllIntegrators) {
+      if (i == Integrator::kAuto) continue;
+      core::Scene s;
+      s.solver.method = m;
+      s.solver.integrator = i;
+      if (i == Integrator::kRk4) s.solver.fixed_step_s = 1e-6;  // below its stability bound
+      const bool offered = rows.count({m, i}) > 0;
+      EXPECT_EQ(core::find_solver(m, i) != nullptr, offered);
+      if (offered) {
+        EXPECT_NO_THROW(core::validate_scene(s)) << core::to_string(m) << " " << core::to_string(i);
+      } else {
+        EXPECT_THROW(core::validate_scene(s), core::SceneError) << core::to_string(m) << " " << core::to_string(i);
+        EXPECT_THROW(core::Simulation{s}, core::SceneError) << core::to_string(m) << " " << core::to_string(i);
+      }
+    }
+  }
+}
+
+TEST(SolverRegistry, EveryRowRunsThePaperScenesFirstContact) {
+  // Each row's factory builds its method, and the run reaches the first
+  // touch (1.113 s) with the scene saying which integrator ran.
+  for (const core::SolverEntry& e : core::solver_registry()) {
+    core::Scene s = test::paper_scene();
+    s.solver.method = e.method;
+    s.solver.integrator = e.integrator;
+    s.solver.fixed_step_s = 1e-6;
+    s.end_time_s = 1.2;
+    core::Simulation sim(s);
+    EXPECT_EQ(sim.scene().solver.integrator, e.integrator);
+    test::Collect out;
+    sim.advance_to(s.end_time_s, out);
+    ASSERT_FALSE(sim.failure().has_value()) << sim.failure()->message;
+    ASSERT_FALSE(out.events.empty()) << core::to_string(e.method) << " " << core::to_string(e.integrator);
+    EXPECT_NEAR(out.events.front().t_s, 1.1129, 1e-3) << core::to_string(e.integrator);
+  }
+  // auto resolved where the run starts, and reported by the scene it ran.
+  core::Scene s = test::paper_scene();
+  s.end_time_s = 0.1;
+  EXPECT_EQ(core::Simulation(s).scene().solver.integrator, Integrator::kDop853);
+  s.solver.rtol = 1e-3;
+  EXPECT_EQ(core::Simulation(s).scene().solver.integrator, Integrator::kDopri5);
+}
+
+}  // namespace
+}  // namespace rotor_rub
