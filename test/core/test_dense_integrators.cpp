@@ -24,6 +24,8 @@ using State = Eigen::Vector2d;
 // x'' + x = cos(2 t), from rest at t = 0: x = (cos t - cos 2t) / 3
 // (non-autonomous, so the stage times count).
 struct Forced {
+  // RODASP differences the Jacobian (dense_rodasp.hpp's hooks off).
+  static constexpr bool kAnalyticJacobian = false, kSecondOrderJacobian = false, kOwnErrorNorm = false;
   void operator()(const State& x, State& dx, double t) const {
     dx[0] = x[1];
     dx[1] = -x[0] + std::cos(2.0 * t);

@@ -68,6 +68,8 @@ struct Riccati {
 // non-autonomous: the stage times matter).
 using State2 = Eigen::Vector2d;
 struct Forced {
+  // The Hermite dense output's second derivative by central differences.
+  static constexpr bool kClosedFormSecondDerivative = false;
   void operator()(const State2& x, State2& dx, double t) const {
     dx[0] = x[1];
     dx[1] = -x[0] + std::cos(2.0 * t);

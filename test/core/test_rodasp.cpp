@@ -27,6 +27,8 @@ constexpr double kLambda = -1e4;
 constexpr double kOmega = 100.0;
 using State1 = Eigen::Matrix<double, 1, 1>;
 struct ProtheroRobinson {
+  // No closed-form hooks (dense_rodasp.hpp): the integrator differences J.
+  static constexpr bool kAnalyticJacobian = false, kSecondOrderJacobian = false, kOwnErrorNorm = false;
   void operator()(const State1& y, State1& dy, double t) const {
     dy[0] = kLambda * (y[0] - std::sin(kOmega * t)) + kOmega * std::cos(kOmega * t);
   }
@@ -99,6 +101,8 @@ TEST(Rodasp, ProtheroRobinsonStepsAndErrors) {
 // x'' + 2 z w x' + w^2 x = cos(W t). Closed form: the steady part
 // (A cos W t + B sin W t) plus the homogeneous part that starts it from rest.
 struct Forced {
+  // No closed-form hooks (dense_rodasp.hpp): the integrator differences J.
+  static constexpr bool kAnalyticJacobian = false, kSecondOrderJacobian = false, kOwnErrorNorm = false;
   static constexpr double w = 80.0, z = 0.01, W = 130.0;
   void operator()(const Eigen::Vector2d& x, Eigen::Vector2d& dx, double t) const {
     dx[0] = x[1];
@@ -126,7 +130,7 @@ TEST(Rodasp, FourthOrderOnANonAutonomousOscillator) {
 
 // Two coupled, damped oscillators, one mode stiff (about -1e4 1/s), under
 // forcing in the velocity rows: x' = J x + (0, g(t)) with J = [0 I; A B].
-// kClosed: the system gives J and df/dt (has_analytic_jacobian); kHalf:
+// kClosed: the system gives J and df/dt (kAnalyticJacobian); kHalf:
 // also declares the second-order form (the half-size solve).
 template <bool kClosed, bool kHalf>
 struct Coupled {
@@ -134,6 +138,7 @@ struct Coupled {
   using Matrix = Eigen::Matrix4d;
   static constexpr bool kAnalyticJacobian = kClosed;
   static constexpr bool kSecondOrderJacobian = kHalf;
+  static constexpr bool kOwnErrorNorm = false;
   static Matrix jac() {
     Matrix j = Matrix::Zero();
     j.topRightCorner<2, 2>().setIdentity();

@@ -164,6 +164,9 @@ class ContactForceSolver {
 template <int kStatorDof, bool kMotor>
 struct IterationSystem {
   using L = FreeLayout<kStatorDof, kMotor>;
+  // The jerk for the Hermite dense output: the central difference (the
+  // contact force is a root, its rate no closed form).
+  static constexpr bool kClosedFormSecondDerivative = false;
   const JeffcottModel* model = nullptr;
   const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;

@@ -89,12 +89,6 @@ class OdeintRkf78 {
   Controlled controlled_;
 };
 
-template <class System, class = void>
-struct has_closed_form_second_derivative : std::false_type {};
-template <class System>
-struct has_closed_form_second_derivative<System, std::enable_if_t<System::kClosedFormSecondDerivative>>
-    : std::true_type {};
-
 // The dense high-order integrator on a stepping Engine (OdeintRkf78,
 // Dop853): the engine's steps, the Hermite dense output of the header.
 template <class Layout, class Engine>
@@ -206,7 +200,9 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   // evaluations spent.
   template <class System>
   static int end_derivatives(System& sys, const State& x, double t_s, State& dxdt, State& ddx) {
-    if constexpr (has_closed_form_second_derivative<System>::value) {
+    // Every system states it (kClosedFormSecondDerivative, true or false):
+    // a missing or misspelled flag fails to compile.
+    if constexpr (System::kClosedFormSecondDerivative) {
       return sys.end_derivatives(x, t_s, dxdt, ddx);
     } else {
       sys(x, dxdt, t_s);

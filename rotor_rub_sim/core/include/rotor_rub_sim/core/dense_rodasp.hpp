@@ -24,7 +24,7 @@
 //   y1 = y + h sum b_i K_i, the embedded y1^ = y + h sum bh_i K_i,
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
 // The Jacobian J = df/dy and f_t = df/dt come from the system in closed form
-// where it gives them (has_analytic_jacobian: the penalty method under the
+// where it gives them (kAnalyticJacobian: the penalty method under the
 // prescribed drive, penalty_system.hpp; 6 right-hand sides an accepted step,
 // 5 a rejected one), else are forward differences of the same right-hand
 // side (jacobian()): n + 2 more a step for n states (the motor drive's 11
@@ -84,33 +84,21 @@ struct RodaspTableau {
   }
 };
 
-// A system that gives its Jacobian df/dx and df/dt in closed form declares
-//   static constexpr bool kAnalyticJacobian = true;
-//   void jacobian(const State& x, double t, Matrix& J, State& dfdt) const;
-template <class System, class = void>
-struct has_analytic_jacobian : std::false_type {};
-template <class System>
-struct has_analytic_jacobian<System, std::enable_if_t<System::kAnalyticJacobian>> : std::true_type {};
-
-// A system whose closed-form Jacobian is second order, the state's first
-// half the positions q and its second their velocities v = q' (so J = [0 I;
-// A B] and df/dt = [0; g]), declares kSecondOrderJacobian: each stage's
-// E u = r then takes one system of half the size, (I - tau B - tau^2 A) u_v
-// = r_v + tau A r_p with u_p = r_p + tau u_v (tau = h gamma): a 4x4 LU for
-// the elastic stator's 8 states, an eighth of the full one's work.
-template <class System, class = void>
-struct has_second_order_jacobian : std::false_type {};
-template <class System>
-struct has_second_order_jacobian<System, std::enable_if_t<System::kSecondOrderJacobian && System::kAnalyticJacobian>>
-    : std::true_type {};
-
-// A system whose state is not the one its tolerances are meant for (the
-// penalty method's polar coordinates) measures a step's error itself:
-//   double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const;
-template <class System, class = void>
-struct has_error_norm : std::false_type {};
-template <class System>
-struct has_error_norm<System, std::void_t<decltype(&System::error_norm)>> : std::true_type {};
+// Every system DenseRodasp steps states its optional hooks, each a
+// static constexpr bool (a missing or misspelled one fails to compile, so
+// no hook is dropped silently when a name drifts; a hook set true whose
+// function is missing fails too):
+//   kAnalyticJacobian: J = df/dx and df/dt in closed form,
+//     void jacobian(const State& x, double t, Matrix& J, State& dfdt) const;
+//   kSecondOrderJacobian (with kAnalyticJacobian): the state's first half
+//     the positions q, its second their velocities v = q' (J = [0 I; A B],
+//     df/dt = [0; g]): each stage's E u = r then takes one system of half
+//     the size, (I - tau B - tau^2 A) u_v = r_v + tau A r_p with u_p = r_p +
+//     tau u_v (tau = h gamma): a 4x4 LU for the elastic stator's 8 states,
+//     an eighth of the full one's work;
+//   kOwnErrorNorm: a state that is not the one its tolerances are meant for
+//     (the penalty method's polar coordinates) measures a step's error itself,
+//     double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const;
 
 template <class State>
 class DenseRodasp {
@@ -211,7 +199,7 @@ class DenseRodasp {
     return t;
   }
 
-  // Without a closed form (has_analytic_jacobian), J = df/dx at (x_old, t)
+  // Without a closed form (kAnalyticJacobian), J = df/dx at (x_old, t)
   // by forward differences, the state's step 1e-7
   // of the component kept within [1e-13, 1e-7] (an angle that keeps growing,
   // a motor's spin, does not get a coarse one). f_t = df/dt by a central
@@ -223,7 +211,7 @@ class DenseRodasp {
   template <class System>
   void jacobian(System& sys, double t, RunStats& stats) {
     ++stats.jacobian_evals;
-    if constexpr (has_analytic_jacobian<System>::value) {
+    if constexpr (System::kAnalyticJacobian) {
       sys.jacobian(x_old_, t, jac_, dfdt_);
       return;
     }
@@ -246,7 +234,8 @@ class DenseRodasp {
   // increment) and the error norm.
   template <class System>
   double attempt(System& sys, double h, RunStats& stats) {
-    if constexpr (has_second_order_jacobian<System>::value) {
+    static_assert(!System::kSecondOrderJacobian || System::kAnalyticJacobian, "a second-order J is a closed form");
+    if constexpr (System::kSecondOrderJacobian) {
       return attempt_with(sys, h, SecondOrderSolver(jac_, h * RodaspTableau::kGamma), stats);
     } else {
       return attempt_with(sys, h, FullSolver(jac_, h * RodaspTableau::kGamma), stats);
@@ -259,7 +248,7 @@ class DenseRodasp {
     FullSolver(const Matrix& jac, double tau) : lu(Matrix::Identity() - tau * jac) {}
     State solve(const State& r) const { return lu.solve(r); }
   };
-  // The same for J = [0 I; A B] (has_second_order_jacobian).
+  // The same for J = [0 I; A B] (kSecondOrderJacobian).
   struct SecondOrderSolver {
     static_assert(kSize % 2 == 0, "[q, v]: as many velocities as positions");
     static constexpr int kHalf = kSize / 2;
@@ -313,8 +302,8 @@ class DenseRodasp {
     err *= h;
     const State x1 = x_old_ + step_;
     // The RMS norm of odeint's controllers, scaled by atol + rtol max(|x0|, |x1|),
-    // or the system's own (has_error_norm).
-    if constexpr (has_error_norm<System>::value) {
+    // or the system's own (kOwnErrorNorm).
+    if constexpr (System::kOwnErrorNorm) {
       return sys.error_norm(err, x_old_, x1, atol_, rtol_);
     } else {
       return std::sqrt((err.array() / (atol_ + rtol_ * x_old_.array().abs().max(x1.array().abs()))).square().mean());

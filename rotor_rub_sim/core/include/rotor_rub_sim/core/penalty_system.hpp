@@ -72,6 +72,7 @@ struct PenaltySystem {
   static constexpr bool kAnalyticJacobian = !kMotor;
   // Positions then velocities, nothing else (FreeLayout without the spin).
   static constexpr bool kSecondOrderJacobian = !kMotor;
+  static constexpr bool kOwnErrorNorm = false;  // the Cartesian state is the user's
   static_assert(kMotor || (L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof), "[q, v] layout");
   using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
@@ -192,6 +193,7 @@ struct PenaltyPolarSystem {
   // Second order as the Cartesian one ([0 I; A B]).
   static constexpr bool kAnalyticJacobian = !kMotor;
   static constexpr bool kSecondOrderJacobian = !kMotor;
+  static constexpr bool kOwnErrorNorm = true;  // error_norm() below
   using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
   void jacobian(const State& x, double t_s, Matrix& jac, State& dfdt) const {
     static_assert(!kMotor, "the motor drive's Jacobian is differenced");
