@@ -56,6 +56,8 @@ if [ "$MODE" != plot ]; then
   else
     "$BIN/rotor_rub_bench" --scene "$SCENE" --repeats 7 --error-rate 20000 --csv "$DATA/bench.csv" \
       | tee "$ROOT/docs/bench_paper_runup.txt"
+    /usr/bin/python3 "$ROOT/scripts/gen_bench_block.py" "$ROOT/docs/bench_paper_runup.txt" \
+      "rosrun rotor_rub_sim rotor_rub_bench --repeats 7 --error-rate 20000" "$ROOT/docs/benchmarks.md"
   fi
   # Table 2: one run at a time so that the shares and times are not disturbed.
   "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \

@@ -86,6 +86,21 @@ TEST(Failures, UnstableFixedStepIsDiverged) {
   EXPECT_NE(failure->message.find("unstable"), std::string::npos) << failure->message;
 }
 
+TEST(Failures, WallBudgetHoldsAcrossSmallAdvances) {
+  // The node advances a millisecond of simulated time a call, a few steps
+  // each: the budget counts across the calls (a count of steps per call
+  // never reached the clock, and the run ended ok).
+  core::Scene s = test::paper_scene();
+  s.solver.method = core::Method::kPenalty;  // rosenbrock4: ~4 ms of wall for the scene's 4 s
+  s.solver.max_wall_time_s = 1e-4;
+  core::Simulation sim(s);
+  Collect seen;
+  for (int k = 1; k <= 4000 && sim.advance_to(k * 1e-3, seen); ++k) {
+  }
+  ASSERT_TRUE(sim.failure().has_value()) << "ran " << sim.time() << " s within a 1e-4 s wall budget";
+  EXPECT_EQ(sim.failure()->failure_class, core::FailureClass::kTimedOut);
+}
+
 TEST(Failures, RootFinderBudgetIsNotConverged) {
   expect_failure(run({{"method", "iteration"}, {"iteration_max_iterations", "1"}}), core::FailureClass::kNotConverged,
                  "did not converge");

@@ -183,13 +183,14 @@ bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
   const double target = std::min(t_s, scene_.end_time_s);
   const auto wall_start = std::chrono::steady_clock::now();
   const double wall_before_s = method_->stats().wall_time_s;
-  long steps_since_clock = 0;
   try {
     while (time_s_ < target) {
-      // The wall budget, read every 256 steps (a clock read costs a tenth
-      // of a step; this keeps it off the hot path).
-      if (++steps_since_clock >= 256) {
-        steps_since_clock = 0;
+      // The wall budget, read every 256 passes of this loop (a clock read
+      // costs a tenth of a step; this keeps it off the hot path), counted
+      // across calls: a node advances a few steps a call, and a count that
+      // restarted every call never reached the clock.
+      if (++passes_since_clock_ >= kPassesPerClockRead) {
+        passes_since_clock_ = 0;
         const double spent =
             wall_before_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
         if (spent > scene_.solver.max_wall_time_s) {

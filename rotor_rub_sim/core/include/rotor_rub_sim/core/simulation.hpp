@@ -86,8 +86,10 @@ class Simulation {
   InvariantLimits limits_;
   double time_s_ = 0.0;
   long next_sample_ = 0;
-  double next_mark_angle_rad_ = 0.0;       ///< the next keyphasor angle (a multiple of 2 pi)
-  long next_probe_sample_ = 1;             ///< the probes' next sample index (k / probe rate)
+  double next_mark_angle_rad_ = 0.0;                ///< the next keyphasor angle (a multiple of 2 pi)
+  long next_probe_sample_ = 1;                      ///< the probes' next sample index (k / probe rate)
+  static constexpr long kPassesPerClockRead = 256;  // the wall budget's clock reads (advance_to)
+  long passes_since_clock_ = 0;
   double t_limit_s_ = 0.0;                 ///< the drive discontinuity the last step was bounded by
   bool break_due_ = false;                 ///< the last step ended on it
   std::vector<ContactEvent> step_events_;  ///< found, not yet delivered

@@ -1,0 +1,32 @@
+#!/usr/bin/python3
+"""Writes the benchmark's summary into docs/benchmarks.md, between the lines
+<!-- BEGIN GENERATED: bench --> and <!-- END GENERATED: bench -->: the date,
+the machine, the command, and the bench's "cheapest within" tables (each
+method and integrator's cheapest run within an error bound, CVODE's ratio)
+as rotor_rub_bench printed them. scripts/make_charts.sh calls it after the
+bench, so the page's headline figures are the last run's, never typed in.
+
+usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md"""
+import datetime
+import os
+import platform
+import sys
+
+bench_txt, command, page = sys.argv[1:4]
+lines = open(bench_txt).read().splitlines()
+start = next((i for i, l in enumerate(lines) if l.startswith("cheapest within")), None)
+if start is None:
+    sys.exit("gen_bench_block: no 'cheapest within' table in %s" % bench_txt)
+end = next((i for i, l in enumerate(lines) if l.startswith("paper (MATLAB")), len(lines))
+cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown CPU")
+machine = "%d cores (%s), %s %s" % (os.cpu_count(), cpu, platform.system(), platform.release())
+block = ["Written by `scripts/make_charts.sh` (`scripts/gen_bench_block.py`) on %s UTC, on %s:" %
+         (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine), "",
+         "    " + command, ""] + ["    " + l if l else "" for l in lines[start:end]]
+text = open(page).read()
+begin, stop = "<!-- BEGIN GENERATED: bench -->", "<!-- END GENERATED: bench -->"
+if begin not in text or stop not in text:
+    sys.exit("gen_bench_block: %s has no '%s' ... '%s' block" % (page, begin, stop))
+head, rest = text.split(begin, 1)
+_, tail = rest.split(stop, 1)
+open(page, "w").write(head + begin + "\n" + "\n".join(block).rstrip() + "\n" + stop + tail)
