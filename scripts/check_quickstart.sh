@@ -11,8 +11,9 @@ BLOCK="$(awk '/^## Quick start/ {q = 1; next} /^## / {q = 0} q && /^```bash/ {b 
 echo "$BLOCK"
 rm -rf /tmp/quick_start.bag /tmp/quick_start
 cd "$ROOT"
-# Its own process group, so a timeout ends the launch and its nodes too.
-timeout --kill-after=10 240 setsid bash -e -c "$BLOCK"
+# timeout runs the block in a process group of its own and signals the whole
+# group: a launch that hangs ends with its nodes and its master.
+timeout --kill-after=10 240 bash -e -c "$BLOCK"
 rc=$?
 [ $rc -eq 0 ] || { echo "check_quickstart: the quick start exited $rc" >&2; exit 1; }
 test -s /tmp/quick_start.bag || { echo "check_quickstart: no /tmp/quick_start.bag" >&2; exit 1; }

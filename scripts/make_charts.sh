@@ -70,7 +70,7 @@ if [ "$MODE" != plot ] || [ ! -f "$TRACES/reference.csv" ]; then
   run() { "$BIN/rotor_rub_run" --scene "$SCENE" --rate $RATE "${EXTRA_RUN[@]}" --quiet "$@"; }
   EXTRA_RUN=()
   [ "$MODE" = quick ] && EXTRA_RUN=(--set end_time_s=1.5)
-  run --method switching --rtol 1e-12 --atol 1e-15 --csv "$TRACES/reference.csv" --summary "$TRACES/reference.json"
+  run --method switching --integrator dopri5 --rtol 1e-12 --atol 1e-15 --csv "$TRACES/reference.csv" --summary "$TRACES/reference.json"
   for m in switching iteration penalty; do
     run --method $m --csv "$TRACES/$m.csv" --summary "$TRACES/$m.json"
   done

@@ -16,7 +16,7 @@ echo "paper run-up (config/paper_runup.yaml); the paper reads contact from ~1.14
 echo "  Ours (below) touches at 1.113 s and ends contact at 2.935 s: the paper's undamped contact spring and"
 echo "  its rtol 1e-3 end the contact earlier (docs/benchmarks.md, \"Against the paper's times\", measures both)."
 echo "1. headless reference: switching at rtol 1e-10"
-"$BIN/rotor_rub_run" --scene "$ROOT/config/paper_runup.yaml" --method switching --rtol 1e-10 --atol 1e-13 \
+"$BIN/rotor_rub_run" --scene "$ROOT/config/paper_runup.yaml" --method switching --integrator dopri5 --rtol 1e-10 --atol 1e-13 \
   --csv "$OUT/reference.csv" --summary "$OUT/reference.json" --quiet
 echo "2. the three methods as ROS nodes, recorded into $OUT/paper_methods.bag"
 rm -f "$OUT/paper_methods.bag"

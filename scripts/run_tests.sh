@@ -109,7 +109,8 @@ package_checks() {
 timed "checks: lint, install, downstream" package_checks
 # Every C++ file of the repository as .clang-format lays it out.
 format_check() (
-  cd "$ROOT" && git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
+  cd "$ROOT" && git ls-files -z '*.cpp' '*.hpp' | xargs -0 -r clang-format --dry-run -Werror > "$WS/clang_format.log" 2>&1 \
+    || { head -n 20 "$WS/clang_format.log" >&2; exit 1; }
 )
 timed "checks: clang-format" check "clang-format: every C++ file as .clang-format lays it out" format_check
 # The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
@@ -136,7 +137,8 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
 # Sweeps on a real, throwaway single-node Slurm cluster (its cases join the results).
 timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
 
-wait "$SAN_PID"
+if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
+else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
 cat "$WS/sanitize_stream.log"
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
@@ -158,6 +160,7 @@ for path in glob.glob(sys.argv[1] + "/**/*.xml", recursive=True):
 print(p, f)
 PY
 )
+passed=${passed:-0}; failed=${failed:-1}  # no count from the results: a failure
 tool_pass=$(grep -c '^\[  OK  \]' "$CHECKS"); tool_fail=$(grep -c '^\[FAILED\]' "$CHECKS")
 passed=$((passed + tool_pass)); failed=$((failed + tool_fail))
 if [ "$results_rc" -ne 0 ] && [ "$failed" -eq 0 ]; then failed=1; cat "$WS/test_results.txt"; fi

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 namespace rotor_rub::test {
 
 struct CliResult {
@@ -24,7 +26,7 @@ struct CliResult {
 
 // `prefix` goes before the command in the shell: "cd /tmp &&", "env -u VAR".
 inline CliResult run_cli(const std::string& binary, const std::string& args, const std::string& prefix = "") {
-  const std::string base = "/tmp/rotor_rub_cli." + std::to_string(::getpid());
+  const std::string base = rotor_rub::test::tmp() + "cli";
   const int rc = std::system((prefix + " " + binary + " " + args + " > " + base + ".out 2> " + base + ".err").c_str());
   auto slurp = [](const std::string& path) {
     std::ifstream f(path);

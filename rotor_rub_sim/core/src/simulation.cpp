@@ -15,16 +15,24 @@ namespace rotor_rub::core {
 
 std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
   const SolverEntry* entry = find_solver(scene.solver.method, effective_integrator(scene.solver));
-  if (entry == nullptr) validate_scene(scene);  // throws SceneError naming the key and the accepted values
+  if (entry == nullptr) {
+    validate_scene(scene);  // throws SceneError naming the key and the accepted values
+    throw std::logic_error("make_contact_method: the registry offers no such method and integrator");
+  }
   return entry->make(scene);
 }
 
 namespace {
 
-// The scene checked as a scene file's would be, with `auto` resolved, so
+// The scene checked as a scene file's would be (every key's range through
+// the key table, then the rules between keys), with `auto` resolved, so
 // scene() tells which integrator runs.
 Scene checked_scene(Scene scene) {
-  validate_scene(scene);
+  // Every key's value read back through the key table (exact: scene_values'
+  // texts), which throws SceneError naming a key out of its range, then
+  // validate_scene; the scene itself is kept (it may hold what no key sets,
+  // profile_cost).
+  static_cast<void>(scene_from_values(scene_values(scene)));
   scene.solver.integrator = effective_integrator(scene.solver);
   return scene;
 }
@@ -35,7 +43,8 @@ Simulation::Simulation(const Scene& scene)
     : scene_(checked_scene(scene)),
       profile_(scene_.speed),
       method_(make_contact_method(scene_)),
-      limits_(InvariantLimits::for_scene(scene_)) {
+      limits_(InvariantLimits::for_scene(scene_)),
+      wall_budget_s_(scene_.solver.max_wall_time_s) {
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
@@ -88,6 +97,9 @@ void Simulation::set_end_time(double t_s) {
     throw std::invalid_argument("end time " + std::to_string(t_s) + " s is before the simulated time " +
                                 std::to_string(time_s_) + " s");
   }
+  // The wall budget bounds the scene's run; a node that keeps running past
+  // the scene's end (end_action continue) runs as long as it is asked to.
+  if (t_s > scene_.end_time_s) wall_budget_s_ = std::numeric_limits<double>::infinity();
   scene_.end_time_s = t_s;
 }
 
@@ -193,7 +205,7 @@ bool Simulation::advance_to(double t_s, SimulationObserver& observer) {
         passes_since_clock_ = 0;
         const double spent =
             wall_before_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-        if (spent > scene_.solver.max_wall_time_s) {
+        if (spent > wall_budget_s_) {
           std::ostringstream what;
           what << "wall-time budget max_wall_time_s = " << scene_.solver.max_wall_time_s << " s spent";
           throw MethodFailure(FailureClass::kTimedOut, time_s_, what.str());

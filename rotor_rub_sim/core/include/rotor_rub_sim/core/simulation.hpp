@@ -62,6 +62,7 @@ class Simulation {
 
   /// Moves the end (e.g. to infinity, for a node that keeps running at the
   /// last speed after the scene's end_time_s). Must not be before time().
+  /// Past the scene's end the wall budget (max_wall_time_s) no longer applies.
   void set_end_time(double t_s);
 
   double time() const { return time_s_; }  ///< simulated time delivered so far
@@ -84,6 +85,7 @@ class Simulation {
   SpeedProfile profile_;
   std::unique_ptr<ContactMethod> method_;
   InvariantLimits limits_;
+  double wall_budget_s_;  ///< max_wall_time_s, or infinity once the end is moved past the scene's
   double time_s_ = 0.0;
   long next_sample_ = 0;
   double next_mark_angle_rad_ = 0.0;                ///< the next keyphasor angle (a multiple of 2 pi)
