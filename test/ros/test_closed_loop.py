@@ -30,13 +30,15 @@ from runup_controller import RunUpPolicy  # noqa: E402
 MAX_DETECTION_DELAY_S = 0.020
 
 
-def launch(bag, *args):
+def launch(bag, *args, ns="rotor_rub_sim"):
     # launch_checked.py: a node that fails fails the test (roslaunch exits 0).
+    # A namespace of its own keeps a run's topics apart from an earlier run's
+    # nodes that are still shutting down (a latched alarm of theirs).
     subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch", "record:=true",
-                    "bag:=" + bag] + list(args), check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                   timeout=600)
+                    "bag:=" + bag, "ns:=" + ns] + list(args), check=True, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL, timeout=600)
     with rosbag.Bag(bag) as b:
-        return [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/state"])]
+        return [m for _, m, _ in b.read_messages(topics=["/%s/state" % ns])]
 
 
 def contact_time_s(states):
@@ -103,8 +105,9 @@ class ClosedLoop(unittest.TestCase):
             text = f.read()
         with open(scene, "w") as f:
             f.write(re.sub(r"(?m)^clearance_m:.*$", "clearance_m: 1.0e-3", text))
-        alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
-        states = launch(temp_prefix("monitored_1mm") + ".bag", "controller:=false", "scene:=" + scene)
+        alarms = Collector("/monitored_1mm/rub_monitor/alarm", RubAlarm)
+        states = launch(temp_prefix("monitored_1mm") + ".bag", "controller:=false", "scene:=" + scene,
+                        ns="monitored_1mm")
         self.assertGreater(contact_time_s(states), 1.0)
         got = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= 3.9, "the monitor's last verdict")
         delay = got[-1].detection_delay
@@ -112,9 +115,9 @@ class ClosedLoop(unittest.TestCase):
         self.assertLessEqual(delay, MAX_DETECTION_DELAY_S)
 
     def test_monitor_detects_the_rub_within_its_delay(self):
-        alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
+        alarms = Collector("/monitored/rub_monitor/alarm", RubAlarm)
         bag = temp_prefix("monitored") + ".bag"
-        states = launch(bag, "controller:=false")
+        states = launch(bag, "controller:=false", ns="monitored")
         # The alarm is latched: whenever this subscriber connected, it holds the
         # monitor's last verdict, which carries the delay of its first alarm.
         got = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= 3.9, "the monitor's last verdict")
