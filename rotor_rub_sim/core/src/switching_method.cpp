@@ -106,9 +106,6 @@ struct ContactSystem {
     dynamics.second_derivative(x, r, reference, ddx);
     return 1;  // one constrained-dynamics evaluation
   }
-  Result evaluate(const typename L::State& x, const DriveState& reference) const {
-    return dynamics.evaluate(x, reference);
-  }
 };
 
 enum class Regime { kFree, kContact };
@@ -247,7 +244,7 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.evaluate(x, reference);
+    const auto c = contact_sys_.dynamics.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
@@ -294,7 +291,7 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.evaluate(x, d);
+    const auto c = contact_sys_.dynamics.evaluate(x, d);
     v.value[kGap] = -c.normal_force_N;
     const FrictionMode& mode = contact_sys_.dynamics.mode;
     if (mode.stick) {
