@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
   cli::parse_or_exit(app, argc, argv);
   if (list_keys) {
     for (const auto& k : core::scene_keys()) {
-      std::printf("%-34s default %-10s accepted %s\n    %s\n", k.key.c_str(), k.default_value.c_str(),
-                  k.accepted.c_str(), k.description.c_str());
+      std::printf("%-34s default %-10s accepted %s\n    %s%s\n", k.key.c_str(), k.default_value.c_str(),
+                  k.accepted.c_str(), k.description.c_str(), k.live ? " (live: may change while running)" : "");
     }
     return 0;
   }

@@ -248,6 +248,38 @@ class IterationMethod final : public ContactMethod {
     restart_from(t_s, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
   }
 
+  void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
+    ProfileScope scope(restart_time_s_);
+    ++stats_.restarts;
+    if (pending_.due) {
+      // A restart due exactly here has happened (the state at t_s is its
+      // regime's); one later in the step was decided under the old model.
+      pending_.due = false;
+      if (pending_.t_s <= t_s) apply(pending_);
+    }
+    State x;
+    integrator_.state_at(t_s, x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const bool was_stick = system_.engaged && system_.mode.stick;
+    const Vec2 old_frame = model_.frame_shift();
+    model_ = JeffcottModel(p);
+    k.rotor_pos += old_frame - model_.frame_shift();
+    if (system_.engaged) {
+      const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
+      const ContactGeometry g = model_.contact_geometry(k, d);
+      if (g.penetration_m >= -gap_tolerance_m_ && pressing_acceleration(model_, k, d, g) > 0.0) {
+        project_to_bore(k, g);
+        const FrictionMode mode = mode_at(k, d, was_stick || !model_.has_friction(), t_s);
+        if (mode.stick != was_stick) ++stats_.friction_transitions;
+        apply(Pending{true, t_s, k, true, mode, true});
+        return;
+      }
+      events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
+      system_.engaged = false;
+    }
+    restart_from(t_s, k, integrator_.dt());
+  }
+
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     if (pending_.due) {
       // Deferred from the last step, whose dense output served its samples.

@@ -66,6 +66,25 @@ class PenaltyMethod final : public ContactMethod {
     ++stats_.restarts;
   }
 
+  void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
+    ProfileScope scope(restart_time_s_);
+    end_step_at(t_s);
+    Kinematics k = kinematics_at(t_s);
+    const bool was_pressed = system_.law.edges(geometry_at(t_s))[kPressedEdge] > 0.0;
+    const Vec2 old_frame = model_.frame_shift();
+    model_ = JeffcottModel(p);
+    system_.law = PenaltyLaw(model_);
+    k.rotor_pos += old_frame - model_.frame_shift();
+    crossed_edge_ = -1;
+    fallback_ = false;
+    restart(t_s, k, integrator_.dt());
+    ++stats_.restarts;
+    // The law's force jumps with the parameters: only a clearance or a bore
+    // moved away can end a contact here (one that would press deeper is
+    // refused before).
+    if (was_pressed && !(edges_end_[kPressedEdge] > 0.0)) events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
+  }
+
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     if (pending_) {
       // The mode changed at the end of the last step: restart there, in the

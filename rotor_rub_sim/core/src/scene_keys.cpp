@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
@@ -47,6 +48,15 @@ struct KeyEntry {
   std::function<std::string(Scene)> get;
 };
 
+SceneKeyInfo key_info(std::string key, std::string accepted, std::string description, std::string default_value) {
+  SceneKeyInfo i;
+  i.key = std::move(key);
+  i.accepted = std::move(accepted);
+  i.description = std::move(description);
+  i.default_value = std::move(default_value);
+  return i;
+}
+
 // The shortest text that reads back as the same double.
 std::string exact_text(double v) {
   char buf[40];
@@ -61,7 +71,10 @@ KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string d
                          (std::isinf(hi) ? std::string("inf)") : format_double(hi) + "]");
   Scene defaults;
   std::string def = format_double(ref(defaults));
-  KeyEntry e{{key, accepted, std::move(description), def}, nullptr, [ref](Scene s) { return exact_text(ref(s)); }};
+  KeyEntry e{key_info(key, accepted, std::move(description), def), nullptr,
+             [ref](Scene s) { return exact_text(ref(s)); }};
+  e.info.min_value = lo;
+  e.info.max_value = hi;
   e.set = [key, lo, lo_open, hi, accepted, ref](Scene& s, const std::string& text) {
     const double v = parse_number(key, text, accepted);
     const bool below = lo_open ? !(v > lo) : !(v >= lo);
@@ -76,9 +89,11 @@ KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string d
 KeyEntry integer(std::string key, long lo, long hi, std::string description, std::function<long&(Scene&)> ref) {
   std::string accepted = "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   Scene defaults;
-  KeyEntry e{{key, accepted, std::move(description), std::to_string(ref(defaults))}, nullptr, [ref](Scene s) {
-               return std::to_string(ref(s));
-             }};
+  KeyEntry e{key_info(key, accepted, std::move(description), std::to_string(ref(defaults))), nullptr,
+             [ref](Scene s) { return std::to_string(ref(s)); }};
+  e.info.min_value = static_cast<double>(lo);
+  e.info.max_value = static_cast<double>(hi);
+  e.info.is_integer = true;
   e.set = [key, lo, hi, accepted, ref](Scene& s, const std::string& text) {
     const double v = parse_number(key, text, accepted);
     if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
@@ -95,9 +110,8 @@ KeyEntry choice(std::string key, const std::array<Enum, N>& all, std::string des
   std::string accepted = "one of";
   for (const Enum v : all) accepted += std::string(" ") + to_string(v);
   Scene defaults;
-  KeyEntry e{{key, accepted, std::move(description), to_string(ref(defaults))}, nullptr, [ref](Scene s) {
-               return std::string(to_string(ref(s)));
-             }};
+  KeyEntry e{key_info(key, accepted, std::move(description), to_string(ref(defaults))), nullptr,
+             [ref](Scene s) { return std::string(to_string(ref(s))); }};
   e.set = [key, all, accepted, ref](Scene& s, const std::string& text) {
     for (const Enum v : all) {
       if (text == to_string(v)) {
@@ -108,6 +122,55 @@ KeyEntry choice(std::string key, const std::array<Enum, N>& all, std::string des
     throw SceneError("scene key '" + key + "': value '" + text + "' is not accepted; accepted: " + accepted);
   };
   return e;
+}
+
+// Which keys a running machine may change, and why the others may not
+// (live_parameters.hpp states what a change does to the state).
+void mark_live(SceneKeyInfo& info) {
+  // A cracked shaft, blade loss (magnitude and phase), a loosened support,
+  // thermal growth or seal wear, a casing that moves, the contact's state,
+  // a retuned drive.
+  static const std::set<std::string> kLive = {
+      "rotor_stiffness_N_per_m",
+      "rotor_damping_N_s_per_m",
+      "eccentricity_m",
+      "unbalance_phase_rad",
+      "stator_stiffness_N_per_m",
+      "stator_damping_N_s_per_m",
+      "clearance_m",
+      "stator_offset_x_m",
+      "stator_offset_y_m",
+      "friction_coefficient",
+      "restitution",
+      "impact_settle_velocity_m_per_s",
+      "contact_stiffness_N_per_m",
+      "drive_torque_limit_N_m",
+      "drive_proportional_gain_N_m_s_per_rad",
+      "drive_integral_gain_N_m_per_rad",
+  };
+  if (kLive.count(info.key) != 0) {
+    info.live = true;
+    return;
+  }
+  const std::string& k = info.key;
+  if (k == "stator_model" || k == "drive_model") {
+    info.live_refusal = "it sets the model's structure (its state's size)";
+  } else if (k == "rotor_mass_kg" || k == "stator_mass_kg" || k == "rotor_polar_inertia_kg_m2" ||
+             k == "rotor_radius_m") {
+    info.live_refusal =
+        "a mass, an inertia or the rotor's radius has no continuous path for the state (a blade "
+        "loss is an unbalance change: eccentricity_m, unbalance_phase_rad)";
+  } else if (k == "gravity_m_per_s2") {
+    info.live_refusal = "the machine's orientation is fixed";
+  } else if (k.rfind("initial_", 0) == 0) {
+    info.live_refusal = "an initial condition applies at t = 0 only";
+  } else if (k.rfind("probe_", 0) == 0) {
+    info.live_refusal = "the probes are mounted for the whole run";
+  } else if (k == "acceleration_rad_per_s2" || k == "target_speed_rad_per_s" || k == "max_speed_rad_per_s") {
+    info.live_refusal = "the speed is changed by a speed command (topic speed_command)";
+  } else {
+    info.live_refusal = "it sets the numerics or the run, fixed when the run starts";
+  }
 }
 
 const std::vector<KeyEntry>& entries() {
@@ -124,6 +187,9 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.rotor_radius_m; }));
     t.push_back(real("eccentricity_m", 0, false, kInf, "mass-centre eccentricity e [m]",
                      [](Scene& s) -> double& { return s.model.eccentricity_m; }));
+    t.push_back(real("unbalance_phase_rad", -kInf, false, kInf,
+                     "the unbalance's angle on the shaft from the keyphasor's notch, counter-clockwise [rad]",
+                     [](Scene& s) -> double& { return s.model.unbalance_phase_rad; }));
     t.push_back(choice("stator_model", kAllStatorModels,
                        "elastic: stator on springs (4 DOF); rigid: fixed stator, rotor's 2 DOF only",
                        [](Scene& s) -> StatorModel& { return s.model.stator_model; }));
@@ -233,8 +299,9 @@ const std::vector<KeyEntry>& entries() {
                      "mechanical/electrical runout seen by the probes: a once-per-revolution pattern [m]",
                      [](Scene& s) -> double& { return s.probes.runout_m; }));
     t.push_back(real("probe_runout_phase_rad", -kInf, false, kInf,
-                     "the runout's direction on the shaft, from the unbalance's [rad]",
+                     "the runout's direction on the shaft, from the keyphasor's notch [rad]",
                      [](Scene& s) -> double& { return s.probes.runout_phase_rad; }));
+    for (auto& e : t) mark_live(e.info);
     return t;
   }();
   return table;

@@ -1,5 +1,6 @@
 #include "rotor_rub_sim/core/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -90,6 +91,79 @@ void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_r
     if (e.t_s <= time_s_) kept.push_back(e);
   }
   step_events_.swap(kept);
+}
+
+namespace {
+
+// Why a live key has no effect on this scene ("" when it has).
+std::string inert_reason(const std::string& key, const Scene& scene) {
+  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+  if (rigid && (key == "stator_stiffness_N_per_m" || key == "stator_damping_N_s_per_m")) {
+    return "it has no effect on a rigid stator (stator_model rigid)";
+  }
+  if (key == "contact_stiffness_N_per_m" && scene.solver.method != Method::kPenalty) {
+    return "it applies to the penalty method only";
+  }
+  if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
+    return "it applies to drive_model motor only";
+  }
+  return "";
+}
+
+std::string shown(double v) {
+  std::ostringstream os;
+  os.precision(12);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+void Simulation::change_parameters(const std::map<std::string, std::string>& changes) {
+  Scene next = scene_;
+  for (const auto& [key, value] : changes) {
+    const auto& keys = scene_keys();
+    const auto info = std::find_if(keys.begin(), keys.end(), [&](const SceneKeyInfo& i) { return i.key == key; });
+    if (info == keys.end()) {
+      set_scene_value(next, key, value);  // an unknown key: throws SceneError naming the nearest one
+      throw std::logic_error("change_parameters: the key table and set_scene_value disagree on '" + key + "'");
+    }
+    if (!info->live) {
+      throw SceneError("scene key '" + key + "' cannot change while running: " + info->live_refusal);
+    }
+    const std::string inert = inert_reason(key, scene_);
+    if (!inert.empty()) throw SceneError("scene key '" + key + "' is not changed: " + inert);
+    set_scene_value(next, key, value);  // throws: out of range
+  }
+  next = checked_scene(next);  // the rules between keys
+  // The stator must not land inside the rotor: a clearance (or a rigid
+  // stator's offset) may close on the rotor down to where it is now, no
+  // further (a contact would need an impact with no closing speed to
+  // decide). atol: the methods' own penetration tolerance.
+  const Sample now = method_->sample(time_s_);
+  const bool rigid = next.model.stator_model == StatorModel::kRigid;
+  const Vec2 stator = rigid ? Vec2(next.model.stator_offset_x_m, next.model.stator_offset_y_m) : now.kin.stator_pos;
+  const double distance_m = (now.kin.rotor_pos - stator).norm();
+  const double penetration_m = distance_m - next.model.clearance_m;
+  if (penetration_m > std::max(now.penetration_m, 0.0) + scene_.solver.atol) {
+    std::string keys;
+    for (const auto& [key, value] : changes) keys += (keys.empty() ? "'" : ", '") + key + "' = " + value;
+    throw SceneError("scene keys " + keys + " are refused at t = " + shown(time_s_) +
+                     " s: the stator would overlap the rotor by " + shown(penetration_m) +
+                     " m (rotor-stator distance " + shown(distance_m) + " m, new clearance " +
+                     shown(next.model.clearance_m) + " m); accepted now: a clearance of at least the distance");
+  }
+  scene_.model = next.model;
+  limits_ = InvariantLimits::for_scene(scene_);
+  // Events found beyond time_s_ were found under the old parameters; the
+  // method restarts here (a drive break it had reached stays due).
+  std::vector<ContactEvent> kept;
+  for (const auto& e : step_events_) {
+    if (e.t_s <= time_s_) kept.push_back(e);
+  }
+  step_events_.swap(kept);
+  method_->change_model(time_s_, scene_.model, step_events_);
+  break_due_ = break_due_ && time_s_ >= t_limit_s_;
 }
 
 void Simulation::set_end_time(double t_s) {

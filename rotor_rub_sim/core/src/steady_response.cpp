@@ -11,26 +11,27 @@ using cd = std::complex<double>;
 
 std::complex<double> unbalance_response_m(const ModelParameters& p, double w) {
   const double m = p.rotor_mass_kg;
-  return m * p.eccentricity_m * w * w / cd(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w);
+  return m * p.eccentricity_m * w * w * std::polar(1.0, p.unbalance_phase_rad) /
+         cd(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w);
 }
 
 std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
   // Rotor:  A z_r = F - N (1 + i f) n,  stator: B z_s = N (1 + i f) n,
   // n = (z_r - z_s) / C, with A = k_r - m_r w^2 + i c_r w, F = m_r e w^2,
-  // B = k_s - m_s w^2 + i c_s w. With q = N (1 + i f) / C:
+  // B = k_s - m_s w^2 + i c_s w (F turned by the unbalance's phase beta). With q = N (1 + i f) / C:
   //   z_s = q z_r / (B + q),  z_r - z_s = B z_r / (B + q),
   //   z_r = F (B + q) / (A (B + q) + q B),
   // and |z_r - z_s| = C gives |A B + q (A + B)| = |F B| / C: a quadratic in
   // the real N. A rigid stator is the limit B -> inf: |A + q| = |F| / C.
   const double m = p.rotor_mass_kg, C = p.clearance_m, f = p.friction_coefficient;
   const cd A(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w);
-  const double F = m * p.eccentricity_m * w * w;
+  const cd F = m * p.eccentricity_m * w * w * std::polar(1.0, p.unbalance_phase_rad);
   const bool rigid = p.stator_model == StatorModel::kRigid;
   const cd B =
       rigid ? cd(0.0) : cd(p.stator_stiffness_N_per_m - p.stator_mass_kg * w * w, p.stator_damping_N_s_per_m * w);
   const cd a = rigid ? A : A * B;
   const cd b = rigid ? cd(1.0, f) / C : cd(1.0, f) * (A + B) / C;
-  const double r = rigid ? F / C : std::abs(F * B) / C;
+  const double r = rigid ? std::abs(F) / C : std::abs(F * B) / C;
   // |a + N b|^2 = r^2:  |b|^2 N^2 + 2 Re(a conj(b)) N + |a|^2 - r^2 = 0.
   const double bb = std::norm(b), ab = std::real(a * std::conj(b)), c0 = std::norm(a) - r * r;
   const double disc = ab * ab - bb * c0;

@@ -69,8 +69,8 @@ struct FreeFlightSystem {
     }
     return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
-  // The unbalance's direction (cos phi, sin phi) at the spin angle phi.
-  static Vec2 unbalance_at(double angle_rad) { return Vec2(std::cos(angle_rad), std::sin(angle_rad)); }
+  // The unbalance's direction at the spin angle phi (JeffcottModel::unbalance_dir).
+  Vec2 unbalance_at(double angle_rad) const { return model->unbalance_dir(angle_rad); }
 
  private:
   void derivative(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir, typename L::State& dxdt) const {
@@ -188,6 +188,56 @@ class SwitchingMethod final : public ContactMethod {
     // carries over; the next step() fires such a jump at t_s.
     values_end_ = event_values(t_s);
     valid_begin_ = valid_end_ = t_s;
+  }
+
+  void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
+    end_sample_valid_ = false;
+    ProfileScope scope(restart_time_s_);
+    if (pending_) {
+      // An event exactly here has happened (the state at t_s is its new
+      // regime's); one later in the step was found under the old model.
+      if (pending_t_ <= t_s) {
+        apply_pending();
+      } else {
+        pending_ = false;
+      }
+    }
+    Kinematics k;
+    const bool was_stick = regime_ == Regime::kContact && contact_sys_.dynamics.mode.stick;
+    if (regime_ == Regime::kFree) {
+      typename FL::State x;
+      free_int_.state_at(t_s, x);
+      k = kinematics_of<kStatorDof, kMotor>(x);
+    } else {
+      typename CL::State x;
+      contact_int_.state_at(t_s, x);
+      k = contact_sys_.dynamics.kinematics(x);
+    }
+    const Vec2 old_frame = model_.frame_shift();
+    model_ = JeffcottModel(p);
+    k.rotor_pos += old_frame - model_.frame_shift();
+    pending_ = true;
+    pending_t_ = t_s;
+    next_kin_ = k;
+    next_regime_ = Regime::kFree;
+    if (regime_ == Regime::kContact) {
+      const DriveState d = free_sys_.segment.at(t_s);
+      const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
+      if (g.penetration_m >= -penetration_tolerance_m_) {
+        typename CL::State x = contact_sys_.dynamics.reduce(k);
+        const auto c = contact_sys_.dynamics.evaluate(x, d);
+        if (c.normal_force_N > 0.0) {
+          next_regime_ = Regime::kContact;
+          next_mode_ =
+              select_friction_mode(c.sliding_velocity_m_per_s, was_stick || !model_.has_friction(), c.stick_force_N,
+                                   model_.parameters().friction_coefficient * c.stick_normal_force_N);
+          if (next_mode_.stick != was_stick) ++stats_.friction_transitions;
+          next_contact_state_ = x;
+        }
+      }
+      if (next_regime_ == Regime::kFree) events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
+    }
+    apply_pending();  // the restart, counted there
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {

@@ -127,7 +127,7 @@ struct ConstrainedDynamics {
       // the spin's unit vectors in one call (angle_pair.hpp).
       ContactGeometry g;
       Vec2 unbalance_dir;
-      unit_vectors(psi, d.angle_rad, g.normal, unbalance_dir);
+      unit_vectors(psi, d.angle_rad + model->parameters().unbalance_phase_rad, g.normal, unbalance_dir);
       g.tangent = Vec2(-g.normal.y(), g.normal.x());
       g.distance_m = c;
       g.penetration_m = 0.0;

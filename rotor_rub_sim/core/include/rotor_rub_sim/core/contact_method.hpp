@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 
@@ -24,6 +25,17 @@ class ContactMethod {
   /// method's own state there, under a new drive segment (a drive
   /// discontinuity). The contact regime carries over.
   virtual void change_segment(double t_s, const SpeedSegment& segment) = 0;
+
+  /// Restarts at t_s in [step_begin(), step_end()] under new model
+  /// parameters of the same structure (a live change: Simulation::
+  /// change_parameters, which has checked them). Positions, velocities and
+  /// the spin carry over (a rigid stator's offset moves the methods' frame,
+  /// not the rotor). A free flight stays free; a contact is decided again as
+  /// at a touchdown without closing speed: it lifts off (an event at t_s,
+  /// appended to events) when the bore has moved away from the rotor or the
+  /// normal force would not be positive, else it goes on, sticking while
+  /// the stick force lies inside the new cone, sliding otherwise.
+  virtual void change_model(double t_s, const ModelParameters& model, std::vector<ContactEvent>& events) = 0;
 
   /// One accepted step, valid on [step_begin(), step_end()]. An event ends a
   /// step early; so does t_limit_s (the next drive discontinuity or the end

@@ -225,6 +225,13 @@ class JeffcottModel {
   double inv_clearance() const { return inv_clearance_; }  // 1 / C [1/m]
   bool has_friction() const { return has_friction_; }
   bool motor() const { return motor_; }
+  // The unbalance's direction (cos, sin) of phi + beta: the mass centre lies
+  // e along it from the geometric centre; beta (unbalance_phase_rad) is its
+  // angle on the shaft from the keyphasor's notch (phi = 0).
+  Vec2 unbalance_dir(double spin_angle_rad) const {
+    const double a = spin_angle_rad + p_.unbalance_phase_rad;
+    return Vec2(std::cos(a), std::sin(a));
+  }
 
   // ---- The drive ----------------------------------------------------------
 
@@ -264,8 +271,7 @@ class JeffcottModel {
   double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
                           double tangential_force_N) const {
     if (motor_) return d.motor_torque_N_m;
-    return drive_torque_N_m(k, d, g, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)), normal_force_N,
-                            tangential_force_N);
+    return drive_torque_N_m(k, d, g, unbalance_dir(d.angle_rad), normal_force_N, tangential_force_N);
   }
   // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
   double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Vec2& unbalance_dir,
@@ -291,7 +297,7 @@ class JeffcottModel {
   // prescribed drive's; a motor's depends on the contact forces:
   // accelerations()).
   Vec2 rotor_free_force(const Kinematics& k, const DriveState& d) const {
-    return rotor_free_force(k, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+    return rotor_free_force(k, d, unbalance_dir(d.angle_rad));
   }
   // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
   Vec2 rotor_free_force(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir) const {
@@ -326,9 +332,7 @@ class JeffcottModel {
   // the prescribed drive d, whose acceleration A is constant on a speed
   // segment [N/s]: the unbalance m e (w^2 (c, s) + A (s, -c)) turning with
   // phi' = w, w' = A gives m e (3 w A (c, s) + w^3 (-s, c)).
-  Vec2 rotor_free_force_rate(const DriveState& d) const {
-    return rotor_free_force_rate(d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
-  }
+  Vec2 rotor_free_force_rate(const DriveState& d) const { return rotor_free_force_rate(d, unbalance_dir(d.angle_rad)); }
   // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
   Vec2 rotor_free_force_rate(const DriveState& d, const Vec2& unbalance_dir) const {
     const double me = p_.rotor_mass_kg * p_.eccentricity_m;
@@ -344,7 +348,7 @@ class JeffcottModel {
   // [N/s] (the jerks of free flight and contact in closed form,
   // dense_high_order.hpp, constrained_dynamics.hpp).
   Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d) const {
-    return rotor_free_force_derivative(k, rotor_acc, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+    return rotor_free_force_derivative(k, rotor_acc, d, unbalance_dir(d.angle_rad));
   }
   Vec2 rotor_free_force_derivative(const Kinematics& k, const Vec2& rotor_acc, const DriveState& d,
                                    const Vec2& unbalance_dir) const {
@@ -399,7 +403,7 @@ class JeffcottModel {
     Vec2 stator_N = Vec2::Zero();        // stator_free_force
   };
   FreeLoads free_loads(const Kinematics& k, const DriveState& d) const {
-    return free_loads(k, d, Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)));
+    return free_loads(k, d, unbalance_dir(d.angle_rad));
   }
   // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
   FreeLoads free_loads(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir) const {
@@ -446,7 +450,7 @@ class JeffcottModel {
     const double im = inv_rotor_mass_ + inv_stator_mass_;
     w.nn = w.tt = im;
     if (motor_) {
-      const Vec2 u(std::sin(d.angle_rad), -std::cos(d.angle_rad));
+      const Vec2 ud = unbalance_dir(d.angle_rad), u(ud.y(), -ud.x());
       const double hn = p_.eccentricity_m * g.normal.dot(u);
       const double ht = p_.rotor_radius_m + p_.eccentricity_m * g.tangent.dot(u);
       w.nn += hn * hn * inv_polar_inertia_;
@@ -464,7 +468,7 @@ class JeffcottModel {
     k.rotor_vel += on_rotor * inv_rotor_mass_;
     k.stator_vel -= on_rotor * inv_stator_mass_;
     if (motor_) {
-      const Vec2 u(std::sin(k.spin.angle_rad), -std::cos(k.spin.angle_rad));
+      const Vec2 ud = unbalance_dir(k.spin.angle_rad), u(ud.y(), -ud.x());
       const double dw =
           (p_.rotor_radius_m * tangential_impulse_N_s + p_.eccentricity_m * on_rotor.dot(u)) * inv_polar_inertia_;
       k.spin.speed_rad_per_s += dw;

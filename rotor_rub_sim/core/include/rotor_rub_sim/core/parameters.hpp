@@ -49,6 +49,10 @@ struct ModelParameters {
   double rotor_damping_N_s_per_m = 1.3;
   double rotor_radius_m = 0.010;   ///< R_r: contact point radius (sliding velocity)
   double eccentricity_m = 0.4e-3;  ///< e: mass centre to geometric centre
+  /// beta: the unbalance's angle on the shaft, counter-clockwise from the
+  /// keyphasor's notch: the mass centre lies along phi + beta (0: the
+  /// notch's direction, the paper's unbalance).
+  double unbalance_phase_rad = 0.0;
   StatorModel stator_model = StatorModel::kElastic;
   double stator_mass_kg = 0.86;
   double stator_stiffness_N_per_m = 38166.0;

@@ -39,8 +39,8 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
 
 inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
                           double normal_force_N, double tangential_force_N, bool in_contact) {
-  return make_sample(m, t_s, k, d, m.contact_geometry(k, d), Vec2(std::cos(d.angle_rad), std::sin(d.angle_rad)),
-                     normal_force_N, tangential_force_N, in_contact);
+  return make_sample(m, t_s, k, d, m.contact_geometry(k, d), m.unbalance_dir(d.angle_rad), normal_force_N,
+                     tangential_force_N, in_contact);
 }
 
 }  // namespace rotor_rub::core

@@ -4,6 +4,7 @@
 /// loader, the runner and the node, so every entry point validates alike.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,15 @@ struct SceneKeyInfo {
   std::string accepted;     ///< human-readable accepted range or names
   std::string description;  ///< one line, with the unit
   std::string default_value;
+  /// A number's accepted bounds (the open or closed ends `accepted` states;
+  /// +-infinity where unbounded); NaN for a choice of names.
+  double min_value = std::numeric_limits<double>::quiet_NaN();
+  double max_value = std::numeric_limits<double>::quiet_NaN();
+  bool is_integer = false;
+  /// May change while a run goes on (live_parameters.hpp); otherwise
+  /// live_refusal says why not.
+  bool live = false;
+  std::string live_refusal;
 };
 
 /// All keys, in documentation order.

@@ -6,6 +6,7 @@
 /// (the wall clock only measures cost).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -59,6 +60,18 @@ class Simulation {
   /// accel_magnitude to target_rad_per_s, then held. Throws
   /// std::invalid_argument (naming the value and range) when out of range.
   void command_speed(double target_rad_per_s, double accel_magnitude_rad_per_s2);
+
+  /// Live parameter changes taking effect at the current time(): a map of
+  /// scene keys (those scene_keys() marks live) to values as text. The state
+  /// (positions, velocities, spin) is continuous across the change; the
+  /// contact regime is decided again (ContactMethod::change_model), and a
+  /// contact that ends there is a lift-off event at time(). All keys apply
+  /// at once, or none: throws SceneError naming the key, the value and the
+  /// reason, the simulation unchanged, when a key is unknown, not live (its
+  /// live_refusal), has no effect on this scene, or its value is out of
+  /// range, breaks a rule between keys, or would put the stator into the
+  /// rotor (a clearance below the present rotor-stator distance).
+  void change_parameters(const std::map<std::string, std::string>& changes);
 
   /// Moves the end (e.g. to infinity, for a node that keeps running at the
   /// last speed after the scene's end_time_s). Must not be before time().

@@ -1,8 +1,8 @@
 // Closed forms of the model's steady motions at a constant speed w, for tests,
 // charts and the bifurcation tool's classes. Derivations: docs/steady_response.md.
 // Complex notation: a position (x, y) is x + i y; at a keyphasor (spin angle
-// 2 pi k) the unbalance force m e w^2 points along +x, so these are the
-// Poincare points of the period-1 motions.
+// 2 pi k) the unbalance force m e w^2 points along beta (unbalance_phase_rad,
+// 0: +x), so these are the Poincare points of the period-1 motions.
 #pragma once
 
 #include <complex>
@@ -12,7 +12,7 @@
 
 namespace rotor_rub::core {
 
-// Without contact and gravity: z = m e w^2 / (k - m w^2 + i c w) [m].
+// Without contact and gravity: z = m e w^2 e^(i beta) / (k - m w^2 + i c w) [m].
 std::complex<double> unbalance_response_m(const ModelParameters& p, double w_rad_per_s);
 
 // Synchronous full annular rub: rotor and stator whirl forward at w, in
