@@ -1,0 +1,63 @@
+/// @file
+/// Faults a monitoring system is tested against, as live parameter changes
+/// (Simulation::change_parameters): what each does to the model, stated here.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/parameters.hpp"
+
+namespace rotor_rub::core {
+
+enum class FaultKind {
+  /// Blade loss: an unbalance m_b r_b [kg m] (magnitude) lost from the angle
+  /// phase_rad on the shaft (from the keyphasor's notch). The rotor's
+  /// unbalance m e e^(i beta) becomes m e e^(i beta) - m_b r_b e^(i phase):
+  /// eccentricity_m and unbalance_phase_rad jump (the rotor's mass is kept:
+  /// m_b is small against it).
+  kBladeLoss,
+  /// Thermal growth closing the clearance by magnitude [m]; seal wear
+  /// opening it by magnitude [m]. A step (duration_s 0) or a ramp over
+  /// duration_s, applied as n = ceil(duration_s x output rate) equal steps,
+  /// the k-th at k duration_s / n: a staircase as fine as the output, the
+  /// clearance constant between its steps.
+  kThermalClosure,
+  kSealWear,
+  /// The friction coefficient becomes magnitude [-].
+  kFrictionChange,
+  /// A loosened stator support: its stiffness drops by the fraction
+  /// magnitude in [0, 1) (elastic stator only).
+  kSupportLoosening,
+};
+inline constexpr FaultKind kAllFaultKinds[] = {FaultKind::kBladeLoss, FaultKind::kThermalClosure, FaultKind::kSealWear,
+                                               FaultKind::kFrictionChange, FaultKind::kSupportLoosening};
+const char* to_string(FaultKind k);
+
+struct Fault {
+  FaultKind kind = FaultKind::kBladeLoss;
+  double magnitude = 0.0;   ///< per kind: kg m, m, -, or a fraction
+  double phase_rad = 0.0;   ///< blade loss only
+  double duration_s = 0.0;  ///< thermal closure and seal wear only: 0 a step, > 0 a ramp
+};
+
+/// One change of a fault: scene keys and values (exact text), at an offset
+/// from the fault's instant [s].
+struct FaultStep {
+  double offset_s = 0.0;
+  std::map<std::string, std::string> changes;
+};
+
+/// Throws std::invalid_argument naming the field, the value and the range
+/// when a fault is out of range (a negative magnitude, a NaN, a fraction of
+/// 1 or more, a ramp on a fault that has none).
+void check_fault(const Fault& f);
+
+/// The changes a fault makes on the model in force at its instant, in time
+/// order (a ramp: one per output sample, the last at duration_s). Checks it
+/// first (check_fault). The changes themselves are checked when applied
+/// (a clearance closed onto the rotor is refused there).
+std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, double output_rate_hz);
+
+}  // namespace rotor_rub::core

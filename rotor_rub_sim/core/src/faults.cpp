@@ -1,0 +1,96 @@
+#include "rotor_rub_sim/core/faults.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <complex>
+#include <sstream>
+#include <stdexcept>
+
+namespace rotor_rub::core {
+namespace {
+
+// The shortest text that reads back as the same double (scene_keys' form).
+std::string exact_text(double v) {
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+[[noreturn]] void refuse(const char* field, double v, const std::string& accepted) {
+  std::ostringstream os;
+  os << "fault " << field << " ";
+  if (std::isnan(v)) {
+    os << "NaN";
+  } else {
+    os << v;
+  }
+  os << " is " << (std::isfinite(v) ? "out of range" : "not a finite number") << "; accepted: " << accepted;
+  throw std::invalid_argument(os.str());
+}
+
+}  // namespace
+
+const char* to_string(FaultKind k) {
+  switch (k) {
+    case FaultKind::kBladeLoss:
+      return "blade_loss";
+    case FaultKind::kThermalClosure:
+      return "thermal_closure";
+    case FaultKind::kSealWear:
+      return "seal_wear";
+    case FaultKind::kFrictionChange:
+      return "friction_change";
+    case FaultKind::kSupportLoosening:
+      return "support_loosening";
+  }
+  return "?";
+}
+
+void check_fault(const Fault& f) {
+  if (!std::isfinite(f.magnitude) || f.magnitude < 0.0) refuse("magnitude", f.magnitude, "[0, inf)");
+  if (f.kind == FaultKind::kSupportLoosening && !(f.magnitude < 1.0)) {
+    refuse("magnitude", f.magnitude, "[0, 1) for support_loosening (the fraction of stiffness lost)");
+  }
+  if (!std::isfinite(f.phase_rad)) refuse("phase", f.phase_rad, "a finite angle [rad]");
+  const bool ramps = f.kind == FaultKind::kThermalClosure || f.kind == FaultKind::kSealWear;
+  if (!std::isfinite(f.duration_s) || f.duration_s < 0.0 || (!ramps && f.duration_s != 0.0)) {
+    refuse("duration", f.duration_s, ramps ? "[0, inf) (0: a step)" : "0 (this fault is a step)");
+  }
+}
+
+std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, double output_rate_hz) {
+  check_fault(f);
+  std::vector<FaultStep> steps;
+  switch (f.kind) {
+    case FaultKind::kBladeLoss: {
+      const std::complex<double> u = now.rotor_mass_kg * now.eccentricity_m * std::polar(1.0, now.unbalance_phase_rad) -
+                                     std::polar(f.magnitude, f.phase_rad);
+      steps.push_back({0.0,
+                       {{"eccentricity_m", exact_text(std::abs(u) / now.rotor_mass_kg)},
+                        {"unbalance_phase_rad", exact_text(std::arg(u))}}});
+      break;
+    }
+    case FaultKind::kThermalClosure:
+    case FaultKind::kSealWear: {
+      const double sign = f.kind == FaultKind::kSealWear ? 1.0 : -1.0;
+      const long n = f.duration_s > 0.0 ? std::max(1L, std::lround(std::ceil(f.duration_s * output_rate_hz))) : 1;
+      for (long k = 1; k <= n; ++k) {
+        const double share = static_cast<double>(k) / static_cast<double>(n);
+        steps.push_back(
+            {f.duration_s * share, {{"clearance_m", exact_text(now.clearance_m + sign * f.magnitude * share)}}});
+      }
+      break;
+    }
+    case FaultKind::kFrictionChange:
+      steps.push_back({0.0, {{"friction_coefficient", exact_text(f.magnitude)}}});
+      break;
+    case FaultKind::kSupportLoosening:
+      steps.push_back(
+          {0.0, {{"stator_stiffness_N_per_m", exact_text(now.stator_stiffness_N_per_m * (1.0 - f.magnitude))}}});
+      break;
+  }
+  return steps;
+}
+
+}  // namespace rotor_rub::core
