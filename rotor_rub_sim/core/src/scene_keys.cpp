@@ -368,6 +368,20 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
                    " (rotor_rub_run --list-keys prints every key)");
 }
 
+std::string live_key_inert_reason(const std::string& key, const Scene& scene) {
+  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+  if (rigid && (key == "stator_stiffness_N_per_m" || key == "stator_damping_N_s_per_m")) {
+    return "it has no effect on a rigid stator (stator_model rigid)";
+  }
+  if (key == "contact_stiffness_N_per_m" && scene.solver.method != Method::kPenalty) {
+    return "it applies to the penalty method only";
+  }
+  if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
+    return "it applies to drive_model motor only";
+  }
+  return "";
+}
+
 void validate_scene(const Scene& s) {
   // Which integrators each method runs on, and why: solver_registry.cpp.
   const Integrator integrator = effective_integrator(s.solver);

@@ -95,21 +95,6 @@ void Simulation::command_speed(double target_rad_per_s, double accel_magnitude_r
 
 namespace {
 
-// Why a live key has no effect on this scene ("" when it has).
-std::string inert_reason(const std::string& key, const Scene& scene) {
-  const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-  if (rigid && (key == "stator_stiffness_N_per_m" || key == "stator_damping_N_s_per_m")) {
-    return "it has no effect on a rigid stator (stator_model rigid)";
-  }
-  if (key == "contact_stiffness_N_per_m" && scene.solver.method != Method::kPenalty) {
-    return "it applies to the penalty method only";
-  }
-  if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
-    return "it applies to drive_model motor only";
-  }
-  return "";
-}
-
 std::string shown(double v) {
   std::ostringstream os;
   os.precision(12);
@@ -119,23 +104,27 @@ std::string shown(double v) {
 
 }  // namespace
 
-void Simulation::change_parameters(const std::map<std::string, std::string>& changes) {
-  Scene next = scene_;
+Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes) {
+  Scene next = running;
   for (const auto& [key, value] : changes) {
     const auto& keys = scene_keys();
     const auto info = std::find_if(keys.begin(), keys.end(), [&](const SceneKeyInfo& i) { return i.key == key; });
     if (info == keys.end()) {
       set_scene_value(next, key, value);  // an unknown key: throws SceneError naming the nearest one
-      throw std::logic_error("change_parameters: the key table and set_scene_value disagree on '" + key + "'");
+      throw std::logic_error("with_live_changes: the key table and set_scene_value disagree on '" + key + "'");
     }
     if (!info->live) {
       throw SceneError("scene key '" + key + "' cannot change while running: " + info->live_refusal);
     }
-    const std::string inert = inert_reason(key, scene_);
+    const std::string inert = live_key_inert_reason(key, running);
     if (!inert.empty()) throw SceneError("scene key '" + key + "' is not changed: " + inert);
     set_scene_value(next, key, value);  // throws: out of range
   }
-  next = checked_scene(next);  // the rules between keys
+  return checked_scene(next);  // the rules between keys
+}
+
+void Simulation::change_parameters(const std::map<std::string, std::string>& changes) {
+  const Scene next = with_live_changes(scene_, changes);
   // The stator must not land inside the rotor: a clearance (or a rigid
   // stator's offset) may close on the rotor down to where it is now, no
   // further (a contact would need an impact with no closing speed to

@@ -4,13 +4,16 @@
 #include <rosgraph_msgs/Clock.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
+#include "rotor_rub_msgs/ParameterChangeFeedback.h"
 #include "rotor_rub_msgs/SpeedCommandFeedback.h"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
+#include "tf2_msgs/TFMessage.h"
 
 namespace rotor_rub::ros_node {
 namespace {
@@ -18,6 +21,22 @@ namespace {
 // The first tick of a rate_hz grid strictly after t_s (a schedule in
 // simulated time; the small margin absorbs k / rate rounding).
 double next_tick(double t_s, double rate_hz) { return (std::floor(t_s * rate_hz + 1e-9) + 1.0) / rate_hz; }
+
+// The shortest text that reads back as the same double (scene_keys' form).
+std::string exact_text(double v) {
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+core::FaultKind fault_kind(uint8_t kind) {
+  for (const core::FaultKind k : core::kAllFaultKinds) {
+    if (static_cast<uint8_t>(k) == kind) return k;
+  }
+  throw std::invalid_argument("fault kind " + std::to_string(kind) + " is out of range; accepted: 0 (BLADE_LOSS) to " +
+                              std::to_string(static_cast<int>(core::FaultKind::kSupportLoosening)) +
+                              " (SUPPORT_LOOSENING)");
+}
 
 }  // namespace
 
@@ -45,6 +64,15 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   if (config_.lockstep_period_s > 0.0) {
     lockstep_pub_ = nh.advertise<rotor_rub_msgs::RotorState>("lockstep_state", q);
   }
+  change_feedback_pub_ = nh.advertise<rotor_rub_msgs::ParameterChangeFeedback>("parameter_change_feedback", q);
+  change_sub_ = nh.subscribe("parameter_change", 10000, &SimNode::on_parameter_change, this);
+  fault_sub_ = nh.subscribe("faults", 10000, &SimNode::on_fault, this);
+  fault_srv_ = nh.advertiseService("inject_fault", &SimNode::on_inject_fault, this);
+  if (config_.tf_rate_hz > 0.0) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
+  reconfigure_.emplace(private_nh, scene_, [this](const std::map<std::string, std::string>& changes) {
+    apply_change(changes, 0, "dynamic_reconfigure");
+    return sim_->scene();
+  });
   reset_srv_ = nh.advertiseService("reset", &SimNode::on_reset, this);
   pause_srv_ = nh.advertiseService("pause", &SimNode::on_pause, this);
   resume_srv_ = nh.advertiseService("resume", &SimNode::on_resume, this);
@@ -54,6 +82,29 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   diagnostics_.add("solver", this, &SimNode::diagnose_solver);
   diagnostics_.add("real-time factor", this, &SimNode::diagnose_pace);
   diagnostics_.add("contact", this, &SimNode::diagnose_contact);
+  // The rates expected of state, probes and keyphasor: the simulated rate
+  // times the pace (under use_sim_time the updater's clock is the
+  // simulated one: the pace is 1); as fast as possible, no bound.
+  const double pace = ros::Time::isSimTime() ? 1.0 : config_.real_time_factor;
+  const double tolerance = 0.1;  // diagnostic_updater's default band
+  auto rates = [&](double rate_hz, double& lo, double& hi) {
+    lo = pace > 0.0 ? rate_hz * pace : 0.0;
+    hi = pace > 0.0 ? rate_hz * pace : std::numeric_limits<double>::infinity();
+  };
+  rates(scene_.output_rate_hz, state_rate_min_hz_, state_rate_max_hz_);
+  state_rate_.emplace("state", diagnostics_,
+                      diagnostic_updater::FrequencyStatusParam(&state_rate_min_hz_, &state_rate_max_hz_, tolerance));
+  if (probes_pub_) {
+    rates(scene_.probes.rate_hz, probe_rate_min_hz_, probe_rate_max_hz_);
+    probe_rate_.emplace("probes", diagnostics_,
+                        diagnostic_updater::FrequencyStatusParam(&probe_rate_min_hz_, &probe_rate_max_hz_, tolerance));
+  }
+  // Once per revolution: from standstill (0) to the largest speed a command may ask.
+  keyphasor_rate_max_hz_ =
+      pace > 0.0 ? scene_.speed.max_speed_rad_per_s / (2.0 * M_PI) * pace : std::numeric_limits<double>::infinity();
+  keyphasor_rate_.emplace(
+      "keyphasor", diagnostics_,
+      diagnostic_updater::FrequencyStatusParam(&keyphasor_rate_min_hz_, &keyphasor_rate_max_hz_, tolerance));
   if (!config_.record_bag.empty()) {
     try {
       bag_.open(config_.record_bag);
@@ -142,7 +193,8 @@ void SimNode::restart_simulation() {
   if (config_.end_action == EndAction::kContinue) sim_->set_end_time(std::numeric_limits<double>::infinity());
   pending_.clear();
   states_published_ = events_published_ = 0;
-  next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = 0.0;
+  next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = next_tf_s_ = 0.0;
+  if (reconfigure_) reconfigure_->publish_values(scene_);  // a reset restores the scene's values
   last_sample_ = core::Sample{};
   revolutions_ = 0;
   if (scene_.probes.rate_hz > 0.0) probe_pair_.emplace(scene_.probes);  // the same noise again
@@ -298,9 +350,96 @@ void SimNode::apply_due_commands() {
   while (!pending_.empty() && pending_.front().time_s <= sim_->time()) {
     const PendingCommand c = pending_.front();
     pending_.erase(pending_.begin());
-    sim_->command_speed(c.target_rad_per_s, c.accel_rad_per_s2);  // checked on receipt
-    applied_target_ = c.target_rad_per_s;
-    applied_accel_ = c.accel_rad_per_s2;
+    switch (c.kind) {
+      case PendingCommand::Kind::kSpeed:
+        sim_->command_speed(c.target_rad_per_s, c.accel_rad_per_s2);  // checked on receipt
+        applied_target_ = c.target_rad_per_s;
+        applied_accel_ = c.accel_rad_per_s2;
+        break;
+      case PendingCommand::Kind::kParameters:
+        apply_change(c.changes, c.id, c.source);  // checked again: the state may forbid it now
+        break;
+      case PendingCommand::Kind::kFault:
+        apply_fault(c);
+        break;
+    }
+  }
+}
+
+void SimNode::enqueue(PendingCommand c) {
+  const auto at = std::upper_bound(pending_.begin(), pending_.end(), c.time_s,
+                                   [](double t, const PendingCommand& p) { return t < p.time_s; });
+  pending_.insert(at, std::move(c));
+}
+
+bool SimNode::apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source) {
+  try {
+    if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
+    sim_->change_parameters(changes);
+  } catch (const core::SceneError& e) {
+    answer_change(changes, id, source, false, e.what());
+    return false;
+  }
+  answer_change(changes, id, source, true, "");
+  if (reconfigure_) reconfigure_->publish_values(sim_->scene());
+  return true;
+}
+
+void SimNode::answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
+                            bool accepted, const std::string& reason) {
+  rotor_rub_msgs::ParameterChangeFeedback fb;
+  fb.header.stamp.fromSec(sim_->time());
+  fb.header.frame_id = config_.frame_id;
+  fb.change_id = id;
+  fb.source = source;
+  std::string listed;
+  for (const auto& [key, value] : changes) {
+    fb.keys.push_back(key);
+    double v = std::numeric_limits<double>::quiet_NaN();
+    try {
+      v = std::stod(value);
+    } catch (const std::exception&) {  // a non-number that was refused: NaN in the echo
+    }
+    fb.values.push_back(v);
+    listed += (listed.empty() ? "" : ", ") + key + " = " + value;
+  }
+  fb.accepted = accepted;
+  fb.effective_time = sim_->time();
+  fb.reason = reason;
+  // Every change is logged (they are few: a staircase ramp's steps at most
+  // once a second).
+  const bool ramp_step = source.rfind("fault:", 0) == 0 && changes.count("clearance_m") != 0;
+  if (accepted && ramp_step) {
+    ROS_INFO_THROTTLE(1.0, "parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(),
+                      listed.c_str());
+  } else if (accepted) {
+    ROS_INFO("parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(), listed.c_str());
+  } else {
+    ROS_WARN("parameter change %u from %s refused at t = %.6f s, simulation unchanged: %s", id, source.c_str(),
+             sim_->time(), reason.c_str());
+  }
+  publish(change_feedback_pub_, fb, sim_->time());
+}
+
+void SimNode::apply_fault(const PendingCommand& c) {
+  const std::string source = std::string("fault:") + core::to_string(c.fault.kind);
+  std::vector<core::FaultStep> steps;
+  try {
+    steps = core::fault_steps(c.fault, sim_->scene().model, scene_.output_rate_hz);
+  } catch (const std::invalid_argument& e) {  // checked on receipt; kept for a fault built in code
+    answer_change({}, c.id, source, false, e.what());
+    return;
+  }
+  // The steps from now on, in the queue with everything else (a ramp's
+  // later steps wait for their times; the first applies in this pass).
+  for (auto& step : steps) {
+    PendingCommand p;
+    p.time_s = sim_->time() + step.offset_s;
+    p.kind = PendingCommand::Kind::kParameters;
+    p.changes = std::move(step.changes);
+    p.id = c.id;
+    p.source = source;
+    enqueue(std::move(p));
   }
 }
 
@@ -355,7 +494,12 @@ void SimNode::on_sample(const core::Sample& s) {
   const auto index = static_cast<uint64_t>(std::llround(s.t_s * scene_.output_rate_hz));
   to_msg(s, index, config_.frame_id, state_msg_);
   publish(state_pub_, state_msg_, s.t_s);
+  state_rate_->tick();
   ++states_published_;
+  if (tf_pub_ && s.t_s >= next_tf_s_) {
+    publish_tf(s);
+    next_tf_s_ = next_tick(s.t_s, config_.tf_rate_hz);
+  }
   if (config_.publish_clock && s.t_s >= next_clock_s_) {
     publish_clock(s.t_s);
     next_clock_s_ = next_tick(s.t_s, config_.clock_rate_hz);
@@ -391,6 +535,7 @@ void SimNode::on_keyphasor(const core::Sample& s) {
   msg.revolution = ++revolutions_;
   msg.speed = s.drive.speed_rad_per_s;
   publish(keyphasor_pub_, msg, s.t_s);
+  keyphasor_rate_->tick();
 }
 
 void SimNode::on_probe_sample(const core::Sample& s) {
@@ -404,6 +549,29 @@ void SimNode::on_probe_sample(const core::Sample& s) {
   msg.x_displacement = r.x_m;
   msg.y_displacement = r.y_m;
   publish(probes_pub_, msg, r.t_s);
+  probe_rate_->tick();
+}
+
+void SimNode::publish_tf(const core::Sample& s) {
+  // The stator's centre, and the rotor's geometric centre turned by the spin
+  // angle phi about z (its x axis points at the keyphasor's notch), in
+  // frame_id, stamped in simulated time as every header.
+  tf2_msgs::TFMessage msg;
+  msg.transforms.resize(2);
+  for (auto& t : msg.transforms) {
+    t.header.stamp.fromSec(s.t_s);
+    t.header.frame_id = config_.frame_id;
+    t.transform.rotation.w = 1.0;
+  }
+  msg.transforms[0].child_frame_id = "stator";
+  msg.transforms[0].transform.translation.x = s.kin.stator_pos.x();
+  msg.transforms[0].transform.translation.y = s.kin.stator_pos.y();
+  msg.transforms[1].child_frame_id = "rotor";
+  msg.transforms[1].transform.translation.x = s.kin.rotor_pos.x();
+  msg.transforms[1].transform.translation.y = s.kin.rotor_pos.y();
+  msg.transforms[1].transform.rotation.z = std::sin(0.5 * s.drive.angle_rad);
+  msg.transforms[1].transform.rotation.w = std::cos(0.5 * s.drive.angle_rad);
+  publish(tf_pub_, msg, s.t_s);
 }
 
 void SimNode::publish_clock(double t_s) {
@@ -481,9 +649,11 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
     if (t_cmd <= sim_->time() && pending_.empty() && msg->target_speed == applied_target_ && accel == applied_accel_) {
       fb.effective_time = sim_->time();  // a repeat of the command in force: nothing changes
     } else if (t_cmd > sim_->time()) {
-      const auto at = std::upper_bound(pending_.begin(), pending_.end(), t_cmd,
-                                       [](double t, const PendingCommand& c) { return t < c.time_s; });
-      pending_.insert(at, PendingCommand{t_cmd, msg->target_speed, accel});
+      PendingCommand c;
+      c.time_s = t_cmd;
+      c.target_rad_per_s = msg->target_speed;
+      c.accel_rad_per_s2 = accel;
+      enqueue(std::move(c));
       fb.effective_time = t_cmd;
     } else {
       sim_->command_speed(msg->target_speed, accel);
@@ -506,6 +676,96 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
                       static_cast<unsigned long>(commands_rejected_));
   }
   publish(feedback_pub_, fb, sim_->time());
+}
+
+void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPtr& msg) {
+  record(change_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
+  std::map<std::string, std::string> changes;
+  std::string refused;
+  for (std::size_t i = 0; i < msg->keys.size() && i < msg->values.size(); ++i) {
+    if (changes.count(msg->keys[i]) != 0) refused = "key '" + msg->keys[i] + "' is given twice";
+    changes[msg->keys[i]] = exact_text(msg->values[i]);
+  }
+  if (msg->keys.size() != msg->values.size()) {
+    refused = "keys and values differ in number (" + std::to_string(msg->keys.size()) + " keys, " +
+              std::to_string(msg->values.size()) + " values)";
+  } else if (msg->keys.empty()) {
+    refused = "no keys";
+  }
+  const double t_change = msg->header.stamp.toSec();
+  // Checked on receipt against the model in force (nothing is queued that
+  // is bound to fail); applied changes are checked again at their stamp,
+  // where the state decides the rest (a clearance closed onto the rotor).
+  if (refused.empty()) {
+    try {
+      if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
+      core::with_live_changes(sim_->scene(), changes);
+    } catch (const core::SceneError& e) {
+      refused = e.what();
+    }
+  }
+  if (!refused.empty()) {
+    answer_change(changes, msg->change_id, msg->source, false, refused);
+  } else if (t_change > sim_->time()) {
+    PendingCommand c;
+    c.time_s = t_change;
+    c.kind = PendingCommand::Kind::kParameters;
+    c.changes = std::move(changes);
+    c.id = msg->change_id;
+    c.source = msg->source;
+    enqueue(std::move(c));
+  } else {
+    apply_change(changes, msg->change_id, msg->source);
+  }
+}
+
+double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
+  PendingCommand c;
+  c.kind = PendingCommand::Kind::kFault;
+  c.fault.kind = fault_kind(msg.kind);
+  c.fault.magnitude = msg.magnitude;
+  c.fault.phase_rad = msg.phase;
+  c.fault.duration_s = msg.duration;
+  core::check_fault(c.fault);
+  if (c.fault.kind == core::FaultKind::kSupportLoosening && scene_.model.stator_model == core::StatorModel::kRigid) {
+    throw std::invalid_argument("fault support_loosening has no effect on a rigid stator (stator_model rigid)");
+  }
+  if (status_ == Status::kFailed)
+    throw std::invalid_argument("the simulation has failed; call the reset service first");
+  c.time_s = std::max(msg.header.stamp.toSec(), sim_->time());
+  c.id = msg.fault_id;
+  c.source = std::string("fault:") + core::to_string(c.fault.kind);
+  const double first_s =
+      c.time_s +
+      (c.fault.duration_s > 0.0 ? c.fault.duration_s / std::ceil(c.fault.duration_s * scene_.output_rate_hz) : 0.0);
+  ROS_INFO("fault %u (%s, magnitude %g, phase %g rad, duration %g s) scheduled at t = %.6f s", c.id, c.source.c_str(),
+           c.fault.magnitude, c.fault.phase_rad, c.fault.duration_s, c.time_s);
+  enqueue(std::move(c));
+  apply_due_commands();  // one due now applies at once, as an unstamped change
+  return first_s;
+}
+
+void SimNode::on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg) {
+  record(fault_sub_.getTopic(), *msg, sim_->time());
+  try {
+    schedule_fault(*msg);
+  } catch (const std::invalid_argument& e) {
+    answer_change({}, msg->fault_id, "fault", false, e.what());
+  }
+}
+
+bool SimNode::on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_rub_msgs::InjectFault::Response& res) {
+  // Recorded as the topic's message would be: a bag shows every fault asked.
+  record(fault_sub_.getTopic(), req.fault, sim_->time());
+  try {
+    res.effective_time = schedule_fault(req.fault);
+    res.accepted = true;
+  } catch (const std::invalid_argument& e) {
+    res.accepted = false;
+    res.reason = e.what();
+    answer_change({}, req.fault.fault_id, "fault", false, e.what());
+  }
+  return true;
 }
 
 bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {

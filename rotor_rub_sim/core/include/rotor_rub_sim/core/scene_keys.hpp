@@ -49,6 +49,11 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
 /// Two scenes are the same scene when these maps are equal.
 std::map<std::string, std::string> scene_values(const Scene& scene);
 
+/// Why a live key has no effect on this scene (a rigid stator's stiffness,
+/// k_c without the penalty method, a drive gain without the motor), or ""
+/// when it has: such a change is refused, and not offered for live change.
+std::string live_key_inert_reason(const std::string& key, const Scene& scene);
+
 /// Checks that hold between keys (e.g. rosenbrock4 is for the penalty method).
 void validate_scene(const Scene& scene);
 

@@ -116,6 +116,13 @@ class Simulation {
 /// makes, for callers that queue a command for later.
 void check_speed_command(const Scene& scene, double target_rad_per_s, double accel_magnitude_rad_per_s2);
 
+/// The running scene with live changes applied and checked, as
+/// Simulation::change_parameters checks them before it looks at the state:
+/// throws SceneError (an unknown or non-live key, one inert on this scene, a
+/// value out of range, a rule between keys broken). For callers that queue a
+/// change for later (the node checks a stamped change on receipt).
+Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes);
+
 /// Runs the whole scene from 0 to end_time_s.
 struct RunResult {
   RunStats stats;

@@ -35,6 +35,7 @@ struct NodeConfig {
   double clock_rate_hz = 1000.0;             // /clock, in simulated time (capped by the state rate)
   bool publish_clock = true;                 // one node per ROS graph should publish /clock
   double marker_rate_hz = 30.0;              // RViz markers, in simulated time; 0 = none
+  double tf_rate_hz = 50.0;                  // tf frames stator and rotor, in simulated time; 0 = none
   double marker_scale = 1000.0;              // drawn length per model length (1000: 1 mm shows as 1 m)
   double marker_force_scale_m_per_N = 0.01;  // force arrow length in RViz per newton (not scaled)
   int orbit_trail_samples = 500;             // state samples kept in the orbit trail marker

@@ -9,10 +9,12 @@
 // zero or past stamp is applied at the simulated time the node has reached
 // when it serves the callback (a chunk boundary, on the output grid). The
 // same stamped command sequence therefore gives the same trajectory at any
-// real-time factor.
+// real-time factor. Parameter changes and faults follow the same contract
+// (they share the queue: at one stamp, in arrival order).
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/publisher.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
@@ -22,17 +24,23 @@
 #include <vector>
 
 #include "rotor_rub_msgs/ContactEvent.h"
+#include "rotor_rub_msgs/Fault.h"
+#include "rotor_rub_msgs/InjectFault.h"
 #include "rotor_rub_msgs/Keyphasor.h"
+#include "rotor_rub_msgs/ParameterChange.h"
 #include "rotor_rub_msgs/ProbeSignals.h"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_msgs/SolverStats.h"
 #include "rotor_rub_msgs/SpeedCommand.h"
 #include "rotor_rub_msgs/StepSimulation.h"
+#include "rotor_rub_sim/core/faults.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/probes.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/ros/bag_appender.hpp"
 #include "rotor_rub_sim/ros/markers.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
+#include "rotor_rub_sim/ros/reconfigure_server.hpp"
 
 namespace rotor_rub::ros_node {
 
@@ -56,10 +64,19 @@ class SimNode : public core::SimulationObserver {
 
  private:
   enum class Status : uint8_t { kRunning, kPaused, kFinished, kFailed };
+  // A queued input: a speed command, a parameter change (a fault's step,
+  // say) or a fault (turned into its changes at its stamp, from the model
+  // then in force).
   struct PendingCommand {
-    double time_s;
-    double target_rad_per_s;
-    double accel_rad_per_s2;
+    enum class Kind : uint8_t { kSpeed, kParameters, kFault };
+    double time_s = 0.0;
+    Kind kind = Kind::kSpeed;
+    double target_rad_per_s = 0.0;
+    double accel_rad_per_s2 = 0.0;
+    std::map<std::string, std::string> changes;
+    core::Fault fault;
+    uint32_t id = 0;
+    std::string source;
   };
 
   bool wait_for_subscribers();
@@ -67,6 +84,15 @@ class SimNode : public core::SimulationObserver {
   // Advances to t_s, applying queued commands at their times on the way.
   void advance_to(double t_s);
   void apply_due_commands();
+  // Queues c at its time, after any queued for the same time.
+  void enqueue(PendingCommand c);
+  // Applies a parameter change now; answers on parameter_change_feedback.
+  // Returns whether it was applied.
+  bool apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source);
+  void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
+                     bool accepted, const std::string& reason);
+  void apply_fault(const PendingCommand& c);
+  void publish_tf(const core::Sample& s);
   void check_end_or_failure();
   void set_status(Status s);
   void anchor_pacing();
@@ -85,6 +111,11 @@ class SimNode : public core::SimulationObserver {
   void stop_recording(const std::string& why, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
+  void on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPtr& msg);
+  void on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg);
+  bool on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_rub_msgs::InjectFault::Response& res);
+  // Checks a fault and queues it at its stamp; throws std::invalid_argument.
+  double schedule_fault(const rotor_rub_msgs::Fault& msg);
   // Lockstep: at a period boundary, publishes lockstep_state and serves
   // callbacks until the controller's command for this time arrives (or the
   // timeout). Returns false if ROS shut down while waiting.
@@ -112,7 +143,15 @@ class SimNode : public core::SimulationObserver {
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
 
   ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
-  ros::Publisher keyphasor_pub_, probes_pub_;
+  ros::Publisher keyphasor_pub_, probes_pub_, change_feedback_pub_, tf_pub_;
+  ros::Subscriber change_sub_, fault_sub_;
+  ros::ServiceServer fault_srv_;
+  std::optional<ReconfigureServer> reconfigure_;
+  // Publication rates as diagnostic_updater measures them (wall time, or
+  // /clock's under use_sim_time), against what the pace makes expected.
+  double state_rate_min_hz_ = 0.0, state_rate_max_hz_ = 0.0, probe_rate_min_hz_ = 0.0, probe_rate_max_hz_ = 0.0;
+  double keyphasor_rate_min_hz_ = 0.0, keyphasor_rate_max_hz_ = 0.0;
+  std::optional<diagnostic_updater::HeaderlessTopicDiagnostic> state_rate_, probe_rate_, keyphasor_rate_;
   uint64_t revolutions_ = 0;                   // keyphasor marks since the start or the last reset
   std::optional<core::ProbePair> probe_pair_;  // when probe_rate_hz > 0; its noise restarts with the run
   double lockstep_awaited_s_ = -1.0;           // the boundary a reply is awaited for
@@ -130,7 +169,7 @@ class SimNode : public core::SimulationObserver {
   rotor_rub_msgs::ContactEvent event_msg_;
   core::Sample last_sample_;
   uint64_t states_published_ = 0, events_published_ = 0, commands_rejected_ = 0;
-  double next_clock_s_ = 0.0, next_stats_s_ = 0.0, next_diag_s_ = 0.0, next_marker_s_ = 0.0;
+  double next_clock_s_ = 0.0, next_stats_s_ = 0.0, next_diag_s_ = 0.0, next_marker_s_ = 0.0, next_tf_s_ = 0.0;
 
   // Pacing and the achieved real-time factor (pauses and steps excluded).
   ros::WallTime pace_wall_anchor_;
