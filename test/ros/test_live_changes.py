@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""rostest: live parameter changes, faults, dynamic_reconfigure and tf
+(live_changes.test)."""
+import math
+import os
+import subprocess
+import sys
+import unittest
+
+import rosbag
+import rospy
+import rostest
+from dynamic_reconfigure.client import Client
+from std_srvs.srv import Trigger
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ros_test_support import PKG, find_binary, temp_prefix  # noqa: E402
+from rotor_rub_msgs.msg import Fault, ParameterChange  # noqa: E402
+
+END_S = 1.3  # the paper run-up grazes first at 1.113 s
+TF_RATE_HZ = 50.0
+LAUNCH_TIMEOUT_S = 300.0
+
+
+def stamp(t_s):
+    return rospy.Time.from_sec(t_s)
+
+
+class Run(object):
+    """sim.launch in namespace ns, paused at start, recording a bag."""
+
+    def __init__(self, ns, real_time_factor):
+        self.ns = ns
+        self.bag = temp_prefix(ns) + ".bag"
+        params = temp_prefix(ns + "_params") + ".yaml"
+        with open(params, "w") as f:
+            f.write("end_time_s: %g\ntf_rate_hz: %g\n" % (END_S, TF_RATE_HZ))
+        self.proc = subprocess.Popen(
+            [find_binary("launch_checked.py"), PKG, "sim.launch", "ns:=" + ns, "record:=true", "bag:=" + self.bag,
+             "real_time_factor:=%g" % real_time_factor, "start_paused:=true", "params:=" + params],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.changes = rospy.Publisher("/%s/parameter_change" % ns, ParameterChange, queue_size=100)
+        self.faults = rospy.Publisher("/%s/faults" % ns, Fault, queue_size=100)
+        rospy.wait_for_service("/%s/resume" % ns, timeout=60.0)
+        deadline = rospy.Time.now() + rospy.Duration(60.0)
+        while self.changes.get_num_connections() == 0 or self.faults.get_num_connections() == 0:
+            if rospy.Time.now() > deadline:
+                raise AssertionError("the node never subscribed to parameter_change and faults")
+            rospy.sleep(0.01)
+
+    def finish(self):
+        # The queued inputs reach the paused node before the resume: the node
+        # serves its callbacks every 50 ms while paused.
+        rospy.sleep(0.5)
+        rospy.ServiceProxy("/%s/resume" % self.ns, Trigger)()
+        out, _ = self.proc.communicate(timeout=LAUNCH_TIMEOUT_S)
+        if self.proc.returncode != 0:
+            raise AssertionError("launch %s failed (%d):\n%s" % (self.ns, self.proc.returncode, out[-3000:]))
+        return read_bag(self.bag, self.ns)
+
+
+def read_bag(path, ns):
+    topics = {}
+    with rosbag.Bag(path) as bag:
+        for topic, msg, t in bag.read_messages():
+            topics.setdefault(topic.replace("/" + ns + "/", ""), []).append((t.to_sec(), msg))
+    return topics
+
+
+def states(topics):
+    return [(m.header.stamp.to_sec(), (m.rotor_position.x, m.rotor_position.y)) for _, m in topics["state"]]
+
+
+def send_sequence(run):
+    """The changes every recorded run gets: friction and clearance at 1.0 s
+    (the opened clearance takes the graze at 1.113 s away), a key that cannot
+    change at 0.8 s, a blade loss at 1.2 s."""
+    run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(1.0)), keys=["friction_coefficient",
+                                        "clearance_m"], values=[0.3, 2.5e-3], change_id=1, source="test"))
+    run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(0.8)), keys=["method"], values=[1.0],
+                                        change_id=2, source="test"))
+    run.faults.publish(Fault(header=rospy.Header(stamp=stamp(1.2)), kind=Fault.BLADE_LOSS, magnitude=1e-4, phase=1.0,
+                             fault_id=3))
+
+
+class LiveChangesTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_live_changes")
+        runs = {}
+        for ns, rtf in (("fast", 0.0), ("paced", 1.0)):
+            runs[ns] = Run(ns, rtf)
+            send_sequence(runs[ns])
+        runs["plain"] = Run("plain", 0.0)
+        cls.bags = {ns: run.finish() for ns, run in runs.items()}
+
+    def test_changes_apply_at_their_stamps_and_not_before(self):
+        changed, plain = states(self.bags["fast"]), states(self.bags["plain"])
+        self.assertEqual(len(changed), len(plain))
+        before = [i for i, (t, _) in enumerate(plain) if t <= 1.0]
+        self.assertGreater(len(before), 900)
+        for i in before:
+            self.assertEqual(changed[i], plain[i], "t %g" % plain[i][0])
+        after = max(math.hypot(a[1][0] - b[1][0], a[1][1] - b[1][1]) for a, b in zip(changed, plain) if a[0] > 1.0)
+        self.assertGreater(after, 1e-6)  # the graze at 1.113 s, there only without the change
+        feedback = [m for _, m in self.bags["fast"]["parameter_change_feedback"]]
+        by_id = {m.change_id: m for m in feedback}
+        self.assertTrue(by_id[1].accepted)
+        self.assertEqual(by_id[1].effective_time, stamp(1.0).to_sec())
+        self.assertEqual(sorted(by_id[1].keys), ["clearance_m", "friction_coefficient"])
+        self.assertFalse(by_id[2].accepted)
+        self.assertIn("'method' cannot change while running", by_id[2].reason)
+        # The fault: in the bag as asked, and as the change it made at its stamp.
+        self.assertEqual([m.fault_id for _, m in self.bags["fast"]["faults"]], [3])
+        self.assertTrue(by_id[3].accepted)
+        self.assertEqual(by_id[3].source, "fault:blade_loss")
+        self.assertEqual(by_id[3].effective_time, stamp(1.2).to_sec())  # exactly its stamp (rospy truncates to ns)
+        self.assertEqual(sorted(by_id[3].keys), ["eccentricity_m", "unbalance_phase_rad"])
+
+    def test_the_same_stamped_changes_give_the_same_run_at_any_pace(self):
+        self.assertEqual(states(self.bags["fast"]), states(self.bags["paced"]))
+        strip = lambda fb: [(m.change_id, m.accepted, m.effective_time, list(m.keys), list(m.values))
+                            for _, m in fb]
+        self.assertEqual(strip(self.bags["fast"]["parameter_change_feedback"]),
+                         strip(self.bags["paced"]["parameter_change_feedback"]))
+
+    def test_tf_frames_are_stamped_in_simulated_time(self):
+        tf = [m for _, m in self.bags["fast"]["/tf"]]
+        self.assertGreater(len(tf), int(END_S * TF_RATE_HZ) - 2)
+        state_at = dict(states(self.bags["fast"]))
+        for msg in tf:
+            frames = {t.child_frame_id: t for t in msg.transforms}
+            self.assertEqual(sorted(frames), ["rotor", "stator"])
+            t_s = frames["rotor"].header.stamp.to_sec()
+            self.assertAlmostEqual(t_s * TF_RATE_HZ, round(t_s * TF_RATE_HZ), places=6)
+            x, y = state_at[t_s]
+            self.assertEqual((frames["rotor"].transform.translation.x, frames["rotor"].transform.translation.y), (x, y))
+
+    def test_reconfigure_keys_and_ranges_are_the_key_tables(self):
+        """rqt_reconfigure's view: the server's description against the key
+        table (rotor_rub_run --list-keys), and a change out of range refused."""
+        run = Run("reconf", 0.0)
+        try:
+            client = Client("/reconf/rotor_rub_sim", timeout=30)
+            offered = {d["name"]: d for d in client.get_parameter_descriptions()}
+            listing = subprocess.run([find_binary("rotor_rub_run"), "--list-keys"], check=True, capture_output=True,
+                                     text=True).stdout.splitlines()
+            live = {}
+            for head, desc in zip(listing[0::2], listing[1::2]):
+                if "(live" in desc:
+                    key = head.split()[0]
+                    live[key] = head.split("accepted", 1)[1].strip()
+            # The paper scene: an elastic stator, the switching method, the
+            # prescribed drive: k_c and the drive's keys act on none of it.
+            inert = {"contact_stiffness_N_per_m", "drive_torque_limit_N_m", "drive_proportional_gain_N_m_s_per_rad",
+                     "drive_integral_gain_N_m_per_rad"}
+            self.assertEqual(sorted(offered), sorted(set(live) - inert))
+            for key, d in offered.items():
+                lo, hi = live[key][1:-1].split(", ")
+                self.assertEqual(d["min"], float(lo), key)
+                self.assertEqual(d["max"], float(hi), key)
+            self.assertEqual(client.update_configuration({"friction_coefficient": 0.25})["friction_coefficient"], 0.25)
+            self.assertEqual(client.update_configuration({"friction_coefficient": 5.0})["friction_coefficient"], 0.25)
+            self.assertEqual(client.update_configuration({"restitution": float("nan")})["restitution"], 0.0)
+        finally:
+            rospy.ServiceProxy("/reconf/resume", Trigger)()
+            run.proc.communicate(timeout=LAUNCH_TIMEOUT_S)
+
+
+if __name__ == "__main__":
+    rostest.rosrun(PKG, "live_changes", LiveChangesTest)
