@@ -9,8 +9,10 @@ usage: plot_run.py RUN.bag|RUN.csv --out DIR [--ns /rotor_rub_sim] [--clearance 
                    [--window-s 0.25] [--title TEXT]
   A bag: the states of <ns>/state (with several runs in the bag and no --ns,
   the first in name order, and it says so). A CSV: rotor_rub_run --csv output.
-  The clearance is the run's own (its penetration = |r_r - r_s| - C) unless
-  --clearance overrides it.
+  The clearance is the run's own (its penetration = |r_r - r_s| - C, sample by
+  sample: a live change shows) unless --clearance overrides it. From a bag,
+  the live changes and faults the node applied (parameter_change_feedback)
+  are marked with a dotted line and their keys.
 Full spectrum: the FFT of the complex displacement z = x_r + i y_r over sliding
 Hann windows; positive frequencies are forward whirl, negative backward.
 Exit status 2 on an unreadable input, with one line saying why."""
@@ -44,7 +46,25 @@ def load_bag(path, ns):
         rows = [(m.header.stamp.to_sec(), m.rotor_position.x, m.rotor_position.y, m.stator_position.x,
                  m.stator_position.y, m.normal_force, float(m.in_contact), m.speed, m.penetration)
                 for _, m, _ in b.read_messages(topics=[topic])]
-    return topic, np.array(rows)
+        feedback = topic[:-len("state")] + "parameter_change_feedback"
+        changes = [(m.effective_time, change_label(m)) for _, m, _ in b.read_messages(topics=[feedback])
+                   if m.accepted]
+    return topic, np.array(rows), changes
+
+
+def change_label(m):
+    """A fault by its kind, a parameter change by its keys and values."""
+    if m.source.startswith("fault:"):
+        return m.source[len("fault:"):]
+    return ", ".join("%s %g" % (k, v) for k, v in zip(m.keys, m.values))
+
+
+def mark_changes(ax, changes, label=False):
+    for t, text in changes:
+        ax.axvline(t, color="tab:purple", ls=":", lw=0.9)
+        if label:
+            ax.annotate(text, (t, 1.0), xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
+                        fontsize=7, color="tab:purple")
 
 
 def load_csv(path):
@@ -53,7 +73,7 @@ def load_csv(path):
         need = ["t", "x_r", "y_r", "x_s", "y_s", "normal_force", "in_contact", "speed", "penetration"]
         if not r.fieldnames or any(k not in r.fieldnames for k in need):
             raise ValueError("%s is not a rotor_rub_run CSV (needs columns %s)" % (path, ", ".join(need)))
-        return os.path.basename(path), np.array([[float(row[k]) for k in need] for row in r])
+        return os.path.basename(path), np.array([[float(row[k]) for k in need] for row in r]), []
 
 
 def contact_spans(t, c):
@@ -86,7 +106,7 @@ def main():
     ap.add_argument("--title", default="", help="title prefix (default: the run's name)")
     a = ap.parse_args()
     try:
-        name, d = load_bag(a.run, a.ns) if a.run.endswith(".bag") else load_csv(a.run)
+        name, d, changes = load_bag(a.run, a.ns) if a.run.endswith(".bag") else load_csv(a.run)
     except Exception as e:  # an unreadable input is a clear error, not a trace
         print("plot_run: cannot read %s: %s" % (a.run, e), file=sys.stderr)
         sys.exit(2)
@@ -95,8 +115,10 @@ def main():
         sys.exit(2)
     os.makedirs(a.out, exist_ok=True)
     t, xr, yr, xs, ys, fn, c, w, pen = d.T
+    # The run's own C at every sample (a live change moves it), or the one given.
+    c_t = np.hypot(xr - xs, yr - ys) - pen if a.clearance is None else np.full_like(t, a.clearance)
     if a.clearance is None:
-        a.clearance = float(np.hypot(xr[0] - xs[0], yr[0] - ys[0]) - pen[0])  # the run's own C
+        a.clearance = float(c_t[0])
     spans = contact_spans(t, c)
     title = a.title or name
     mm = 1e3
@@ -105,10 +127,12 @@ def main():
     for axis, v, lab in ((ax[0], xr, "x_r [mm]"), (ax[1], yr, "y_r [mm]")):
         axis.plot(t, v * mm, lw=0.5)
         shade(axis, spans)
-        axis.axhline(a.clearance * mm, color="k", ls="--", lw=0.6)
-        axis.axhline(-a.clearance * mm, color="k", ls="--", lw=0.6)
+        axis.plot(t, c_t * mm, color="k", ls="--", lw=0.6)
+        axis.plot(t, -c_t * mm, color="k", ls="--", lw=0.6)
+        mark_changes(axis, changes, label=axis is ax[0])
         axis.set_ylabel(lab)
-    ax[1].set_xlabel("t [s]   (grey: in contact; dashed: the clearance)")
+    ax[1].set_xlabel("t [s]   (grey: in contact; dashed: the clearance%s)" %
+                     ("; dotted: live changes and faults" if changes else ""))
     ax[0].set_title(title + ": rotor displacement")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "displacement.png"), dpi=100)
@@ -137,6 +161,8 @@ def main():
     fig, ax = plt.subplots(2, 1, figsize=(11, 5), sharex=True)
     ax[0].plot(t, fn, lw=0.5, color="tab:red")
     shade(ax[0], spans)
+    for axis in ax:
+        mark_changes(axis, changes, label=axis is ax[0])
     ax[0].set_ylabel("normal force [N]")
     ax[0].set_title(title + ": contact force and speed")
     ax[1].plot(t, w, color="tab:blue")
@@ -183,7 +209,8 @@ def main():
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "waterfall.png"), dpi=100)
     plt.close(fig)
-    print("plot_run: %d states from %s -> %s/{displacement,orbit,force_speed,waterfall}.png" % (len(d), name, a.out))
+    print("plot_run: %d states%s from %s -> %s/{displacement,orbit,force_speed,waterfall}.png"
+          % (len(d), " and %d live changes" % len(changes) if changes else "", name, a.out))
 
 
 if __name__ == "__main__":

@@ -4,7 +4,8 @@
 // (--runner PREFIX reads PREFIX.csv and PREFIX.json), prints a table and
 // writes a CSV: touchdown and lift-off times, max and RMS differences of the
 // rotor and stator positions against a reference run, contact force figures,
-// lost messages and solver cost.
+// lost messages, solver cost, and the live changes and faults applied
+// (<ns>/parameter_change_feedback).
 //
 // Exit status: 0 ok; 2 bad input (usage, a missing, truncated or foreign bag).
 #include <rosbag/bag.h>
@@ -21,6 +22,7 @@
 
 #include "cli_options.hpp"
 #include "rotor_rub_msgs/ContactEvent.h"
+#include "rotor_rub_msgs/ParameterChangeFeedback.h"
 #include "rotor_rub_msgs/RotorState.h"
 #include "rotor_rub_msgs/SolverStats.h"
 #include "rotor_rub_sim/ros/conversions.hpp"
@@ -71,6 +73,19 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
         seqs[key].insert(s->sample_index);
       } else if (auto e = m.instantiate<rotor_rub_msgs::ContactEvent>()) {
         runs[run_key(topic, "/contact_events")].events.push_back(rotor_rub::ros_node::from_msg(*e));
+      } else if (auto c = m.instantiate<rotor_rub_msgs::ParameterChangeFeedback>()) {
+        if (!c->accepted) continue;  // a refused change changed nothing
+        std::string what;
+        if (c->source.rfind("fault:", 0) == 0) {
+          what = c->source.substr(6);
+        } else {
+          for (std::size_t i = 0; i < c->keys.size() && i < c->values.size(); ++i) {
+            char v[32];
+            std::snprintf(v, sizeof v, "%.9g", c->values[i]);
+            what += (what.empty() ? "" : " ") + c->keys[i] + "=" + v;
+          }
+        }
+        runs[run_key(topic, "/parameter_change_feedback")].changes.push_back({c->effective_time, what});
       } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
         RecordedRun& r = runs[run_key(topic, "/solver_stats")];
         r.method = st->method;

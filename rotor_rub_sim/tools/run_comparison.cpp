@@ -62,6 +62,20 @@ RunFigures compare_run(const RecordedRun& run, const RecordedRun& ref) {
     }
   }
   f.mean_normal_force_in_contact_N = in_contact ? force_sum / static_cast<double>(in_contact) : kNaN;
+  f.live_changes = static_cast<long>(run.changes.size());
+  f.first_change_s = run.changes.empty() ? kNaN : run.changes.front().t_s;
+  f.first_contact_after_change_s = kNaN;
+  for (const auto& e : run.events) {
+    if (!run.changes.empty() && e.kind != core::EventKind::kLiftoff && e.t_s >= f.first_change_s) {
+      f.first_contact_after_change_s = e.t_s;
+      break;
+    }
+  }
+  for (const auto& c : run.changes) {
+    char t[32];
+    std::snprintf(t, sizeof t, "%.9g", c.t_s);
+    f.changes += (f.changes.empty() ? "" : "; ") + std::string(t) + " " + c.what;
+  }
   if (run.samples.size() >= 2) {
     const double period = (run.samples.back().t_s - run.samples.front().t_s) / double(run.samples.size() - 1);
     f.contact_time_s = static_cast<double>(in_contact) * period;
@@ -135,6 +149,9 @@ void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const st
                   r.rms_rotor_diff_m, r.max_stator_diff_m, steps.c_str(), wall.c_str());
     os << buf;
   }
+  for (const auto& r : rows) {
+    if (r.live_changes > 0) os << "live changes in " << r.name << " [s]: " << r.changes << "\n";
+  }
   os << "max |r_r|: the rotor's absolute orbit (the stator moves too; |r_r - r_s| stays within the clearance)\n";
   if (missing) {
     os << "-: not in the run (a bag without contact events or solver stats, or a run without contact)\n";
@@ -146,7 +163,7 @@ void write_figures_csv(std::ostream& os, const std::vector<RunFigures>& rows) {
         "touchdowns,liftoffs,grazes,max_orbit_m,max_normal_force_N,mean_normal_force_in_contact_N,contact_time_s,"
         "common_samples,max_rotor_diff_m,rms_rotor_diff_m,max_stator_diff_m,rms_stator_diff_m,"
         "max_normal_force_diff_N,first_contact_diff_s,last_contact_end_diff_s,steps,rhs_evals,integration_wall_s,"
-        "real_time_factor\n";
+        "real_time_factor,live_changes,first_change_s,first_contact_after_change_s,changes\n";
   for (const auto& r : rows) {
     os << r.name << "," << r.method << "," << r.samples << "," << r.lost_samples << "," << num(r.first_contact_s) << ","
        << num(r.first_touchdown_s) << "," << num(r.last_liftoff_s) << "," << num(r.last_contact_end_s) << ","
@@ -155,7 +172,8 @@ void write_figures_csv(std::ostream& os, const std::vector<RunFigures>& rows) {
        << "," << r.common_samples << "," << num(r.max_rotor_diff_m) << "," << num(r.rms_rotor_diff_m) << ","
        << num(r.max_stator_diff_m) << "," << num(r.rms_stator_diff_m) << "," << num(r.max_normal_force_diff_N) << ","
        << num(r.first_contact_diff_s) << "," << num(r.last_contact_end_diff_s) << "," << r.steps << "," << r.rhs_evals
-       << "," << num(r.integration_wall_s) << "," << num(r.real_time_factor) << "\n";
+       << "," << num(r.integration_wall_s) << "," << num(r.real_time_factor) << "," << r.live_changes << ","
+       << num(r.first_change_s) << "," << num(r.first_contact_after_change_s) << "," << r.changes << "\n";
   }
 }
 

@@ -11,13 +11,20 @@
 
 namespace rotor_rub::tools {
 
+// A live change or fault the node applied (its parameter_change_feedback).
+struct LiveChange {
+  double t_s = 0.0;
+  std::string what;  // a fault's kind, or "key=value ..." (no commas)
+};
+
 struct RecordedRun {
   std::string name;    // e.g. "paper.bag:/switching/rotor_rub_sim"
   std::string method;  // from the last SolverStats, or "" when unknown
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
-  bool has_events = false;  // a CSV without its JSON summary has none
-  long lost_samples = 0;    // gaps in the state messages' sample index
+  bool has_events = false;          // a CSV without its JSON summary has none
+  long lost_samples = 0;            // gaps in the state messages' sample index
+  std::vector<LiveChange> changes;  // applied, in time order (bags only)
   // The last SolverStats (bags only; -1 when unknown).
   long steps = -1, rhs_evals = -1;
   double integration_wall_s = -1.0, real_time_factor = -1.0;
@@ -38,6 +45,11 @@ struct RunFigures {
   double first_contact_diff_s, last_contact_end_diff_s;
   long steps = -1, rhs_evals = -1;
   double integration_wall_s = -1.0, real_time_factor = -1.0;
+  // Live changes and faults: how many, the first one's time, the first
+  // contact at or after it (a fault's effect), and all as "t what; ...".
+  long live_changes = 0;
+  double first_change_s, first_contact_after_change_s;
+  std::string changes;
 };
 
 RunFigures compare_run(const RecordedRun& run, const RecordedRun& reference);

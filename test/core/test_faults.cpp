@@ -54,10 +54,12 @@ TEST(Faults, ClearanceRampIsAStaircaseAsFineAsTheOutput) {
   for (std::size_t k = 0; k < steps.size(); ++k) {
     EXPECT_NEAR(steps[k].offset_s, 1e-3 * static_cast<double>(k + 1), 1e-15);
     EXPECT_NEAR(value(steps[k], "clearance_m"), p.clearance_m - 1e-5 * static_cast<double>(k + 1), 1e-15);
+    EXPECT_TRUE(steps[k].stop_at_rotor);  // a closure stops where it meets the rotor
   }
   const auto wear = core::fault_steps({core::FaultKind::kSealWear, 1e-4, 0.0, 0.0}, p, 1000.0);
   ASSERT_EQ(wear.size(), 1u);
   EXPECT_EQ(value(wear[0], "clearance_m"), p.clearance_m + 1e-4);
+  EXPECT_FALSE(wear[0].stop_at_rotor);
   const auto loose = core::fault_steps({core::FaultKind::kSupportLoosening, 0.75, 0.0, 0.0}, p, 1000.0);
   EXPECT_EQ(value(loose[0], "stator_stiffness_N_per_m"), p.stator_stiffness_N_per_m * 0.25);
   const auto friction = core::fault_steps({core::FaultKind::kFrictionChange, 0.4, 0.0, 0.0}, p, 1000.0);

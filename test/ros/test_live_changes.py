@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest: live parameter changes, faults, dynamic_reconfigure and tf
 (live_changes.test)."""
+import csv
 import math
 import os
 import subprocess
@@ -10,12 +11,14 @@ import unittest
 import rosbag
 import rospy
 import rostest
+from diagnostic_msgs.msg import DiagnosticArray
 from dynamic_reconfigure.client import Client
 from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ros_test_support import PKG, find_binary, temp_prefix  # noqa: E402
-from rotor_rub_msgs.msg import Fault, ParameterChange  # noqa: E402
+from ros_test_support import PKG, Collector, find_binary, temp_prefix  # noqa: E402
+from rotor_rub_msgs.msg import Fault, ParameterChange, ParameterChangeFeedback  # noqa: E402
+from rotor_rub_msgs.srv import InjectFault, StepSimulation  # noqa: E402
 
 END_S = 1.3  # the paper run-up grazes first at 1.113 s
 TF_RATE_HZ = 50.0
@@ -88,11 +91,14 @@ class LiveChangesTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("test_live_changes")
         runs = {}
+        cls.diagnostics = Collector("/diagnostics", DiagnosticArray)
         for ns, rtf in (("fast", 0.0), ("paced", 1.0)):
             runs[ns] = Run(ns, rtf)
             send_sequence(runs[ns])
         runs["plain"] = Run("plain", 0.0)
         cls.bags = {ns: run.finish() for ns, run in runs.items()}
+        cls.bag_paths = {ns: run.bag for ns, run in runs.items()}
+        cls.diagnostics.sub.unregister()
 
     def test_changes_apply_at_their_stamps_and_not_before(self):
         changed, plain = states(self.bags["fast"]), states(self.bags["plain"])
@@ -136,6 +142,28 @@ class LiveChangesTest(unittest.TestCase):
             x, y = state_at[t_s]
             self.assertEqual((frames["rotor"].transform.translation.x, frames["rotor"].transform.translation.y), (x, y))
 
+    def test_changes_and_faults_in_the_comparison_and_the_picture(self):
+        bag = self.bag_paths["fast"]
+        out_csv = temp_prefix("compare") + ".csv"
+        subprocess.run([find_binary("rotor_rub_compare"), bag, "--csv", out_csv, "--quiet"], check=True)
+        with open(out_csv) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 1)
+        self.assertEqual(rows[0]["live_changes"], "2")  # the refused one changed nothing
+        self.assertEqual(float(rows[0]["first_change_s"]), stamp(1.0).to_sec())
+        self.assertIn("clearance_m=0.0025 friction_coefficient=0.3", rows[0]["changes"])
+        self.assertIn("blade_loss", rows[0]["changes"])
+        pictures = temp_prefix("pictures")
+        out = subprocess.run([find_binary("plot_run.py"), bag, "--out", pictures], check=True, capture_output=True,
+                             text=True).stdout
+        self.assertIn("and 2 live changes", out)
+        self.assertTrue(os.path.getsize(os.path.join(pictures, "displacement.png")) > 0)
+
+    def test_rate_diagnostics_of_state_and_keyphasor(self):
+        names = {s.name for a in self.diagnostics.msgs for s in a.status}
+        for topic in ("state", "keyphasor"):
+            self.assertTrue(any(n.endswith(": %s topic status" % topic) for n in names), (topic, sorted(names)))
+
     def test_reconfigure_keys_and_ranges_are_the_key_tables(self):
         """rqt_reconfigure's view: the server's description against the key
         table (rotor_rub_run --list-keys), and a change out of range refused."""
@@ -162,6 +190,27 @@ class LiveChangesTest(unittest.TestCase):
             self.assertEqual(client.update_configuration({"friction_coefficient": 0.25})["friction_coefficient"], 0.25)
             self.assertEqual(client.update_configuration({"friction_coefficient": 5.0})["friction_coefficient"], 0.25)
             self.assertEqual(client.update_configuration({"restitution": float("nan")})["restitution"], 0.0)
+            # A stamp already simulated, and a negative fault: refused, said why.
+            feedback = Collector("/reconf/parameter_change_feedback", ParameterChangeFeedback)
+            changes = rospy.Publisher("/reconf/parameter_change", ParameterChange, queue_size=10)
+            stepped = rospy.ServiceProxy("/reconf/step", StepSimulation)(duration=0.1)
+            self.assertTrue(stepped.success, stepped.message)
+            feedback.wait_connected()
+            while changes.get_num_connections() == 0:
+                rospy.sleep(0.01)
+            changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(0.05)), keys=["friction_coefficient"],
+                                            values=[0.3], change_id=41, source="test"))
+            late = feedback.wait_for(lambda ms: any(m.change_id == 41 for m in ms), "the past stamp's answer")
+            self.assertFalse(late[-1].accepted, (late[-1].effective_time, stepped.sim_time))
+            self.assertIn("is in the past", late[-1].reason)
+            inject = rospy.ServiceProxy("/reconf/inject_fault", InjectFault)
+            res = inject(Fault(header=rospy.Header(stamp=stamp(0.05)), kind=Fault.FRICTION_CHANGE, magnitude=0.3))
+            self.assertFalse(res.accepted, res)
+            self.assertIn("is in the past", res.reason)
+            res = inject(Fault(kind=Fault.BLADE_LOSS, magnitude=-1e-4))
+            self.assertFalse(res.accepted, res)
+            self.assertIn("magnitude -0.0001 is out of range", res.reason)
+            self.assertEqual(client.get_configuration()["friction_coefficient"], 0.25)
         finally:
             rospy.ServiceProxy("/reconf/resume", Trigger)()
             run.proc.communicate(timeout=LAUNCH_TIMEOUT_S)

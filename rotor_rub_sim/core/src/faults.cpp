@@ -77,8 +77,11 @@ std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, d
       const long n = f.duration_s > 0.0 ? std::max(1L, std::lround(std::ceil(f.duration_s * output_rate_hz))) : 1;
       for (long k = 1; k <= n; ++k) {
         const double share = static_cast<double>(k) / static_cast<double>(n);
-        steps.push_back(
-            {f.duration_s * share, {{"clearance_m", exact_text(now.clearance_m + sign * f.magnitude * share)}}});
+        FaultStep step;
+        step.offset_s = f.duration_s * share;
+        step.changes["clearance_m"] = exact_text(now.clearance_m + sign * f.magnitude * share);
+        step.stop_at_rotor = f.kind == FaultKind::kThermalClosure;
+        steps.push_back(step);
       }
       break;
     }

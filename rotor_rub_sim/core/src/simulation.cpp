@@ -106,7 +106,9 @@ std::string shown(double v) {
 
 Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes) {
   Scene next = running;
-  for (const auto& [key, value] : changes) {
+  for (const auto& change : changes) {
+    const std::string& key = change.first;  // named, not a structured binding: a lambda captures it (C++17)
+    const std::string& value = change.second;
     const auto& keys = scene_keys();
     const auto info = std::find_if(keys.begin(), keys.end(), [&](const SceneKeyInfo& i) { return i.key == key; });
     if (info == keys.end()) {
@@ -153,6 +155,11 @@ void Simulation::change_parameters(const std::map<std::string, std::string>& cha
   step_events_.swap(kept);
   method_->change_model(time_s_, scene_.model, step_events_);
   break_due_ = break_due_ && time_s_ >= t_limit_s_;
+}
+
+double Simulation::rotor_stator_distance_m() const {
+  const Sample s = method_->sample(time_s_);
+  return s.penetration_m + scene_.model.clearance_m;
 }
 
 void Simulation::set_end_time(double t_s) {

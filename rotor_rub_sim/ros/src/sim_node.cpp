@@ -357,7 +357,7 @@ void SimNode::apply_due_commands() {
         applied_accel_ = c.accel_rad_per_s2;
         break;
       case PendingCommand::Kind::kParameters:
-        apply_change(c.changes, c.id, c.source);  // checked again: the state may forbid it now
+        apply_change(c.changes, c.id, c.source, c.stop_at_rotor);  // checked again: the state may forbid it now
         break;
       case PendingCommand::Kind::kFault:
         apply_fault(c);
@@ -372,15 +372,25 @@ void SimNode::enqueue(PendingCommand c) {
   pending_.insert(at, std::move(c));
 }
 
-bool SimNode::apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source) {
+bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
+                           bool stop_at_rotor) {
+  std::string note;
   try {
     if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
+    const auto closure = changes.find("clearance_m");
+    if (stop_at_rotor && closure != changes.end()) {
+      const double distance_m = sim_->rotor_stator_distance_m();
+      if (std::stod(closure->second) < distance_m) {
+        closure->second = exact_text(distance_m);
+        note = "the closure stopped at the rotor (rotor-stator distance " + closure->second + " m)";
+      }
+    }
     sim_->change_parameters(changes);
   } catch (const core::SceneError& e) {
     answer_change(changes, id, source, false, e.what());
     return false;
   }
-  answer_change(changes, id, source, true, "");
+  answer_change(changes, id, source, true, note);
   if (reconfigure_) reconfigure_->publish_values(sim_->scene());
   return true;
 }
@@ -409,6 +419,7 @@ void SimNode::answer_change(const std::map<std::string, std::string>& changes, u
   // Every change is logged (they are few: a staircase ramp's steps at most
   // once a second).
   const bool ramp_step = source.rfind("fault:", 0) == 0 && changes.count("clearance_m") != 0;
+  if (accepted && !reason.empty()) listed += " (" + reason + ")";
   if (accepted && ramp_step) {
     ROS_INFO_THROTTLE(1.0, "parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(),
                       listed.c_str());
@@ -439,6 +450,7 @@ void SimNode::apply_fault(const PendingCommand& c) {
     p.changes = std::move(step.changes);
     p.id = c.id;
     p.source = source;
+    p.stop_at_rotor = step.stop_at_rotor;
     enqueue(std::move(p));
   }
 }
@@ -693,6 +705,7 @@ void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPt
     refused = "no keys";
   }
   const double t_change = msg->header.stamp.toSec();
+  if (refused.empty()) refused = past_stamp(t_change);
   // Checked on receipt against the model in force (nothing is queued that
   // is bound to fail); applied changes are checked again at their stamp,
   // where the state decides the rest (a clearance closed onto the rotor).
@@ -719,6 +732,16 @@ void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPt
   }
 }
 
+std::string SimNode::past_stamp(double t_s) const {
+  if (!(t_s > 0.0) || t_s >= sim_->time()) return "";
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "stamp %.9f s is in the past (simulated time %.9f s); accepted: 0 (the next instant reached) or a "
+                "time not yet simulated",
+                t_s, sim_->time());
+  return buf;
+}
+
 double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
   PendingCommand c;
   c.kind = PendingCommand::Kind::kFault;
@@ -732,6 +755,8 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
   }
   if (status_ == Status::kFailed)
     throw std::invalid_argument("the simulation has failed; call the reset service first");
+  const std::string past = past_stamp(msg.header.stamp.toSec());
+  if (!past.empty()) throw std::invalid_argument(past);
   c.time_s = std::max(msg.header.stamp.toSec(), sim_->time());
   c.id = msg.fault_id;
   c.source = std::string("fault:") + core::to_string(c.fault.kind);

@@ -22,7 +22,10 @@ enum class FaultKind {
   /// opening it by magnitude [m]. A step (duration_s 0) or a ramp over
   /// duration_s, applied as n = ceil(duration_s x output rate) equal steps,
   /// the k-th at k duration_s / n: a staircase as fine as the output, the
-  /// clearance constant between its steps.
+  /// clearance constant between its steps. A closure stops where it meets
+  /// the rotor (FaultStep::stop_at_rotor): the model's bore does not move
+  /// as a body, so a closure cannot press into the rotor; the rub it starts
+  /// is the one that begins where the closing bore reaches the orbit.
   kThermalClosure,
   kSealWear,
   /// The friction coefficient becomes magnitude [-].
@@ -47,6 +50,9 @@ struct Fault {
 struct FaultStep {
   double offset_s = 0.0;
   std::map<std::string, std::string> changes;
+  /// A clearance closure: whoever applies it sets clearance_m to no less
+  /// than the rotor-stator distance then (Simulation::rotor_stator_distance_m).
+  bool stop_at_rotor = false;
 };
 
 /// Throws std::invalid_argument naming the field, the value and the range

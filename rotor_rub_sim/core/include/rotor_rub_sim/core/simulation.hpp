@@ -79,6 +79,8 @@ class Simulation {
   void set_end_time(double t_s);
 
   double time() const { return time_s_; }  ///< simulated time delivered so far
+  /// |r_r - r_s| at time() [m] (a clearance closure stops there).
+  double rotor_stator_distance_m() const;
   /// The scene as run: integrator `auto` resolved to the registry's choice.
   const Scene& scene() const { return scene_; }
   const SpeedProfile& profile() const { return profile_; }

@@ -77,6 +77,7 @@ class SimNode : public core::SimulationObserver {
     core::Fault fault;
     uint32_t id = 0;
     std::string source;
+    bool stop_at_rotor = false;  // a clearance closure (core::FaultStep)
   };
 
   bool wait_for_subscribers();
@@ -88,9 +89,13 @@ class SimNode : public core::SimulationObserver {
   void enqueue(PendingCommand c);
   // Applies a parameter change now; answers on parameter_change_feedback.
   // Returns whether it was applied.
-  bool apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source);
+  bool apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
+                    bool stop_at_rotor = false);
   void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
                      bool accepted, const std::string& reason);
+  // A stamp is refused when it lies before the simulated time reached (0
+  // means "now"); "" when it is fine.
+  std::string past_stamp(double t_s) const;
   void apply_fault(const PendingCommand& c);
   void publish_tf(const core::Sample& s);
   void check_end_or_failure();
