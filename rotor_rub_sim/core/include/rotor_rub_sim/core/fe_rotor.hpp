@@ -1,0 +1,125 @@
+/// @file
+/// A flexible rotor as finite elements (issue 28's first part: the model and
+/// its modal analysis; the contact methods still run the Jeffcott model).
+///
+/// Coordinates: z along the shaft, 4 DOF per node, in the order
+/// q = [x, y, alpha, beta] (alpha a rotation about x, beta about y; beta goes
+/// with x as +dx/dz, alpha with y as -dy/dz: Friswell et al., "Dynamics of
+/// Rotating Machines", 2010, ch. 5, the convention ROSS uses too). Node i sits
+/// at the left end of shaft element i; element i joins nodes i and i + 1.
+///
+/// Equations of motion at a constant speed Omega [rad/s]:
+///   M q'' + (C + Omega G) q' + K q = f,
+/// G skew-symmetric (a disk's G[alpha, beta] = +I_p: forward whirl stiffens).
+/// Shaft elements are Timoshenko beams: shear deformation (phi, with Cowper's
+/// shear coefficient of a hollow circular section), rotary inertia and the
+/// gyroscopic matrix; disks are rigid (mass, polar and diametral inertia);
+/// bearings and seals are linear springs and dampers at a node's x and y,
+/// constant here. A speed-dependent bearing would enter as K(Omega), C(Omega)
+/// evaluated at each speed of a Campbell diagram (and, in a run, at each
+/// step's speed); not in this version.
+#pragma once
+
+#include <Eigen/Dense>
+#include <complex>
+#include <string>
+#include <vector>
+
+namespace rotor_rub::core {
+
+struct Material {
+  double youngs_modulus_Pa = 211e9;  ///< E (steel)
+  double shear_modulus_Pa = 81.2e9;  ///< G
+  double density_kg_per_m3 = 7810.0;
+  double poisson_ratio() const { return youngs_modulus_Pa / (2.0 * shear_modulus_Pa) - 1.0; }
+};
+
+struct ShaftElement {
+  double length_m = 0.0;
+  double outer_diameter_m = 0.0;
+  double inner_diameter_m = 0.0;  ///< 0: solid
+  Material material;
+};
+
+struct DiskElement {
+  int node = 0;
+  double mass_kg = 0.0;
+  double polar_inertia_kg_m2 = 0.0;      ///< I_p, about the spin axis
+  double diametral_inertia_kg_m2 = 0.0;  ///< I_d, about a diameter through the mass centre
+  /// A uniform annulus of width w between the two diameters:
+  /// m = rho pi w (od^2 - id^2) / 4, I_p = m (od^2 + id^2) / 8, I_d = I_p / 2 + m w^2 / 12.
+  static DiskElement from_geometry(int node, const Material& material, double width_m, double inner_diameter_m,
+                                   double outer_diameter_m);
+};
+
+/// A bearing or a seal: the 8 coefficients at a node's x, y [N/m, N s/m].
+struct BearingElement {
+  int node = 0;
+  double kxx = 0.0, kxy = 0.0, kyx = 0.0, kyy = 0.0;
+  double cxx = 0.0, cxy = 0.0, cyx = 0.0, cyy = 0.0;
+};
+
+struct FeRotor {
+  std::vector<ShaftElement> shaft;
+  std::vector<DiskElement> disks;
+  std::vector<BearingElement> bearings;
+  int nodes() const { return static_cast<int>(shaft.size()) + 1; }
+  int dofs() const { return 4 * nodes(); }
+};
+
+/// The DOF index of a node's coordinate.
+enum NodeDof { kDofX = 0, kDofY = 1, kDofAlpha = 2, kDofBeta = 3 };
+inline int dof_index(int node, NodeDof d) { return 4 * node + d; }
+
+/// Cowper's shear coefficient of a hollow circular section, r = id / od:
+/// kappa = 6 (1 + r^2)^2 (1 + nu) / ((1 + r^2)^2 (7 + 6 nu) + r^2 (20 + 12 nu)).
+double cowper_shear_coefficient(double poisson_ratio, double diameter_ratio);
+
+using ElementMatrix = Eigen::Matrix<double, 8, 8>;
+/// One shaft element's matrices, in the order [x0 y0 alpha0 beta0 x1 y1 alpha1 beta1]:
+/// mass (translational plus rotary inertia), stiffness (bending with shear),
+/// gyroscopic (multiplied by Omega in the equations of motion).
+ElementMatrix shaft_mass(const ShaftElement& e);
+ElementMatrix shaft_stiffness(const ShaftElement& e);
+ElementMatrix shaft_gyroscopic(const ShaftElement& e);
+
+struct RotorMatrices {
+  Eigen::MatrixXd M, K, C, G;  ///< dofs() x dofs()
+};
+/// Assembles the global matrices. Throws std::invalid_argument naming the
+/// item (a disk or bearing on no node, a non-positive length or diameter).
+RotorMatrices assemble(const FeRotor& rotor);
+
+enum class ModeWhirl { kForward, kBackward, kMixed };
+const char* to_string(ModeWhirl w);
+
+struct Mode {
+  double natural_frequency_rad_per_s = 0.0;  ///< w_n = |lambda|
+  double damped_frequency_rad_per_s = 0.0;   ///< w_d = Im lambda
+  double damping_ratio = 0.0;                ///< -Re lambda / |lambda|
+  ModeWhirl whirl = ModeWhirl::kForward;
+  Eigen::VectorXcd shape;  ///< the displacement part of the eigenvector (dofs() entries), largest entry 1
+};
+
+/// The modes at speed Omega, by damped frequency ascending (eigenvalues of
+/// the first-order system [[0, I], [-M^-1 K, -M^-1 (C + Omega G)]] with
+/// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s are left out).
+/// Whirl from each node's orbit: y leading x by a quarter turn's sign
+/// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
+/// straight line counts as forward), a mode forward or backward when every
+/// node with motion agrees, mixed otherwise.
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count);
+
+/// Critical speeds: where a mode's damped frequency equals the speed
+/// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
+/// for the `count` lowest modes tracked by index, in [0, max_speed]; located
+/// with TOMS 748 between the sample speeds where the sign changes.
+struct CriticalSpeed {
+  int mode_index = 0;
+  double speed_rad_per_s = 0.0;
+  ModeWhirl whirl = ModeWhirl::kForward;
+};
+std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s,
+                                           int samples = 200);
+
+}  // namespace rotor_rub::core

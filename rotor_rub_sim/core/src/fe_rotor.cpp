@@ -1,0 +1,319 @@
+#include "rotor_rub_sim/core/fe_rotor.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <boost/math/tools/roots.hpp>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace rotor_rub::core {
+namespace {
+
+// An 8x8 matrix from its rows, written out as the textbooks print them.
+ElementMatrix rows(std::initializer_list<std::initializer_list<double>> r) {
+  ElementMatrix m;
+  int i = 0;
+  for (const auto& row : r) {
+    int j = 0;
+    for (const double v : row) m(i, j++) = v;
+    ++i;
+  }
+  return m;
+}
+
+struct Section {
+  double area_m2, second_moment_m4, phi, length_m;
+};
+
+// A = pi (od^2 - id^2) / 4, I = pi (od^4 - id^4) / 64, and the shear
+// parameter phi = 12 E I / (kappa G A L^2).
+Section section(const ShaftElement& e) {
+  const double od = e.outer_diameter_m, id = e.inner_diameter_m, L = e.length_m;
+  Section s;
+  s.area_m2 = M_PI * (od * od - id * id) / 4.0;
+  s.second_moment_m4 = M_PI * (od * od * od * od - id * id * id * id) / 64.0;
+  const double kappa = cowper_shear_coefficient(e.material.poisson_ratio(), id / od);
+  s.phi = 12.0 * e.material.youngs_modulus_Pa * s.second_moment_m4 /
+          (kappa * e.material.shear_modulus_Pa * s.area_m2 * L * L);
+  s.length_m = L;
+  return s;
+}
+
+[[noreturn]] void refuse(const std::string& what) { throw std::invalid_argument(what); }
+
+}  // namespace
+
+DiskElement DiskElement::from_geometry(int node, const Material& material, double width_m, double inner_diameter_m,
+                                       double outer_diameter_m) {
+  DiskElement d;
+  d.node = node;
+  const double od2 = outer_diameter_m * outer_diameter_m, id2 = inner_diameter_m * inner_diameter_m;
+  d.mass_kg = material.density_kg_per_m3 * M_PI * width_m * (od2 - id2) / 4.0;
+  d.polar_inertia_kg_m2 = d.mass_kg * (od2 + id2) / 8.0;
+  d.diametral_inertia_kg_m2 = d.polar_inertia_kg_m2 / 2.0 + d.mass_kg * width_m * width_m / 12.0;
+  return d;
+}
+
+double cowper_shear_coefficient(double nu, double r) {
+  const double a = (1.0 + r * r) * (1.0 + r * r);
+  return 6.0 * a * (1.0 + nu) / (a * (7.0 + 6.0 * nu) + r * r * (20.0 + 12.0 * nu));
+}
+
+ElementMatrix shaft_mass(const ShaftElement& e) {
+  const Section s = section(e);
+  const double L = s.length_m, p = s.phi, L2 = L * L, q = (1.0 + p) * (1.0 + p);
+  const double rho = e.material.density_kg_per_m3;
+  // Translational inertia (Friswell et al. eq. 5.108, with shear).
+  const double m1 = 468 + 882 * p + 420 * p * p, m2 = 66 + 115.5 * p + 52.5 * p * p, m3 = 162 + 378 * p + 210 * p * p,
+               m4 = 39 + 94.5 * p + 52.5 * p * p, m5 = 12 + 21 * p + 10.5 * p * p, m7 = 9 + 21 * p + 10.5 * p * p;
+  const ElementMatrix mt = rows({
+      {m1, 0, 0, L * m2, m3, 0, 0, -L * m4},
+      {0, m1, -L * m2, 0, 0, m3, L * m4, 0},
+      {0, -L * m2, L2 * m5, 0, 0, -L * m4, -L2 * m7, 0},
+      {L * m2, 0, 0, L2 * m5, L * m4, 0, 0, -L2 * m7},
+      {m3, 0, 0, L * m4, m1, 0, 0, -L * m2},
+      {0, m3, -L * m4, 0, 0, m1, L * m2, 0},
+      {0, L * m4, -L2 * m7, 0, 0, L * m2, L2 * m5, 0},
+      {-L * m4, 0, 0, -L2 * m7, -L * m2, 0, 0, L2 * m5},
+  });
+  // Rotary inertia of the cross-sections.
+  const double r1 = 252, r2 = 21 - 105 * p, r4 = 28 + 35 * p + 70 * p * p, r5 = 7 + 35 * p - 35 * p * p;
+  const ElementMatrix mr = rows({
+      {r1, 0, 0, L * r2, -r1, 0, 0, L * r2},
+      {0, r1, -L * r2, 0, 0, -r1, -L * r2, 0},
+      {0, -L * r2, L2 * r4, 0, 0, L * r2, -L2 * r5, 0},
+      {L * r2, 0, 0, L2 * r4, -L * r2, 0, 0, -L2 * r5},
+      {-r1, 0, 0, -L * r2, r1, 0, 0, -L * r2},
+      {0, -r1, L * r2, 0, 0, r1, L * r2, 0},
+      {0, -L * r2, -L2 * r5, 0, 0, L * r2, L2 * r4, 0},
+      {L * r2, 0, 0, -L2 * r5, -L * r2, 0, 0, L2 * r4},
+  });
+  return rho * s.area_m2 * L / (1260.0 * q) * mt + rho * s.second_moment_m4 / (210.0 * L * q) * mr;
+}
+
+ElementMatrix shaft_stiffness(const ShaftElement& e) {
+  const Section s = section(e);
+  const double L = s.length_m, a = 4.0 + s.phi, b = 2.0 - s.phi, L2 = L * L;
+  const ElementMatrix k = rows({
+      {12, 0, 0, 6 * L, -12, 0, 0, 6 * L},
+      {0, 12, -6 * L, 0, 0, -12, -6 * L, 0},
+      {0, -6 * L, a * L2, 0, 0, 6 * L, b * L2, 0},
+      {6 * L, 0, 0, a * L2, -6 * L, 0, 0, b * L2},
+      {-12, 0, 0, -6 * L, 12, 0, 0, -6 * L},
+      {0, -12, 6 * L, 0, 0, 12, 6 * L, 0},
+      {0, -6 * L, b * L2, 0, 0, 6 * L, a * L2, 0},
+      {6 * L, 0, 0, b * L2, -6 * L, 0, 0, a * L2},
+  });
+  return e.material.youngs_modulus_Pa * s.second_moment_m4 / (L * L2 * (1.0 + s.phi)) * k;
+}
+
+ElementMatrix shaft_gyroscopic(const ShaftElement& e) {
+  const Section s = section(e);
+  const double L = s.length_m, p = s.phi, L2 = L * L, q = (1.0 + p) * (1.0 + p);
+  const double g1 = 252, g2 = 21 - 105 * p, g4 = 28 + 35 * p + 70 * p * p, g5 = 7 + 35 * p - 35 * p * p;
+  const ElementMatrix g = rows({
+      {0, g1, -L * g2, 0, 0, -g1, -L * g2, 0},
+      {-g1, 0, 0, -L * g2, g1, 0, 0, -L * g2},
+      {L * g2, 0, 0, L2 * g4, -L * g2, 0, 0, -L2 * g5},
+      {0, L * g2, -L2 * g4, 0, 0, -L * g2, L2 * g5, 0},
+      {0, -g1, L * g2, 0, 0, g1, L * g2, 0},
+      {g1, 0, 0, L * g2, -g1, 0, 0, L * g2},
+      {L * g2, 0, 0, -L2 * g5, -L * g2, 0, 0, L2 * g4},
+      {0, L * g2, L2 * g5, 0, 0, -L * g2, -L2 * g4, 0},
+  });
+  return e.material.density_kg_per_m3 * s.second_moment_m4 / (105.0 * L * q) * g;
+}
+
+RotorMatrices assemble(const FeRotor& rotor) {
+  if (rotor.shaft.empty()) refuse("rotor: no shaft elements");
+  const int n = rotor.dofs();
+  RotorMatrices m;
+  m.M = m.K = m.C = m.G = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t i = 0; i < rotor.shaft.size(); ++i) {
+    const ShaftElement& e = rotor.shaft[i];
+    const std::string item = "shaft element " + std::to_string(i);
+    if (!(e.length_m > 0.0))
+      refuse(item + ": length_m " + std::to_string(e.length_m) + " is out of range; accepted: (0, inf)");
+    if (!(e.outer_diameter_m > 0.0)) {
+      refuse(item + ": outer_diameter_m " + std::to_string(e.outer_diameter_m) +
+             " is out of range; accepted: (0, inf)");
+    }
+    if (!(e.inner_diameter_m >= 0.0 && e.inner_diameter_m < e.outer_diameter_m)) {
+      refuse(item + ": inner_diameter_m " + std::to_string(e.inner_diameter_m) +
+             " is out of range; accepted: [0, outer_diameter_m)");
+    }
+    const int at = 4 * static_cast<int>(i);
+    m.M.block<8, 8>(at, at) += shaft_mass(e);
+    m.K.block<8, 8>(at, at) += shaft_stiffness(e);
+    m.G.block<8, 8>(at, at) += shaft_gyroscopic(e);
+  }
+  auto check_node = [&](int node, const std::string& item) {
+    if (node < 0 || node >= rotor.nodes()) {
+      refuse(item + ": node " + std::to_string(node) + " is out of range; accepted: 0 to " +
+             std::to_string(rotor.nodes() - 1) + " (" + std::to_string(rotor.shaft.size()) + " shaft elements)");
+    }
+  };
+  for (std::size_t i = 0; i < rotor.disks.size(); ++i) {
+    const DiskElement& d = rotor.disks[i];
+    check_node(d.node, "disk " + std::to_string(i));
+    const int x = dof_index(d.node, kDofX), y = dof_index(d.node, kDofY), a = dof_index(d.node, kDofAlpha),
+              b = dof_index(d.node, kDofBeta);
+    m.M(x, x) += d.mass_kg;
+    m.M(y, y) += d.mass_kg;
+    m.M(a, a) += d.diametral_inertia_kg_m2;
+    m.M(b, b) += d.diametral_inertia_kg_m2;
+    m.G(a, b) += d.polar_inertia_kg_m2;
+    m.G(b, a) -= d.polar_inertia_kg_m2;
+  }
+  for (std::size_t i = 0; i < rotor.bearings.size(); ++i) {
+    const BearingElement& b = rotor.bearings[i];
+    check_node(b.node, "bearing " + std::to_string(i));
+    const int x = dof_index(b.node, kDofX), y = dof_index(b.node, kDofY);
+    m.K(x, x) += b.kxx;
+    m.K(x, y) += b.kxy;
+    m.K(y, x) += b.kyx;
+    m.K(y, y) += b.kyy;
+    m.C(x, x) += b.cxx;
+    m.C(x, y) += b.cxy;
+    m.C(y, x) += b.cyx;
+    m.C(y, y) += b.cyy;
+  }
+  return m;
+}
+
+const char* to_string(ModeWhirl w) {
+  switch (w) {
+    case ModeWhirl::kForward:
+      return "forward";
+    case ModeWhirl::kBackward:
+      return "backward";
+    case ModeWhirl::kMixed:
+      return "mixed";
+  }
+  return "?";
+}
+
+namespace {
+
+// A node's orbit x = Re(u e^{i w t}), y = Re(v e^{i w t}) turns forward
+// (counter-clockwise) when Im(conj(u) v) < 0 (u = 1, v = -i: x = cos, y = sin).
+// Relative to the orbit's size; below 1e-3 it is a line (a planar mode).
+ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
+  double largest = 0.0;
+  for (int k = 0; k < nodes; ++k) {
+    largest = std::max(largest, std::norm(shape(dof_index(k, kDofX))) + std::norm(shape(dof_index(k, kDofY))));
+  }
+  bool forward = false, backward = false;
+  for (int k = 0; k < nodes; ++k) {
+    const std::complex<double> u = shape(dof_index(k, kDofX)), v = shape(dof_index(k, kDofY));
+    const double size = std::norm(u) + std::norm(v);
+    if (size < 1e-12 * largest) continue;  // a node at rest (a bearing's, say)
+    const double turn = -std::imag(std::conj(u) * v) / size;
+    if (turn > 1e-3) forward = true;
+    if (turn < -1e-3) backward = true;
+  }
+  if (forward && backward) return ModeWhirl::kMixed;
+  return backward ? ModeWhirl::kBackward : ModeWhirl::kForward;  // a planar mode counts as forward
+}
+
+}  // namespace
+
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count) {
+  using Complex = std::complex<double>;
+  const int n = static_cast<int>(m.M.rows());
+  // In mass-normalised coordinates y = L^T q (M = L L^T), the stiffness
+  // L^-1 K L^-T is symmetric: the first-order matrix is far better scaled
+  // than with M^-1 K (a rotor's masses and inertias span 1e4 and more).
+  const Eigen::LLT<Eigen::MatrixXd> mass(m.M);
+  if (mass.info() != Eigen::Success) {
+    throw std::invalid_argument("rotor: the mass matrix is not positive definite (a node without mass or inertia?)");
+  }
+  const Eigen::MatrixXd l = mass.matrixL();
+  auto congruent = [&](const Eigen::MatrixXd& x) {
+    const Eigen::MatrixXd left = l.triangularView<Eigen::Lower>().solve(x);
+    return Eigen::MatrixXd(l.triangularView<Eigen::Lower>().solve(left.transpose()).transpose());
+  };
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  a.topRightCorner(n, n).setIdentity();
+  a.bottomLeftCorner(n, n) = -congruent(m.K);
+  a.bottomRightCorner(n, n) = -congruent(m.C + speed_rad_per_s * m.G);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a);
+  if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
+  const Eigen::MatrixXcd ac = a.cast<Complex>();
+  const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(2 * n, 2 * n);
+  // The `count` lowest by damped frequency, then refined.
+  std::vector<int> wanted;
+  for (int i = 0; i < 2 * n; ++i) {
+    const Complex lambda = eig.eigenvalues()(i);
+    if (lambda.imag() > 0.0 && std::abs(lambda) > 1e-6) wanted.push_back(i);
+  }
+  std::sort(wanted.begin(), wanted.end(),
+            [&](int p, int q) { return eig.eigenvalues()(p).imag() < eig.eigenvalues()(q).imag(); });
+  if (static_cast<int>(wanted.size()) > count) wanted.resize(static_cast<std::size_t>(count));
+  std::vector<Mode> out;
+  for (const int i : wanted) {
+    Complex lambda = eig.eigenvalues()(i);
+    // Two steps of inverse iteration from the QR result, right and left
+    // vectors, and the two-sided Rayleigh quotient (second order in the
+    // vectors' error): the QR's eigenvalues carry an error of eps times the
+    // largest, which the lowest modes feel.
+    Eigen::VectorXcd x = eig.eigenvectors().col(i), y = x;
+    for (int step = 0; step < 2; ++step) {
+      const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted(ac - lambda * identity);
+      x = shifted.solve(x).normalized();
+      const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted_h((ac - lambda * identity).adjoint());
+      y = shifted_h.solve(y).normalized();
+      const Complex refined = y.dot(ac * x) / y.dot(x);  // dot: y^H (A x)
+      if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
+    }
+    Mode md;
+    md.natural_frequency_rad_per_s = std::abs(lambda);
+    md.damped_frequency_rad_per_s = lambda.imag();
+    md.damping_ratio = -lambda.real() / std::abs(lambda);
+    // Back to the physical coordinates: q = L^-T y.
+    const Eigen::MatrixXcd lt = l.transpose().cast<Complex>();
+    md.shape = lt.triangularView<Eigen::Upper>().solve(x.head(n));
+    Eigen::Index big = 0;
+    md.shape.cwiseAbs().maxCoeff(&big);
+    md.shape /= md.shape(big);
+    md.whirl = whirl_of(md.shape, n / 4);
+    out.push_back(std::move(md));
+  }
+  std::sort(out.begin(), out.end(),
+            [](const Mode& x, const Mode& y) { return x.damped_frequency_rad_per_s < y.damped_frequency_rad_per_s; });
+  return out;
+}
+
+std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples) {
+  std::vector<CriticalSpeed> out;
+  count = std::min(count, static_cast<int>(modes(m, 0.0, count).size()));
+  auto excess = [&](int k, double w) {
+    const std::vector<Mode> at = modes(m, w, count);
+    // A mode that left the band (an overdamped one) counts as below the line.
+    return k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w : -w;
+  };
+  for (int k = 0; k < count; ++k) {
+    double w0 = 0.0, f0 = excess(k, w0);
+    for (int s = 1; s <= samples; ++s) {
+      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess(k, w1);
+      if ((f0 > 0.0) != (f1 > 0.0)) {
+        std::uintmax_t iterations = 100;
+        const auto r = boost::math::tools::toms748_solve([&](double w) { return excess(k, w); }, w0, w1, f0, f1,
+                                                         boost::math::tools::eps_tolerance<double>(40), iterations);
+        const double w = 0.5 * (r.first + r.second);
+        const std::vector<Mode> at = modes(m, w, count);
+        out.push_back(
+            {k, w, k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].whirl : ModeWhirl::kMixed});
+      }
+      w0 = w1;
+      f0 = f1;
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const CriticalSpeed& a, const CriticalSpeed& b) { return a.speed_rad_per_s < b.speed_rad_per_s; });
+  return out;
+}
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,136 @@
+// rotor_rub_modal: modal analysis of a flexible rotor (a rotor file,
+// docs/rotors.md): natural frequencies at rest, the Campbell diagram (damped
+// frequencies and whirl against speed) as CSV, the critical speeds where the
+// synchronous line crosses it, and, with --unbalance, the unbalance response
+// at a node against speed. scripts/plot_campbell.py draws the CSVs.
+//
+// Exit status: 0 ok; 2 bad input (usage, a bad rotor file).
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "cli_options.hpp"
+#include "rotor_rub_sim/core/fe_rotor.hpp"
+#include "rotor_rub_sim/core/rotor_file.hpp"
+
+namespace {
+
+[[noreturn]] void bad_input(const std::string& msg) {
+  std::cerr << "rotor_rub_modal: " << msg << "\n";
+  std::exit(2);
+}
+
+// The steady response to an unbalance m e [kg m] at node n, turning with the
+// spin: f = m e w^2 (1, -i) at (x, y) with x + i y's forward sense, i.e.
+// q = Re(Q e^{i w t}) with (K - w^2 M + i w (C + w G)) Q = F.
+Eigen::VectorXcd unbalance_response(const rotor_rub::core::RotorMatrices& m, int node, double me_kg_m, double w) {
+  using rotor_rub::core::dof_index;
+  const std::complex<double> i(0.0, 1.0);
+  const Eigen::MatrixXcd d = m.K.cast<std::complex<double>>() - w * w * m.M.cast<std::complex<double>>() +
+                             i * w * (m.C + w * m.G).cast<std::complex<double>>();
+  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(m.M.rows());
+  f(dof_index(node, rotor_rub::core::kDofX)) = me_kg_m * w * w;
+  f(dof_index(node, rotor_rub::core::kDofY)) = -i * me_kg_m * w * w;
+  return d.partialPivLu().solve(f);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace cli = rotor_rub::tools::cli;
+  namespace core = rotor_rub::core;
+  std::string rotor_path, campbell_csv, response_csv;
+  double max_speed = 1000.0, me = 0.0;
+  int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1;
+  CLI::App app(
+      "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
+      "the unbalance response (docs/rotors.md).",
+      "rotor_rub_modal");
+  app.add_option("--rotor", rotor_path, "the rotor file (YAML; config/rotors/); required")
+      ->type_name("FILE")
+      ->required()
+      ->check(cli::existing_file());
+  app.add_option("--max-speed", max_speed, "the Campbell diagram's top speed [rad/s]")
+      ->type_name("RAD_PER_S")
+      ->check(cli::number_in(0.0, 1e6, true));
+  app.add_option("--speeds", speeds, "speeds from 0 to --max-speed, evenly spaced")
+      ->type_name("N")
+      ->check(cli::integer_in(2, 100000));
+  app.add_option("--modes", count, "modes per speed (the lowest)")->type_name("N")->check(cli::integer_in(1, 1000));
+  app.add_option("--campbell", campbell_csv, "write speed, mode, w_d, w_n, zeta, whirl per row to this CSV")
+      ->type_name("FILE");
+  app.add_option("--unbalance-node", unbalance_node, "node of the unbalance (with --unbalance-kg-m)")
+      ->type_name("NODE")
+      ->check(cli::integer_in(0, 100000));
+  app.add_option("--unbalance-kg-m", me, "the unbalance m e [kg m]")
+      ->type_name("KG_M")
+      ->check(cli::number_in(0, 1e6, true));
+  app.add_option("--response-node", probe_node, "node whose response to write (default: the unbalance's)")
+      ->type_name("NODE")
+      ->check(cli::integer_in(0, 100000));
+  app.add_option("--response", response_csv, "write speed, |x|, phase x, |y|, phase y, forward, backward per row")
+      ->type_name("FILE");
+  app.footer("Exit status: 0 ok; 2 bad input (usage, a bad rotor file).");
+  cli::parse_or_exit(app, argc, argv);
+  if (!response_csv.empty() && (unbalance_node < 0 || me <= 0.0)) {
+    cli::usage_error(app, "--response needs --unbalance-node and --unbalance-kg-m");
+  }
+  core::FeRotor rotor;
+  core::RotorMatrices m;
+  try {
+    rotor = core::load_rotor_file(rotor_path);
+    m = core::assemble(rotor);
+    if (unbalance_node >= rotor.nodes() || probe_node >= rotor.nodes()) {
+      throw std::invalid_argument("node " + std::to_string(std::max(unbalance_node, probe_node)) +
+                                  " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
+    }
+    std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF\n", rotor_path.c_str(),
+                rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(), rotor.dofs());
+    std::printf("at rest:\n  mode  w_d [rad/s]      w_n [rad/s]      zeta        whirl\n");
+    int k = 0;
+    for (const auto& md : core::modes(m, 0.0, count)) {
+      std::printf("  %4d  %15.8f  %15.8f  %10.3e  %s\n", k++, md.damped_frequency_rad_per_s,
+                  md.natural_frequency_rad_per_s, md.damping_ratio, core::to_string(md.whirl));
+    }
+    std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);
+    for (const auto& c : core::critical_speeds(m, count, max_speed)) {
+      std::printf("  mode %d: %.6f rad/s (%.3f Hz, %.1f rpm), %s whirl\n", c.mode_index, c.speed_rad_per_s,
+                  c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
+    }
+  } catch (const std::exception& e) {
+    bad_input(e.what());
+  }
+  if (!campbell_csv.empty()) {
+    std::ofstream os(campbell_csv);
+    os << "speed_rad_per_s,mode,damped_frequency_rad_per_s,natural_frequency_rad_per_s,damping_ratio,whirl\n";
+    os.precision(12);
+    for (int s = 0; s < speeds; ++s) {
+      const double w = max_speed * s / (speeds - 1);
+      int k = 0;
+      for (const auto& md : core::modes(m, w, count)) {
+        os << w << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s << ","
+           << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+      }
+    }
+    if (!os) bad_input("cannot write '" + campbell_csv + "'");
+  }
+  if (!response_csv.empty()) {
+    const int at = probe_node >= 0 ? probe_node : unbalance_node;
+    std::ofstream os(response_csv);
+    os << "speed_rad_per_s,x_m,x_phase_rad,y_m,y_phase_rad,forward_m,backward_m\n";
+    os.precision(12);
+    for (int s = 1; s < speeds; ++s) {
+      const double w = max_speed * s / (speeds - 1);
+      const Eigen::VectorXcd q = unbalance_response(m, unbalance_node, me, w);
+      const std::complex<double> x = q(core::dof_index(at, core::kDofX)), y = q(core::dof_index(at, core::kDofY));
+      // x + i y = F e^{iwt} + B e^{-iwt}: forward F = (X + i Y) / 2, backward B = conj(X - i Y) / 2.
+      const std::complex<double> i(0.0, 1.0);
+      os << w << "," << std::abs(x) << "," << std::arg(x) << "," << std::abs(y) << "," << std::arg(y) << ","
+         << std::abs(x + i * y) / 2 << "," << std::abs(x - i * y) / 2 << "\n";
+    }
+    if (!os) bad_input("cannot write '" + response_csv + "'");
+  }
+  return 0;
+}
