@@ -102,35 +102,39 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     bad_input(e.what());
   }
-  if (!campbell_csv.empty()) {
-    std::ofstream os(campbell_csv);
-    os << "speed_rad_per_s,mode,damped_frequency_rad_per_s,natural_frequency_rad_per_s,damping_ratio,whirl\n";
-    os.precision(12);
-    for (int s = 0; s < speeds; ++s) {
-      const double w = max_speed * s / (speeds - 1);
-      int k = 0;
-      for (const auto& md : core::modes(m, w, count)) {
-        os << w << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s << ","
-           << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+  try {
+    if (!campbell_csv.empty()) {
+      std::ofstream os(campbell_csv);
+      os << "speed_rad_per_s,mode,damped_frequency_rad_per_s,natural_frequency_rad_per_s,damping_ratio,whirl\n";
+      os.precision(12);
+      for (int s = 0; s < speeds; ++s) {
+        const double w = max_speed * s / (speeds - 1);
+        int k = 0;
+        for (const auto& md : core::modes(m, w, count)) {
+          os << w << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s << ","
+             << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+        }
       }
+      if (!os) bad_input("cannot write '" + campbell_csv + "'");
     }
-    if (!os) bad_input("cannot write '" + campbell_csv + "'");
-  }
-  if (!response_csv.empty()) {
-    const int at = probe_node >= 0 ? probe_node : unbalance_node;
-    std::ofstream os(response_csv);
-    os << "speed_rad_per_s,x_m,x_phase_rad,y_m,y_phase_rad,forward_m,backward_m\n";
-    os.precision(12);
-    for (int s = 1; s < speeds; ++s) {
-      const double w = max_speed * s / (speeds - 1);
-      const Eigen::VectorXcd q = unbalance_response(m, unbalance_node, me, w);
-      const std::complex<double> x = q(core::dof_index(at, core::kDofX)), y = q(core::dof_index(at, core::kDofY));
-      // x + i y = F e^{iwt} + B e^{-iwt}: forward F = (X + i Y) / 2, backward B = conj(X - i Y) / 2.
-      const std::complex<double> i(0.0, 1.0);
-      os << w << "," << std::abs(x) << "," << std::arg(x) << "," << std::abs(y) << "," << std::arg(y) << ","
-         << std::abs(x + i * y) / 2 << "," << std::abs(x - i * y) / 2 << "\n";
+    if (!response_csv.empty()) {
+      const int at = probe_node >= 0 ? probe_node : unbalance_node;
+      std::ofstream os(response_csv);
+      os << "speed_rad_per_s,x_m,x_phase_rad,y_m,y_phase_rad,forward_m,backward_m\n";
+      os.precision(12);
+      for (int s = 1; s < speeds; ++s) {
+        const double w = max_speed * s / (speeds - 1);
+        const Eigen::VectorXcd q = unbalance_response(m, unbalance_node, me, w);
+        const std::complex<double> x = q(core::dof_index(at, core::kDofX)), y = q(core::dof_index(at, core::kDofY));
+        // x + i y = F e^{iwt} + B e^{-iwt}: forward F = (X + i Y) / 2, backward B = conj(X - i Y) / 2.
+        const std::complex<double> i(0.0, 1.0);
+        os << w << "," << std::abs(x) << "," << std::arg(x) << "," << std::abs(y) << "," << std::arg(y) << ","
+           << std::abs(x + i * y) / 2 << "," << std::abs(x - i * y) / 2 << "\n";
+      }
+      if (!os) bad_input("cannot write '" + response_csv + "'");
     }
-    if (!os) bad_input("cannot write '" + response_csv + "'");
+  } catch (const std::exception& e) {  // a solver that does not converge at some speed
+    bad_input(e.what());
   }
   return 0;
 }

@@ -59,8 +59,19 @@ void check_fault(const Fault& f) {
   }
 }
 
-std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, double output_rate_hz) {
+void check_fault(const Fault& f, double output_rate_hz) {
   check_fault(f);
+  // A ramp's steps are queued at once: at most kMaxRampSteps of them.
+  if (f.duration_s * output_rate_hz > static_cast<double>(kMaxRampSteps)) {
+    std::ostringstream os;
+    os << "[0, " << static_cast<double>(kMaxRampSteps) / output_rate_hz << "] s at output_rate_hz " << output_rate_hz
+       << " (one step per output sample, at most " << kMaxRampSteps << " steps)";
+    refuse("duration", f.duration_s, os.str());
+  }
+}
+
+std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, double output_rate_hz) {
+  check_fault(f, output_rate_hz);
   std::vector<FaultStep> steps;
   switch (f.kind) {
     case FaultKind::kBladeLoss: {

@@ -5,6 +5,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -289,18 +290,25 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples) {
   std::vector<CriticalSpeed> out;
   count = std::min(count, static_cast<int>(modes(m, 0.0, count).size()));
+  // w_d - w of mode k at speed w; NaN where fewer than k + 1 modes exist
+  // there (an overdamped one left the band): such an interval is skipped,
+  // not read as a crossing.
   auto excess = [&](int k, double w) {
     const std::vector<Mode> at = modes(m, w, count);
-    // A mode that left the band (an overdamped one) counts as below the line.
-    return k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w : -w;
+    return k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w
+                                           : std::numeric_limits<double>::quiet_NaN();
   };
   for (int k = 0; k < count; ++k) {
     double w0 = 0.0, f0 = excess(k, w0);
     for (int s = 1; s <= samples; ++s) {
       const double w1 = max_speed_rad_per_s * s / samples, f1 = excess(k, w1);
-      if ((f0 > 0.0) != (f1 > 0.0)) {
+      if (std::isfinite(f0) && std::isfinite(f1) && (f0 > 0.0) != (f1 > 0.0)) {
         std::uintmax_t iterations = 100;
-        const auto r = boost::math::tools::toms748_solve([&](double w) { return excess(k, w); }, w0, w1, f0, f1,
+        auto f = [&](double w) {
+          const double v = excess(k, w);
+          return std::isfinite(v) ? v : f1;  // a gap inside: the root lies before it
+        };
+        const auto r = boost::math::tools::toms748_solve(f, w0, w1, f0, f1,
                                                          boost::math::tools::eps_tolerance<double>(40), iterations);
         const double w = 0.5 * (r.first + r.second);
         const std::vector<Mode> at = modes(m, w, count);

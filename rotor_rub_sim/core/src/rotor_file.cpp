@@ -22,6 +22,7 @@ class Reader {
       : file_(std::move(file)), item_(std::move(item)), node_(node), keys_(std::move(keys)) {
     if (!node_.IsMap()) fail("is not a map of keys (key: value)");
     for (const auto& kv : node_) {
+      if (!kv.first.IsScalar()) fail("has a key that is not a name");
       const std::string key = kv.first.as<std::string>();
       if (std::find(keys_.begin(), keys_.end(), key) == keys_.end()) {
         const std::string near = nearest_key(key, keys_);
@@ -130,7 +131,9 @@ FeRotor load_rotor_file(const std::string& path) {
                     "diametral_inertia_kg_m2"});
     const int node = r.node(last_node);
     if (r.has("mass_kg")) {
-      if (r.has("width_m") || r.has("outer_diameter_m")) r.fail("gives both a mass and a geometry; accepted: one");
+      if (r.has("width_m") || r.has("outer_diameter_m") || r.has("inner_diameter_m")) {
+        r.fail("gives both a mass and a geometry; accepted: one of them");
+      }
       DiskElement d;
       d.node = node;
       d.mass_kg = r.required("mass_kg", 0.0, false, kInf);

@@ -104,7 +104,8 @@ std::string shown(double v) {
 
 }  // namespace
 
-Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes) {
+Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes,
+                        bool rules_between_keys) {
   Scene next = running;
   for (const auto& change : changes) {
     const std::string& key = change.first;  // named, not a structured binding: a lambda captures it (C++17)
@@ -122,11 +123,19 @@ Scene with_live_changes(const Scene& running, const std::map<std::string, std::s
     if (!inert.empty()) throw SceneError("scene key '" + key + "' is not changed: " + inert);
     set_scene_value(next, key, value);  // throws: out of range
   }
-  return checked_scene(next);  // the rules between keys
+  if (!rules_between_keys) return next;
+  // The rules between keys, on the scene as a file would give it: a run
+  // moved past its end (a node's end_action continue: end_time_s infinity)
+  // is checked with the largest end a file may give.
+  Scene probe = next;
+  probe.end_time_s = std::min(probe.end_time_s, 1e6);
+  static_cast<void>(checked_scene(probe));
+  return next;
 }
 
 void Simulation::change_parameters(const std::map<std::string, std::string>& changes) {
-  const Scene next = with_live_changes(scene_, changes);
+  if (failure_) throw SceneError("the simulation has failed (" + failure_->message + "); nothing to change");
+  const Scene next = with_live_changes(scene_, changes, true);
   // The stator must not land inside the rotor: a clearance (or a rigid
   // stator's offset) may close on the rotor down to where it is now, no
   // further (a contact would need an impact with no closing speed to
@@ -153,7 +162,13 @@ void Simulation::change_parameters(const std::map<std::string, std::string>& cha
     if (e.t_s <= time_s_) kept.push_back(e);
   }
   step_events_.swap(kept);
-  method_->change_model(time_s_, scene_.model, step_events_);
+  // The restart may fail as a step may (a force that does not converge at
+  // the new state): the run ends there, as advance_to ends it.
+  try {
+    method_->change_model(time_s_, scene_.model, step_events_);
+  } catch (const MethodFailure& f) {
+    failure_ = RunFailure{f.failure_class, f.time_s, f.what()};
+  }
   break_due_ = break_due_ && time_s_ >= t_limit_s_;
 }
 

@@ -116,8 +116,8 @@ const std::vector<Entry>& entries() {
     t.push_back(real("marker_rate_hz", 0, false, 1e4, "RViz marker rate in simulated time [Hz]; 0 = no markers",
                      [](NodeConfig& c) -> double& { return c.marker_rate_hz; }));
     t.push_back(real("tf_rate_hz", 0, false, 1e4,
-                     "tf rate in simulated time [Hz]: frames 'stator' and 'rotor' (spinning with phi) in frame_id; "
-                     "0 = none",
+                     "tf rate in simulated time [Hz]: frames <ns>/stator and <ns>/rotor (spinning with phi) in "
+                     "frame_id; 0 = none",
                      [](NodeConfig& c) -> double& { return c.tf_rate_hz; }));
     t.push_back(real("marker_scale", 0, true, 1e6, "marker length per model length (1000: 1 mm is drawn as 1 m)",
                      [](NodeConfig& c) -> double& { return c.marker_scale; }));

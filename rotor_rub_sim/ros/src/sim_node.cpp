@@ -29,6 +29,14 @@ std::string exact_text(double v) {
   return std::string(buf, res.ptr);
 }
 
+// "fault:<kind>", or "fault" for a kind out of range.
+std::string fault_source(uint8_t kind) {
+  for (const core::FaultKind k : core::kAllFaultKinds) {
+    if (static_cast<uint8_t>(k) == kind) return std::string("fault:") + core::to_string(k);
+  }
+  return "fault";
+}
+
 core::FaultKind fault_kind(uint8_t kind) {
   for (const core::FaultKind k : core::kAllFaultKinds) {
     if (static_cast<uint8_t>(k) == kind) return k;
@@ -69,6 +77,7 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   fault_sub_ = nh.subscribe("faults", 10000, &SimNode::on_fault, this);
   fault_srv_ = nh.advertiseService("inject_fault", &SimNode::on_inject_fault, this);
   if (config_.tf_rate_hz > 0.0) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
+  tf_prefix_ = nh.getNamespace() == "/" ? "" : nh.getNamespace().substr(1) + "/";
   reconfigure_.emplace(private_nh, scene_, [this](const std::map<std::string, std::string>& changes) {
     apply_change(changes, 0, "dynamic_reconfigure");
     return sim_->scene();
@@ -92,19 +101,25 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
     hi = pace > 0.0 ? rate_hz * pace : std::numeric_limits<double>::infinity();
   };
   rates(scene_.output_rate_hz, state_rate_min_hz_, state_rate_max_hz_);
-  state_rate_.emplace("state", diagnostics_,
-                      diagnostic_updater::FrequencyStatusParam(&state_rate_min_hz_, &state_rate_max_hz_, tolerance));
+  state_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&state_rate_min_hz_, &state_rate_max_hz_, tolerance));
+  diagnostics_.add("state topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    diagnose_rate(*state_rate_, false, stat);
+  });
   if (probes_pub_) {
     rates(scene_.probes.rate_hz, probe_rate_min_hz_, probe_rate_max_hz_);
-    probe_rate_.emplace("probes", diagnostics_,
-                        diagnostic_updater::FrequencyStatusParam(&probe_rate_min_hz_, &probe_rate_max_hz_, tolerance));
+    probe_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&probe_rate_min_hz_, &probe_rate_max_hz_, tolerance));
+    diagnostics_.add("probes topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+      diagnose_rate(*probe_rate_, false, stat);
+    });
   }
   // Once per revolution: from standstill (0) to the largest speed a command may ask.
   keyphasor_rate_max_hz_ =
       pace > 0.0 ? scene_.speed.max_speed_rad_per_s / (2.0 * M_PI) * pace : std::numeric_limits<double>::infinity();
   keyphasor_rate_.emplace(
-      "keyphasor", diagnostics_,
       diagnostic_updater::FrequencyStatusParam(&keyphasor_rate_min_hz_, &keyphasor_rate_max_hz_, tolerance));
+  diagnostics_.add("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    diagnose_rate(*keyphasor_rate_, true, stat);
+  });
   if (!config_.record_bag.empty()) {
     try {
       bag_.open(config_.record_bag);
@@ -200,7 +215,10 @@ void SimNode::restart_simulation() {
   if (scene_.probes.rate_hz > 0.0) probe_pair_.emplace(scene_.probes);  // the same noise again
   run_wall_accum_s_ = run_sim_accum_s_ = 0.0;
   anchor_pacing();
-  if (markers_) markers_->clear();
+  if (markers_) {
+    markers_->clear();
+    markers_->set_model(scene_.model);
+  }
 }
 
 bool SimNode::wait_for_subscribers() {
@@ -379,19 +397,28 @@ bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t 
     if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
     const auto closure = changes.find("clearance_m");
     if (stop_at_rotor && closure != changes.end()) {
-      const double distance_m = sim_->rotor_stator_distance_m();
-      if (std::stod(closure->second) < distance_m) {
-        closure->second = exact_text(distance_m);
-        note = "the closure stopped at the rotor (rotor-stator distance " + closure->second + " m)";
+      // Down to the rotor, never up: a rotor pressed into the bore (the
+      // penalty method's overlap) leaves the clearance where it is.
+      const double floor_m = std::min(sim_->rotor_stator_distance_m(), sim_->scene().model.clearance_m);
+      if (std::stod(closure->second) < floor_m) {
+        closure->second = exact_text(floor_m);
+        note = "the closure stopped at the rotor (clearance held at " + closure->second + " m)";
       }
     }
     sim_->change_parameters(changes);
-  } catch (const core::SceneError& e) {
+  } catch (const std::exception& e) {  // SceneError: refused; anything else must not escape a callback
     answer_change(changes, id, source, false, e.what());
+    return false;
+  }
+  if (sim_->failure()) {
+    answer_change(changes, id, source, false,
+                  "the method failed restarting under the change: " + sim_->failure()->message);
+    check_end_or_failure();
     return false;
   }
   answer_change(changes, id, source, true, note);
   if (reconfigure_) reconfigure_->publish_values(sim_->scene());
+  if (markers_) markers_->set_model(sim_->scene().model);  // the bore drawn where it now is
   return true;
 }
 
@@ -575,10 +602,10 @@ void SimNode::publish_tf(const core::Sample& s) {
     t.header.frame_id = config_.frame_id;
     t.transform.rotation.w = 1.0;
   }
-  msg.transforms[0].child_frame_id = "stator";
+  msg.transforms[0].child_frame_id = tf_prefix_ + "stator";
   msg.transforms[0].transform.translation.x = s.kin.stator_pos.x();
   msg.transforms[0].transform.translation.y = s.kin.stator_pos.y();
-  msg.transforms[1].child_frame_id = "rotor";
+  msg.transforms[1].child_frame_id = tf_prefix_ + "rotor";
   msg.transforms[1].transform.translation.x = s.kin.rotor_pos.x();
   msg.transforms[1].transform.translation.y = s.kin.rotor_pos.y();
   msg.transforms[1].transform.rotation.z = std::sin(0.5 * s.drive.angle_rad);
@@ -712,7 +739,7 @@ void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPt
   if (refused.empty()) {
     try {
       if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
-      core::with_live_changes(sim_->scene(), changes);
+      core::with_live_changes(sim_->scene(), changes, false);  // the rules between keys: at the stamp
     } catch (const core::SceneError& e) {
       refused = e.what();
     }
@@ -749,7 +776,7 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
   c.fault.magnitude = msg.magnitude;
   c.fault.phase_rad = msg.phase;
   c.fault.duration_s = msg.duration;
-  core::check_fault(c.fault);
+  core::check_fault(c.fault, scene_.output_rate_hz);
   if (c.fault.kind == core::FaultKind::kSupportLoosening && scene_.model.stator_model == core::StatorModel::kRigid) {
     throw std::invalid_argument("fault support_loosening has no effect on a rigid stator (stator_model rigid)");
   }
@@ -774,8 +801,8 @@ void SimNode::on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg) {
   record(fault_sub_.getTopic(), *msg, sim_->time());
   try {
     schedule_fault(*msg);
-  } catch (const std::invalid_argument& e) {
-    answer_change({}, msg->fault_id, "fault", false, e.what());
+  } catch (const std::exception& e) {  // invalid_argument: refused; anything else must not escape a callback
+    answer_change({}, msg->fault_id, fault_source(msg->kind), false, e.what());
   }
 }
 
@@ -785,10 +812,10 @@ bool SimNode::on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_r
   try {
     res.effective_time = schedule_fault(req.fault);
     res.accepted = true;
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::exception& e) {
     res.accepted = false;
     res.reason = e.what();
-    answer_change({}, req.fault.fault_id, "fault", false, e.what());
+    answer_change({}, req.fault.fault_id, fault_source(req.fault.kind), false, e.what());
   }
   return true;
 }
@@ -878,6 +905,22 @@ void SimNode::diagnose_pace(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("achieved real-time factor", achieved);
   stat.add("requested real-time factor", wanted);
   stat.add("states published", states_published_);
+}
+
+void SimNode::diagnose_rate(diagnostic_updater::FrequencyStatus& rate, bool per_revolution,
+                            diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  // diagnostic_updater's frequency status is an ERROR with no message in its
+  // window: right for a topic that should flow, wrong for a paused node or a
+  // keyphasor below one mark a second.
+  const double pace = ros::Time::isSimTime() || !(config_.real_time_factor > 0.0) ? 1.0 : config_.real_time_factor;
+  if (status_ != Status::kRunning) {
+    stat.summary(DiagnosticStatus::OK, "not running: no publications expected");
+  } else if (per_revolution && last_sample_.drive.speed_rad_per_s * pace < 2.0 * M_PI) {
+    stat.summary(DiagnosticStatus::OK, "under one revolution a second: not judged");
+  } else {
+    rate.run(stat);
+  }
 }
 
 void SimNode::diagnose_contact(diagnostic_updater::DiagnosticStatusWrapper& stat) {

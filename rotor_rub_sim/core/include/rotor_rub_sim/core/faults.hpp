@@ -59,6 +59,9 @@ struct FaultStep {
 /// when a fault is out of range (a negative magnitude, a NaN, a fraction of
 /// 1 or more, a ramp on a fault that has none).
 void check_fault(const Fault& f);
+/// The same, and a ramp of at most kMaxRampSteps steps at this output rate.
+inline constexpr long kMaxRampSteps = 100000;
+void check_fault(const Fault& f, double output_rate_hz);
 
 /// The changes a fault makes on the model in force at its instant, in time
 /// order (a ramp: one per output sample, the last at duration_s). Checks it

@@ -5,7 +5,7 @@
 ///   material: {youngs_modulus_Pa: 211e9, shear_modulus_Pa: 81.2e9, density_kg_per_m3: 7810}
 ///   shaft:      # in order from node 0; `elements` repeats an entry
 ///     - {elements: 6, length_m: 0.25, outer_diameter_m: 0.05, inner_diameter_m: 0}
-///   disks:      # by geometry (width and diameters, the shaft's material) or by mass and inertias
+///   disks:      # by geometry (width and diameters, the file's material) or by mass and inertias
 ///     - {node: 2, width_m: 0.07, inner_diameter_m: 0.05, outer_diameter_m: 0.28}
 ///     - {node: 4, mass_kg: 32.6, polar_inertia_kg_m2: 0.33, diametral_inertia_kg_m2: 0.18}
 ///   bearings:   # bearings and seals: kxx kxy kyx kyy [N/m], cxx cxy cyx cyy [N s/m]; absent ones 0

@@ -70,7 +70,9 @@ class Simulation {
   /// reason, the simulation unchanged, when a key is unknown, not live (its
   /// live_refusal), has no effect on this scene, or its value is out of
   /// range, breaks a rule between keys, or would put the stator into the
-  /// rotor (a clearance below the present rotor-stator distance).
+  /// rotor (a clearance below the present rotor-stator distance), or the
+  /// run has failed. A restart that fails (MethodFailure, as a step may) ends
+  /// the run there: failure() says so.
   void change_parameters(const std::map<std::string, std::string>& changes);
 
   /// Moves the end (e.g. to infinity, for a node that keeps running at the
@@ -121,9 +123,12 @@ void check_speed_command(const Scene& scene, double target_rad_per_s, double acc
 /// The running scene with live changes applied and checked, as
 /// Simulation::change_parameters checks them before it looks at the state:
 /// throws SceneError (an unknown or non-live key, one inert on this scene, a
-/// value out of range, a rule between keys broken). For callers that queue a
-/// change for later (the node checks a stamped change on receipt).
-Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes);
+/// value out of range, and with rules_between_keys a rule between keys
+/// broken). A caller that queues a change for later (the node, on receipt of
+/// a stamped change) checks without the rules between keys: they depend on
+/// the changes applied before the stamp, so only the stamp can judge them.
+Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes,
+                        bool rules_between_keys);
 
 /// Runs the whole scene from 0 to end_time_s.
 struct RunResult {

@@ -22,6 +22,8 @@ class MarkerBuilder {
   // Every state sample enters the orbit trail (a ring buffer, no allocation).
   void add(const core::Sample& s);
   void clear();
+  // After a live change: the clearance drawn is the model's.
+  void set_model(const core::ModelParameters& model) { model_ = model; }
   // The markers for the latest sample added.
   const visualization_msgs::MarkerArray& build(const ros::Time& stamp);
 

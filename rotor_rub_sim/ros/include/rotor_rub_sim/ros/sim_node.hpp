@@ -9,12 +9,13 @@
 // zero or past stamp is applied at the simulated time the node has reached
 // when it serves the callback (a chunk boundary, on the output grid). The
 // same stamped command sequence therefore gives the same trajectory at any
-// real-time factor. Parameter changes and faults follow the same contract
-// (they share the queue: at one stamp, in arrival order).
+// real-time factor. Parameter changes and faults share the queue (at one
+// stamp, in arrival order): a future stamp applies exactly then, a zero stamp
+// at the time reached, and a stamp already simulated is refused.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/publisher.h>
+#include <diagnostic_updater/update_functions.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
@@ -134,6 +135,10 @@ class SimNode : public core::SimulationObserver {
   void diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_pace(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_contact(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  // A topic's publication rate (diagnostic_updater's frequency status),
+  // but OK while not running, and for the keyphasor below a mark a second.
+  void diagnose_rate(diagnostic_updater::FrequencyStatus& rate, bool per_revolution,
+                     diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   core::Scene scene_;
   NodeConfig config_;
@@ -156,8 +161,9 @@ class SimNode : public core::SimulationObserver {
   // /clock's under use_sim_time), against what the pace makes expected.
   double state_rate_min_hz_ = 0.0, state_rate_max_hz_ = 0.0, probe_rate_min_hz_ = 0.0, probe_rate_max_hz_ = 0.0;
   double keyphasor_rate_min_hz_ = 0.0, keyphasor_rate_max_hz_ = 0.0;
-  std::optional<diagnostic_updater::HeaderlessTopicDiagnostic> state_rate_, probe_rate_, keyphasor_rate_;
-  uint64_t revolutions_ = 0;                   // keyphasor marks since the start or the last reset
+  std::optional<diagnostic_updater::FrequencyStatus> state_rate_, probe_rate_, keyphasor_rate_;
+  std::string tf_prefix_;     // the node's namespace and a slash ("" at the root): frames <ns>/stator, <ns>/rotor
+  uint64_t revolutions_ = 0;  // keyphasor marks since the start or the last reset
   std::optional<core::ProbePair> probe_pair_;  // when probe_rate_hz > 0; its noise restarts with the run
   double lockstep_awaited_s_ = -1.0;           // the boundary a reply is awaited for
   bool lockstep_replied_ = false;
