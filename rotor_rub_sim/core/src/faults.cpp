@@ -1,21 +1,15 @@
 #include "rotor_rub_sim/core/faults.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <complex>
 #include <sstream>
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/scene_keys.hpp"
+
 namespace rotor_rub::core {
 namespace {
-
-// The shortest text that reads back as the same double (scene_keys' form).
-std::string exact_text(double v) {
-  char buf[40];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
 
 [[noreturn]] void refuse(const char* field, double v, const std::string& accepted) {
   std::ostringstream os;

@@ -57,13 +57,6 @@ SceneKeyInfo key_info(std::string key, std::string accepted, std::string descrip
   return i;
 }
 
-// The shortest text that reads back as the same double.
-std::string exact_text(double v) {
-  char buf[40];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
-
 // A real-valued key in [lo, hi] (lo exclusive when lo_open).
 KeyEntry real(std::string key, double lo, bool lo_open, double hi, std::string description,
               std::function<double&(Scene&)> ref) {
@@ -321,6 +314,12 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 }  // namespace
+
+std::string exact_text(double v) {
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
 
 const std::vector<SceneKeyInfo>& scene_keys() {
   static const std::vector<SceneKeyInfo> infos = [] {

@@ -2,8 +2,6 @@
 
 #include <dynamic_reconfigure/ConfigDescription.h>
 
-#include <charconv>
-
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
 namespace rotor_rub::ros_node {
@@ -24,13 +22,6 @@ dynamic_reconfigure::DoubleParameter double_parameter(const std::string& name, d
   p.name = name;
   p.value = value;
   return p;
-}
-
-// The shortest text that reads back as the same double.
-std::string exact_text(double v) {
-  char buf[40];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
 }
 
 }  // namespace
@@ -90,7 +81,7 @@ bool ReconfigureServer::on_set_parameters(dynamic_reconfigure::Reconfigure::Requ
   std::map<std::string, std::string> changes;
   for (const auto& p : req.config.doubles) {
     const auto now = values.find(p.name);
-    if (now == values.end() || std::stod(now->second) != p.value) changes[p.name] = exact_text(p.value);
+    if (now == values.end() || std::stod(now->second) != p.value) changes[p.name] = core::exact_text(p.value);
   }
   for (const auto& p : req.config.ints) changes[p.name] = std::to_string(p.value);
   for (const auto& p : req.config.strs) changes[p.name] = p.value;

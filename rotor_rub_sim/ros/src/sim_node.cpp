@@ -4,7 +4,6 @@
 #include <rosgraph_msgs/Clock.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -21,13 +20,6 @@ namespace {
 // The first tick of a rate_hz grid strictly after t_s (a schedule in
 // simulated time; the small margin absorbs k / rate rounding).
 double next_tick(double t_s, double rate_hz) { return (std::floor(t_s * rate_hz + 1e-9) + 1.0) / rate_hz; }
-
-// The shortest text that reads back as the same double (scene_keys' form).
-std::string exact_text(double v) {
-  char buf[40];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
 
 // "fault:<kind>", or "fault" for a kind out of range.
 std::string fault_source(uint8_t kind) {
@@ -401,7 +393,7 @@ bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t 
       // penalty method's overlap) leaves the clearance where it is.
       const double floor_m = std::min(sim_->rotor_stator_distance_m(), sim_->scene().model.clearance_m);
       if (std::stod(closure->second) < floor_m) {
-        closure->second = exact_text(floor_m);
+        closure->second = core::exact_text(floor_m);
         note = "the closure stopped at the rotor (clearance held at " + closure->second + " m)";
       }
     }
@@ -723,7 +715,7 @@ void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPt
   std::string refused;
   for (std::size_t i = 0; i < msg->keys.size() && i < msg->values.size(); ++i) {
     if (changes.count(msg->keys[i]) != 0) refused = "key '" + msg->keys[i] + "' is given twice";
-    changes[msg->keys[i]] = exact_text(msg->values[i]);
+    changes[msg->keys[i]] = core::exact_text(msg->values[i]);
   }
   if (msg->keys.size() != msg->values.size()) {
     refused = "keys and values differ in number (" + std::to_string(msg->keys.size()) + " keys, " +

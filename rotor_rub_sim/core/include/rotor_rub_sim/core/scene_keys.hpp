@@ -36,6 +36,10 @@ struct SceneKeyInfo {
   std::string live_refusal;
 };
 
+/// The shortest text that reads back as the same double: how a number is
+/// given to set_scene_value (scene_values, live changes) without loss.
+std::string exact_text(double v);
+
 /// All keys, in documentation order.
 const std::vector<SceneKeyInfo>& scene_keys();
 
