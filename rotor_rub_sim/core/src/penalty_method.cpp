@@ -106,7 +106,7 @@ class PenaltyMethod final : public ContactMethod {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       g_end = geometry_at(ti);
       const PenaltyEdgeValues cur = system_.law.edges(g_end);
-      if (!kModeLocked || system_.mode.clamped) {
+      if (system_.mode.clamped || !locked(system_.mode)) {
         report_contact_change(prev_t, prev, ti, cur, events);
       } else if (system_.law.mode_of(cur) != system_.mode) {
         const auto [te, edge] = earliest_crossing(prev_t, prev, ti, cur);
@@ -121,7 +121,10 @@ class PenaltyMethod final : public ContactMethod {
     edges_in_row_ = 0;
     // A fallback step (on_edge()) on the clamped law ends here: the next
     // restarts in the mode of the state it reached.
-    if (kModeLocked && system_.mode.clamped) pending_ = true;
+    if (system_.mode.clamped) pending_ = true;
+    // An explicit integrator's contact ends without a restart: out of
+    // contact the clamped law's force is zero, the free mode's field.
+    if (!kModeLocked && system_.mode.pressed && !(edges_end_[kPressedEdge] > 0.0)) system_.mode = PenaltyMode{};
     if (system_.law.mode_of(edges_end_).pressed) {  // g_end is at valid_end_ = t1
       stats_.min_abs_sliding_velocity_m_per_s =
           std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(g_end.sliding_velocity_m_per_s));
@@ -153,13 +156,16 @@ class PenaltyMethod final : public ContactMethod {
   // integrator sees no force) is found if it spans one of them. An edge
   // crossed and crossed back between two of them goes unseen (as in the
   // switching method's scan): for that while the mode's extended law acts
-  // (a pressed mode's force slightly pulling) where the samples report the
-  // clamped law.
-  // The explicit integrators' steps are short (the contact's stiffness
-  // bounds them) and their field is the clamped law: the end point is enough.
-  static constexpr int kScanPoints = kModeLocked ? 2 : 1;
+  // (a pressed mode's force slightly pulling, or none in free flight) where
+  // the samples report the clamped law.
+  static constexpr int kScanPoints = 2;
   static constexpr double kNoProgress = 1e-9;  // of the step: an edge at its start
   static constexpr int kMaxEdgesInRow = 64;
+
+  // Whether the mode's edges end a step (the field is the mode's, smooth):
+  // every edge for the implicit integrator; for the explicit ones only the
+  // touchdown, out of contact (penalty_system.hpp).
+  static bool locked(const PenaltyMode& mode) { return kModeLocked || !mode.pressed; }
 
   // The implicit integrator restarts from a step's end (DenseRodasp::end_step_at).
   void end_step_at(double t_s) {

@@ -15,14 +15,16 @@
 namespace rotor_rub::core {
 
 // kModeLocked: the field of one mode (penalty_law.hpp), for the implicit
-// integrator, whose steps the kinks would otherwise cut down; else the
-// clamped law itself, for the explicit ones, whose steps the contact's
-// stiffness bounds far below any kink's effect (dopri5 took the same steps to
-// the digit either way at rtol 1e-3, 1e-5 and 1e-7 on the paper scene), and
-// which at loose tolerances hop across the edges every few steps (at rtol
-// 1e-3 the position error allowed is about 400 times the penetration, 3e-6 m
-// against 8e-9 m): the clamp absorbs that noise where restarts would
-// multiply it (182k restarts and 2.8 times the time, measured).
+// integrator, whose steps the kinks would otherwise cut down. Else, for the
+// explicit ones, no contact force out of contact and the clamped law in
+// it: the touchdown, where the damper's force jumps by c_c delta', is
+// located and restarted at (an explicit step across that jump has an error
+// that does not shrink with the step, and the controller stalls on it at
+// tight tolerances); the kinks inside a contact are left to the clamp, since
+// the contact's stiffness bounds the steps far below any kink's effect and
+// at loose tolerances the steps hop across those edges every few steps (at
+// rtol 1e-3 the position error allowed is about 400 times the penetration,
+// 3e-6 m against 8e-9 m): restarts there would multiply that noise.
 template <int kStatorDof, bool kMotor, bool kModeLocked>
 struct PenaltySystem {
   using L = FreeLayout<kStatorDof, kMotor>;
@@ -50,9 +52,11 @@ struct PenaltySystem {
         fn = law.normal(g, mode);
         ft = law.tangential(g, fn, mode);
       }
-    } else {
+    } else if (mode.pressed || mode.clamped) {
       fn = law.normal(g);
       ft = law.tangential(g, fn);
+    } else {
+      fn = ft = 0.0;
     }
     return model->accelerations(k, d, g, fn, ft);
   }
@@ -80,7 +84,8 @@ struct PenaltySystem {
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
-    const PenaltyMode m = !kModeLocked || mode.clamped ? law.mode_of(law.edges(g)) : mode;
+    static_assert(kModeLocked, "the explicit integrators take no Jacobian");
+    const PenaltyMode m = mode.clamped ? law.mode_of(law.edges(g)) : mode;
     const double radius_m = model->parameters().rotor_radius_m;
     const auto c = law.force_jacobian(g, k.rotor_vel - k.stator_vel, m, d.accel_rad_per_s2 * radius_m);
     const JeffcottModel::FreeForceGains free = model->free_force_gains();
