@@ -334,6 +334,101 @@ TEST(MotorDrive, ImpactWithSpinWithoutUnbalanceHasItsClosedForm) {
   }
 }
 
+// The impact with the spin against the impact followed in small steps of
+// its normal impulse (Darboux-Keller), written from the model's impulse
+// response alone (apply_impulse, contact_geometry), not from W: each step
+// dP_n takes the tangential increment of Coulomb's law at the step's end
+// (sliding on with the cone's edge against the sliding, or the increment
+// that holds v_slide = 0 if one lies in the cone), and the impact ends where
+// v_n reaches -e v_n. Large unbalance lever (W_nt large) and low friction:
+// some impacts stop the sliding and then slide back (|W_nt| > f W_tt),
+// others stick, others slide throughout. Held to 1e-4 of the velocities'
+// scale: the steps resolve the phase changes to 1/kSteps of the impulse.
+TEST(MotorDrive, ImpactWithSpinFollowsTheIncrementalImpact) {
+  constexpr int kSteps = 100000;
+  core::ModelParameters p;
+  p.drive_model = core::DriveModel::kMotor;
+  p.eccentricity_m = 2e-3;
+  p.rotor_polar_inertia_kg_m2 = 2e-5;
+  int slid_back = 0, stuck = 0, slid_through = 0;
+  for (const double f : {0.05, 0.3}) {
+    for (const double restitution : {0.0, 0.5}) {
+      for (const double phi : {0.0, 0.7, 1.6, 2.5, 3.9, 5.2}) {
+        for (const double vt : {-0.02, 0.0, 0.005}) {  // tangential relative velocity [m/s]
+          p.friction_coefficient = f;
+          p.restitution = restitution;
+          const core::JeffcottModel m(p);
+          core::Kinematics k;
+          k.rotor_pos = core::Vec2(2.0e-3, 0.0);
+          k.rotor_vel = core::Vec2(0.05, vt);  // closing at 5 cm/s
+          k.spin.angle_rad = phi;
+          k.spin.speed_rad_per_s = 0.3;  // v_slide = vt + 3 mm/s
+          const core::DriveState d = m.drive_at(k, core::DriveState{phi, 0.3, 0.0, 0.0});
+          auto geometry = [&](const core::Kinematics& kin) {
+            return m.contact_geometry(kin, core::DriveState{phi, kin.spin.speed_rad_per_s, 0.0, 0.0});
+          };
+          const core::ContactGeometry g = geometry(k);
+          const double target = -restitution * g.normal_velocity_m_per_s;
+          // The reference: steps of a normal impulse a little beyond the
+          // frictionless one over kSteps.
+          const double dp = 2.0 * g.normal_velocity_m_per_s * m.effective_mass_kg() / kSteps;
+          core::Kinematics ref = k;
+          bool was_stuck = false, reversed = false;
+          const double s0 = g.sliding_velocity_m_per_s > 0 ? 1 : (g.sliding_velocity_m_per_s < 0 ? -1 : 0);
+          for (int i = 0; i < 4 * kSteps; ++i) {
+            auto after = [&](double pn, double pt) {
+              core::Kinematics t = ref;
+              m.apply_impulse(g, pn, pt, t);
+              return t;
+            };
+            const double lo = geometry(after(dp, -f * dp)).sliding_velocity_m_per_s;
+            const double hi = geometry(after(dp, f * dp)).sliding_velocity_m_per_s;
+            double pt;
+            if (lo > 0.0) {
+              pt = -f * dp;
+            } else if (hi < 0.0) {
+              pt = f * dp;
+            } else {  // v_slide is affine in P_t: the increment that zeroes it
+              pt = -f * dp + 2.0 * f * dp * lo / (lo - hi);
+              was_stuck = true;
+            }
+            const core::Kinematics next = after(dp, pt);
+            const double vn0 = geometry(ref).normal_velocity_m_per_s, vn1 = geometry(next).normal_velocity_m_per_s;
+            if (vn1 <= target) {  // the last step's share that reaches the target (affine in the step)
+              const double share = (vn0 - target) / (vn0 - vn1);
+              ref = after(share * dp, share * pt);
+              break;
+            }
+            ref = next;
+            const double vs = geometry(ref).sliding_velocity_m_per_s;
+            if (s0 != 0.0 && s0 * vs < -1e-9) reversed = true;
+          }
+          core::Kinematics got = k;
+          const core::ImpactResult ir = core::apply_impact(m, g, d, 0.0, got);
+          const std::string where = "f " + std::to_string(f) + " e " + std::to_string(restitution) + " phi " +
+                                    std::to_string(phi) + " vt " + std::to_string(vt);
+          const double v_scale = 0.05, w_scale = v_scale / p.eccentricity_m;
+          EXPECT_NEAR(got.rotor_vel.x(), ref.rotor_vel.x(), 1e-4 * v_scale) << where;
+          EXPECT_NEAR(got.rotor_vel.y(), ref.rotor_vel.y(), 1e-4 * v_scale) << where;
+          EXPECT_NEAR(got.stator_vel.x(), ref.stator_vel.x(), 1e-4 * v_scale) << where;
+          EXPECT_NEAR(got.stator_vel.y(), ref.stator_vel.y(), 1e-4 * v_scale) << where;
+          EXPECT_NEAR(got.spin.speed_rad_per_s, ref.spin.speed_rad_per_s, 1e-4 * w_scale) << where;
+          EXPECT_NEAR(geometry(got).normal_velocity_m_per_s, target, 1e-12) << where;
+          const double vs_end = geometry(ref).sliding_velocity_m_per_s;
+          if (ir.sliding_stopped) EXPECT_NEAR(vs_end, 0.0, 1e-4 * v_scale) << where;
+          slid_back += reversed;
+          stuck += was_stuck && !reversed && ir.sliding_stopped;
+          slid_through += !was_stuck && !reversed;
+        }
+      }
+    }
+  }
+  // Every branch of the law is met.
+  EXPECT_GT(slid_back, 0);
+  EXPECT_GT(stuck, 0);
+  EXPECT_GT(slid_through, 0);
+}
+
 TEST(MotorDrive, ComplianceIsWhatTheAccelerationsAnswer) {
   // The switching method's closed forms use W (model.hpp); the iteration
   // method the accelerations themselves. W must be their derivative with

@@ -161,50 +161,62 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 // The impact law when the spin takes part (a motor drive): the tangential
 // impulse P_t acts on the spin through R_r and the normal one through the
 // unbalance's lever, so normal and tangential velocities answer both
-// impulses through the compliance W (model.hpp). With d(v_n, v_slide) =
-// W (-P_n, P_t):
-// * sliding through the impact, P_t = -f s P_n (s = sgn v_slide) and
-//   v_n+ = -e v_n give P_n = (1 + e) v_n / (W_nn + f s W_nt);
-// * if that would reverse the sliding, the impulse that stops it solves
-//   W_nn P_n - W_nt P_t = (1 + e) v_n, -W_nt P_n + W_tt P_t = -v_slide
-//   (kept when |P_t| <= f P_n, else the impulse slides the other way,
-//   P_t = +f s P_n).
+// impulses through the compliance W (model.hpp): d(v_n, v_slide) =
+// W (-dP_n, dP_t). The impact is followed along its normal impulse P_n
+// (Darboux and Keller), with the friction of the sliding at each instant:
+// * sliding (s = sgn v_slide), dP_t = -f s dP_n: v_n falls at the rate
+//   W_nn + f s W_nt, v_slide at W_nt + f s W_tt (per unit P_n);
+// * where v_slide reaches 0 the contact sticks on, dP_t = (W_nt / W_tt) dP_n,
+//   if that ratio lies in the cone (|W_nt| <= f W_tt), else it slides the
+//   other way, s' = -sgn W_nt (the coupling W_nt drives v_slide through 0);
+// * the impact ends where v_n reaches -e v_n (Newton's law, as without the
+//   spin). W is constant through the impact (positions do not move), so the
+//   path is piecewise linear in P_n and exact in closed form.
 // With W_nt = 0 and W_tt = W_nn = 1/m_eff this is the prescribed drive's law
 // below. W_nn + f s W_nt <= 0 (Painleve's paradox: the friction would pull
 // the bodies together faster than the normal impulse parts them) cannot
-// occur while J_G > f e (R_r + e) m_r, which validate_scene() demands; the
-// check below is the guard behind it.
+// occur for either s while J_G > f e (R_r + e) m_r, which validate_scene()
+// demands; the check below is the guard behind it.
 inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
                                            double e, ImpactResult r, Kinematics& k) {
   const ModelParameters& p = m.parameters();
   const ContactCompliance w = m.contact_compliance(g, d);
-  const double vn = g.normal_velocity_m_per_s, vs = g.sliding_velocity_m_per_s;
   const double f = m.has_friction() ? p.friction_coefficient : 0.0;
-  const double s = vs > 0.0 ? 1.0 : (vs < 0.0 ? -1.0 : 0.0);
-  const double normal_compliance = w.nn + f * s * w.nt;
-  if (!(normal_compliance > 0.0)) {
-    throw MethodFailure(FailureClass::kInvariantViolated, std::numeric_limits<double>::quiet_NaN(),
-                        "impact: W_nn + f s W_nt <= 0 (Painleve's paradox; lower friction_coefficient, or raise "
-                        "rotor_polar_inertia_kg_m2)");
-  }
-  double pn = (1.0 + e) * vn / normal_compliance;
-  double pt = -f * s * pn;
-  const double vs_after = vs - pn * w.nt + pt * w.tt;
-  if (f > 0.0 && s * vs_after <= 0.0) {
-    const double det = w.nn * w.tt - w.nt * w.nt;
-    const double pn_stick = ((1.0 + e) * vn * w.tt - w.nt * vs) / det;
-    const double pt_stick = ((1.0 + e) * vn * w.nt - w.nn * vs) / det;
-    if (pn_stick >= 0.0 && std::abs(pt_stick) <= f * pn_stick) {
-      pn = pn_stick;
-      pt = pt_stick;
-      r.sliding_stopped = true;
-    } else if (w.nn - f * s * w.nt > 0.0) {
-      // Beyond the cone's other edge: the impulse reverses the sliding
-      // (possible only through the coupling W_nt, |v_slide| ~ W_nt v_n / W_nn).
-      pn = (1.0 + e) * vn / (w.nn - f * s * w.nt);
-      pt = f * s * pn;
+  const double target_vn = -e * g.normal_velocity_m_per_s;
+  double vn = g.normal_velocity_m_per_s, vs = g.sliding_velocity_m_per_s;
+  double pn = 0.0, pt = 0.0;
+  auto sign = [](double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); };
+  // At most three phases: slide, then stick or slide back (which never stops).
+  for (int phase = 0; phase < 3 && vn > target_vn; ++phase) {
+    double ratio;  // dP_t / dP_n
+    const double s = sign(vs);
+    if (f == 0.0) {
+      ratio = 0.0;
+    } else if (s != 0.0) {
+      ratio = -f * s;
+    } else if (std::abs(w.nt) <= f * w.tt) {
+      ratio = w.nt / w.tt;  // stick
+    } else {
+      ratio = f * sign(w.nt);  // sliding in s' = -sgn W_nt
     }
+    const double vn_rate = w.nn - ratio * w.nt;  // -dv_n / dP_n
+    const double vs_rate = w.nt - ratio * w.tt;  // -dv_slide / dP_n
+    if (!(vn_rate > 0.0)) {
+      throw MethodFailure(FailureClass::kInvariantViolated, std::numeric_limits<double>::quiet_NaN(),
+                          "impact: W_nn + f s W_nt <= 0 (Painleve's paradox; lower friction_coefficient, or raise "
+                          "rotor_polar_inertia_kg_m2)");
+    }
+    double dp = (vn - target_vn) / vn_rate;
+    // A slide that v_slide's own rate brings to rest inside the impact.
+    const bool stops = s != 0.0 && f > 0.0 && s * vs_rate > 0.0 && vs / vs_rate < dp;
+    if (stops) dp = vs / vs_rate;
+    pn += dp;
+    pt += ratio * dp;
+    vn -= vn_rate * dp;
+    vs = stops ? 0.0 : vs - vs_rate * dp;
+    if (stops) vn = std::max(vn, target_vn);  // rounding at a stop that coincides with the end
   }
+  r.sliding_stopped = f > 0.0 && vs == 0.0;
   r.normal_impulse_N_s = pn;
   m.apply_impulse(g, pn, pt, k);
   return r;
