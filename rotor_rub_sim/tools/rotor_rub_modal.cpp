@@ -14,26 +14,13 @@
 #include "cli_options.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/rotor_reduction.hpp"
 
 namespace {
 
 [[noreturn]] void bad_input(const std::string& msg) {
   std::cerr << "rotor_rub_modal: " << msg << "\n";
   std::exit(2);
-}
-
-// The steady response to an unbalance m e [kg m] at node n, turning with the
-// spin: f = m e w^2 (1, -i) at (x, y) with x + i y's forward sense, i.e.
-// q = Re(Q e^{i w t}) with (K - w^2 M + i w (C + w G)) Q = F.
-Eigen::VectorXcd unbalance_response(const rotor_rub::core::RotorMatrices& m, int node, double me_kg_m, double w) {
-  using rotor_rub::core::dof_index;
-  const std::complex<double> i(0.0, 1.0);
-  const Eigen::MatrixXcd d = m.K.cast<std::complex<double>>() - w * w * m.M.cast<std::complex<double>>() +
-                             i * w * (m.C + w * m.G).cast<std::complex<double>>();
-  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(m.M.rows());
-  f(dof_index(node, rotor_rub::core::kDofX)) = me_kg_m * w * w;
-  f(dof_index(node, rotor_rub::core::kDofY)) = -i * me_kg_m * w * w;
-  return d.partialPivLu().solve(f);
 }
 
 }  // namespace
@@ -124,7 +111,7 @@ int main(int argc, char** argv) {
       os.precision(12);
       for (int s = 1; s < speeds; ++s) {
         const double w = max_speed * s / (speeds - 1);
-        const Eigen::VectorXcd q = unbalance_response(m, unbalance_node, me, w);
+        const Eigen::VectorXcd q = core::unbalance_response(m, unbalance_node, me, w);
         const std::complex<double> x = q(core::dof_index(at, core::kDofX)), y = q(core::dof_index(at, core::kDofY));
         // x + i y = F e^{iwt} + B e^{-iwt}: forward F = (X + i Y) / 2, backward B = conj(X - i Y) / 2.
         const std::complex<double> i(0.0, 1.0);

@@ -221,7 +221,7 @@ ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
 
 }  // namespace
 
-std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count) {
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
   using Complex = std::complex<double>;
   const int n = static_cast<int>(m.M.rows());
   // In mass-normalised coordinates y = L^T q (M = L L^T), the stiffness
@@ -276,10 +276,11 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
     // Back to the physical coordinates: q = L^-T y.
     const Eigen::MatrixXcd lt = l.transpose().cast<Complex>();
     md.shape = lt.triangularView<Eigen::Upper>().solve(x.head(n));
+    if (expansion.size() > 0) md.shape = expansion.cast<Complex>() * md.shape;
     Eigen::Index big = 0;
     md.shape.cwiseAbs().maxCoeff(&big);
     md.shape /= md.shape(big);
-    md.whirl = whirl_of(md.shape, n / 4);
+    md.whirl = whirl_of(md.shape, static_cast<int>(md.shape.size()) / 4);
     out.push_back(std::move(md));
   }
   std::sort(out.begin(), out.end(),

@@ -1,6 +1,7 @@
 /// @file
-/// A flexible rotor as finite elements (issue 28's first part: the model and
-/// its modal analysis; the contact methods still run the Jeffcott model).
+/// A flexible rotor as finite elements: the model and its modal analysis
+/// (rotor_reduction.hpp reduces it; the contact methods still run the
+/// Jeffcott model).
 ///
 /// Coordinates: z along the shaft, 4 DOF per node, in the order
 /// q = [x, y, alpha, beta] (alpha a rotation about x, beta about y; beta goes
@@ -107,8 +108,11 @@ struct Mode {
 /// Whirl from each node's orbit: y leading x by a quarter turn's sign
 /// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
 /// straight line counts as forward), a mode forward or backward when every
-/// node with motion agrees, mixed otherwise.
-std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count);
+/// node with motion agrees, mixed otherwise. With an expansion (the full DOFs
+/// = expansion * q, for a reduced model), the shapes are expanded to the
+/// full DOFs before the whirl is judged.
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count,
+                        const Eigen::MatrixXd& expansion = Eigen::MatrixXd());
 
 /// Critical speeds: where a mode's damped frequency equals the speed
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),

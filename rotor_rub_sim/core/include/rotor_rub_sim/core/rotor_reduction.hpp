@@ -1,0 +1,75 @@
+/// @file
+/// A flexible rotor reduced to no more than a scene needs: the rub station's
+/// lateral displacement kept as a physical coordinate, the rest of the shaft
+/// in a few modes (Craig-Bampton), in coordinates where the station's mass
+/// is uncoupled from the modes.
+///
+/// The basis (columns of Psi, full DOFs = Psi q_cb):
+/// * two constraint modes: the shaft's static shape under a unit x (and y)
+///   displacement of the station, every other DOF free;
+/// * fixed-interface modes: the shaft's modes with the station held, lowest
+///   first, in x/y pairs.
+/// Both come from the rotor's isotropic, symmetric stiffness (the bearings'
+/// kxx and kyy averaged, their cross-coupling left out), whose x-z and y-z
+/// planes are twins: every basis shape is planar and comes with its twin
+/// turned 90 deg about the axis (y = x, alpha = -beta). The reduced mass
+/// matrix is then isotropic, so the contact sees one station mass whatever
+/// the direction. K, C and G are the rotor's own (cross-coupled and
+/// anisotropic bearings included), projected: the reduction is exact as the
+/// modes are added, and for a rotor with isotropic bearings the station's
+/// static stiffness is exact for any number of modes (the constraint modes
+/// are the rotor's static shapes).
+///
+/// Then q_cb = [u, eta] is changed to q = [u, xi] with
+/// eta = xi - M_ee^-1 M_eu u, which makes the mass block-diagonal:
+/// M = diag(m_st I_2, I), m_st = the Schur complement M_uu - M_ue M_ee^-1 M_eu
+/// [kg]. A contact force on the station enters the u rows alone (the
+/// transformation leaves [f; 0] unchanged), so the station moves as a point
+/// of mass m_st under the contact and the shaft's elastic and modal forces:
+/// the Jeffcott's picture, with the modes' coordinates coupled through K, C
+/// and G only. planar_modes = 1 keeps the station alone (Guyan's reduction):
+/// a one-disk rotor's Jeffcott, whose mass is the disk's plus the shaft's
+/// share (17/35 of a pinned uniform shaft's, Rayleigh's).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "rotor_rub_sim/core/fe_rotor.hpp"
+
+namespace rotor_rub::core {
+
+struct ReducedRotor {
+  int station_node = 0;
+  int planar_modes = 1;          ///< per plane: the station, and planar_modes - 1 fixed-interface modes
+  RotorMatrices matrices;        ///< M, K, C, G in q = [u_x, u_y, xi...] (size())
+  Eigen::MatrixXd expansion;     ///< full FE DOFs = expansion * q (dofs() x size())
+  double station_mass_kg = 0.0;  ///< m_st: M = diag(m_st, m_st, I)
+  int size() const { return 2 * planar_modes; }
+  static constexpr int kStationX = 0;    ///< u_x [m]
+  static constexpr int kStationY = 1;    ///< u_y [m]
+  static constexpr int kFirstModal = 2;  ///< xi [sqrt(kg) m]: mass-normalised modal coordinates
+};
+
+/// The most planar modes a rotor has: its planar DOFs (x, beta per node).
+inline int max_planar_modes(const FeRotor& rotor) { return 2 * rotor.nodes(); }
+
+/// Reduces the assembled rotor m (of `rotor`) at station_node to planar_modes
+/// per plane, in [1, max_planar_modes(rotor)]. Throws std::invalid_argument
+/// naming the value and the accepted range (a station on no node, a count
+/// out of range), or when the rotor with its station held cannot stand (no
+/// bearing to carry it: a singular stiffness).
+ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int station_node, int planar_modes);
+
+/// The modes of a reduced rotor at speed Omega, their shapes expanded to the
+/// full FE DOFs (whirl judged there): as modes() for the full model.
+std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count);
+
+/// The steady response to an unbalance m e [kg m] at `node`, turning with the
+/// spin at speed w (angle 0 along +x at t = 0): q = Re(Q e^{i w t}) with
+/// (K - w^2 M + i w (C + w G)) Q = m e w^2 (1, -i) at the node's (x, y),
+/// in the full FE DOFs.
+Eigen::VectorXcd unbalance_response(const RotorMatrices& m, int node, double me_kg_m, double w_rad_per_s);
+/// The same for a reduced rotor (forces projected, the response expanded).
+Eigen::VectorXcd unbalance_response(const ReducedRotor& r, int node, double me_kg_m, double w_rad_per_s);
+
+}  // namespace rotor_rub::core
