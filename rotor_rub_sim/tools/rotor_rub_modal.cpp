@@ -2,9 +2,13 @@
 // docs/rotors.md): natural frequencies at rest, the Campbell diagram (damped
 // frequencies and whirl against speed) as CSV, the critical speeds where the
 // synchronous line crosses it, and, with --unbalance, the unbalance response
-// at a node against speed. scripts/plot_campbell.py draws the CSVs.
+// at a node against speed. scripts/plot_campbell.py draws the CSVs. With
+// --station, the modal truncation study at a rub station
+// (modal_convergence.hpp): reduced models of 1, 2, 4, ... planar modes
+// against the full model, and the smallest within --tolerance.
 //
 // Exit status: 0 ok; 2 bad input (usage, a bad rotor file).
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -12,6 +16,7 @@
 #include <iostream>
 
 #include "cli_options.hpp"
+#include "modal_convergence.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
@@ -23,6 +28,49 @@ namespace {
   std::exit(2);
 }
 
+// The modal truncation study's table and recommendation.
+void print_truncation_study(const rotor_rub::core::FeRotor& rotor, const rotor_rub::core::RotorMatrices& m, int station,
+                            std::vector<int> probes, int count, double max_speed, int speeds, int unbalance_node,
+                            double me, double tolerance) {
+  namespace tools = rotor_rub::tools;
+  if (probes.empty()) {
+    for (const auto& b : rotor.bearings) {
+      if (b.node != station && std::find(probes.begin(), probes.end(), b.node) == probes.end())
+        probes.push_back(b.node);
+    }
+  }
+  tools::TruncationStudy study;
+  study.station_node = station;
+  study.probe_nodes = probes;
+  study.modes = count;
+  study.max_speed_rad_per_s = max_speed;
+  study.speeds = speeds;
+  if (me > 0.0) {
+    study.unbalance_node = unbalance_node;
+    study.unbalance_kg_m = me;
+  }
+  const std::vector<tools::TruncationRow> rows = tools::truncation_rows(rotor, m, study);
+  std::printf("modal truncation at the rub station (node %d), against the full model (%d DOF):\n", station,
+              rotor.dofs());
+  std::printf("  frequencies: the %d lowest at 0 and %g rad/s, relative", count, max_speed);
+  if (study.unbalance_node >= 0) {
+    std::printf("; response: unbalance %g kg m at node %d, %d speeds to %g rad/s, at the station and probe nodes", me,
+                unbalance_node, speeds - 1, max_speed);
+    for (const int p : probes) std::printf(" %d", p);
+    std::printf(", relative to the rotor's largest displacement");
+  }
+  std::printf("\n  planar modes  coordinates  station mass [kg]  frequency error  response error\n");
+  for (const auto& row : rows) {
+    std::printf("  %12d  %11d  %17.4f  %15.2e  %14.2e\n", row.planar_modes, 2 * row.planar_modes, row.station_mass_kg,
+                row.frequency_error, row.response_error);
+  }
+  const tools::TruncationRow* best = tools::smallest_within(rows, tolerance);
+  if (best != nullptr) {
+    std::printf("smallest model within %g: %d planar modes (%d coordinates)\n", tolerance, best->planar_modes,
+                2 * best->planar_modes);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -30,7 +78,9 @@ int main(int argc, char** argv) {
   namespace core = rotor_rub::core;
   std::string rotor_path, campbell_csv, response_csv;
   double max_speed = 1000.0, me = 0.0;
-  int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1;
+  int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1, station = -1;
+  std::vector<int> probe_nodes;
+  double tolerance = 1e-3;
   CLI::App app(
       "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
       "the unbalance response (docs/rotors.md).",
@@ -59,6 +109,19 @@ int main(int argc, char** argv) {
       ->check(cli::integer_in(0, 100000));
   app.add_option("--response", response_csv, "write speed, |x|, phase x, |y|, phase y, forward, backward per row")
       ->type_name("FILE");
+  app.add_option("--station", station,
+                 "the rub station's node: print the modal truncation study there (reduced models of 1, 2, 4, ... "
+                 "planar modes against the full model; with --unbalance-node, the unbalance response over the speeds "
+                 "at the station and the probes too)")
+      ->type_name("NODE")
+      ->check(cli::integer_in(0, 100000));
+  app.add_option("--probe-nodes", probe_nodes, "nodes of the probes the study compares (default: the bearings' nodes)")
+      ->type_name("NODE ...")
+      ->check(cli::integer_in(0, 100000));
+  app.add_option("--tolerance", tolerance,
+                 "the study's recommendation: the smallest model whose frequency and response errors are within it")
+      ->type_name("REL")
+      ->check(cli::number_in(0.0, 1.0, true));
   app.footer("Exit status: 0 ok; 2 bad input (usage, a bad rotor file).");
   cli::parse_or_exit(app, argc, argv);
   if (!response_csv.empty() && (unbalance_node < 0 || me <= 0.0)) {
@@ -69,9 +132,19 @@ int main(int argc, char** argv) {
   try {
     rotor = core::load_rotor_file(rotor_path);
     m = core::assemble(rotor);
-    if (unbalance_node >= rotor.nodes() || probe_node >= rotor.nodes()) {
-      throw std::invalid_argument("node " + std::to_string(std::max(unbalance_node, probe_node)) +
-                                  " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
+    for (const auto& [what, node] : {std::pair<const char*, int>{"--unbalance-node", unbalance_node},
+                                     {"--response-node", probe_node},
+                                     {"--station", station}}) {
+      if (node >= rotor.nodes()) {
+        throw std::invalid_argument(std::string(what) + ": node " + std::to_string(node) +
+                                    " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
+      }
+    }
+    for (const int node : probe_nodes) {
+      if (node >= rotor.nodes()) {
+        throw std::invalid_argument("--probe-nodes: probe node " + std::to_string(node) +
+                                    " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
+      }
     }
     std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF\n", rotor_path.c_str(),
                 rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(), rotor.dofs());
@@ -86,6 +159,8 @@ int main(int argc, char** argv) {
       std::printf("  mode %d: %.6f rad/s (%.3f Hz, %.1f rpm), %s whirl\n", c.mode_index, c.speed_rad_per_s,
                   c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
     }
+    if (station >= 0)
+      print_truncation_study(rotor, m, station, probe_nodes, count, max_speed, speeds, unbalance_node, me, tolerance);
   } catch (const std::exception& e) {
     bad_input(e.what());
   }

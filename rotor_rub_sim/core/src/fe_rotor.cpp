@@ -299,10 +299,19 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
     return k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w
                                            : std::numeric_limits<double>::quiet_NaN();
   };
+  // The grid's modes once for every mode index.
+  std::vector<std::vector<Mode>> grid;
+  for (int s = 0; s <= samples; ++s) grid.push_back(modes(m, max_speed_rad_per_s * s / samples, count));
+  auto excess_on_grid = [&](int k, int s) {
+    const std::vector<Mode>& at = grid[static_cast<std::size_t>(s)];
+    return k < static_cast<int>(at.size())
+               ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - max_speed_rad_per_s * s / samples
+               : std::numeric_limits<double>::quiet_NaN();
+  };
   for (int k = 0; k < count; ++k) {
-    double w0 = 0.0, f0 = excess(k, w0);
+    double w0 = 0.0, f0 = excess_on_grid(k, 0);
     for (int s = 1; s <= samples; ++s) {
-      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess(k, w1);
+      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess_on_grid(k, s);
       if (std::isfinite(f0) && std::isfinite(f1) && (f0 > 0.0) != (f1 > 0.0)) {
         std::uintmax_t iterations = 100;
         auto f = [&](double w) {

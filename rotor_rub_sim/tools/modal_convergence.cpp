@@ -1,0 +1,84 @@
+#include "modal_convergence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rotor_rub::tools {
+namespace {
+
+double frequency_error(const core::RotorMatrices& full, const core::ReducedRotor& r, int count, double top_speed) {
+  double worst = 0.0;
+  for (double speed : {0.0, top_speed}) {
+    const auto want = core::modes(full, speed, count);
+    const auto got = core::modes(r, speed, count);
+    if (got.size() < want.size()) return 1.0;
+    for (std::size_t k = 0; k < want.size(); ++k) {
+      worst = std::max(worst, std::abs(got[k].damped_frequency_rad_per_s / want[k].damped_frequency_rad_per_s - 1.0));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const core::RotorMatrices& full,
+                                           const TruncationStudy& study) {
+  for (const int node : study.probe_nodes) {
+    if (node < 0 || node >= rotor.nodes()) {
+      throw std::invalid_argument("probe node " + std::to_string(node) + " is out of range; accepted: 0 to " +
+                                  std::to_string(rotor.nodes() - 1));
+    }
+  }
+  std::vector<int> watched{study.station_node};
+  watched.insert(watched.end(), study.probe_nodes.begin(), study.probe_nodes.end());
+  // The full model's responses once.
+  std::vector<Eigen::VectorXcd> want;
+  std::vector<double> largest;
+  std::vector<double> speeds;
+  if (study.unbalance_node >= 0) {
+    for (int k = 1; k < study.speeds; ++k) {
+      const double w = study.max_speed_rad_per_s * k / (study.speeds - 1);
+      speeds.push_back(w);
+      want.push_back(core::unbalance_response(full, study.unbalance_node, study.unbalance_kg_m, w));
+      double big = 0.0;
+      for (int node = 0; node < rotor.nodes(); ++node) {
+        big = std::max({big, std::abs(want.back()(core::dof_index(node, core::kDofX))),
+                        std::abs(want.back()(core::dof_index(node, core::kDofY)))});
+      }
+      largest.push_back(big);
+    }
+  }
+  std::vector<int> counts;
+  for (int m = 1; m < core::max_planar_modes(rotor); m *= 2) counts.push_back(m);
+  counts.push_back(core::max_planar_modes(rotor));
+  std::vector<TruncationRow> rows;
+  for (const int m : counts) {
+    const core::ReducedRotor r = core::reduce_rotor(rotor, full, study.station_node, m);
+    TruncationRow row;
+    row.planar_modes = m;
+    row.station_mass_kg = r.station_mass_kg;
+    row.frequency_error = frequency_error(full, r, study.modes, study.max_speed_rad_per_s);
+    for (std::size_t s = 0; s < speeds.size(); ++s) {
+      const Eigen::VectorXcd got = core::unbalance_response(r, study.unbalance_node, study.unbalance_kg_m, speeds[s]);
+      for (const int node : watched) {
+        for (const auto dof : {core::kDofX, core::kDofY}) {
+          const int i = core::dof_index(node, dof);
+          row.response_error = std::max(row.response_error, std::abs(got(i) - want[s](i)) / largest[s]);
+        }
+      }
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+const TruncationRow* smallest_within(const std::vector<TruncationRow>& rows, double tolerance) {
+  for (const TruncationRow& row : rows) {
+    if (row.worst() <= tolerance) return &row;
+  }
+  return nullptr;
+}
+
+}  // namespace rotor_rub::tools

@@ -1,0 +1,88 @@
+// rotor_rub_modal's command line: ROSS's example's frequencies, the modal
+// truncation study at a rub station (its table, exact with every mode, the
+// recommendation), the CSVs, and bad input as one line with exit status 2.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "cli_support.hpp"
+#include "temp_dir.hpp"
+
+namespace {
+
+using Result = rotor_rub::test::CliResult;
+
+Result modal(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_MODAL, args); }
+
+std::string rotor(const std::string& name) { return std::string(ROTOR_RUB_SOURCE_DIR) + "/config/rotors/" + name; }
+
+void expect_bad_input(const Result& r, const std::string& part) {
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+}
+
+}  // namespace
+
+TEST(ModalCli, RossExampleAndItsCsvs) {
+  const std::string dir = rotor_rub::test::tmp();
+  const Result r =
+      modal("--rotor " + rotor("ross_example.yaml") + " --modes 4 --max-speed 400 --speeds 5 --campbell " + dir +
+            "/campbell.csv --unbalance-node 2 --unbalance-kg-m 1e-4 --response " + dir + "/response.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("91.79655318"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("96.28899977"), std::string::npos) << r.out;
+  std::ifstream campbell(dir + "/campbell.csv"), response(dir + "/response.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(campbell, line)) ++rows;
+  EXPECT_EQ(rows, 1 + 5 * 4);  // header, 5 speeds x 4 modes
+  rows = 0;
+  while (std::getline(response, line)) ++rows;
+  EXPECT_EQ(rows, 1 + 4);  // header, the speeds above 0
+}
+
+// The study's rows: 1, 2, 4, 8, 16 and all 26 planar modes of the seal rotor;
+// the last is the full model (errors at roundoff), the errors fall, and the
+// recommendation is the first row within the tolerance.
+TEST(ModalCli, TruncationStudyAtTheRubStation) {
+  const Result r = modal("--rotor " + rotor("seal_rub.yaml") +
+                         " --modes 2 --max-speed 500 --speeds 21 --station 6 --unbalance-node 3 --unbalance-kg-m 1e-4 "
+                         "--tolerance 1e-2");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream out(r.out.substr(r.out.find("planar modes  coordinates")));
+  std::string line;
+  std::getline(out, line);  // the header
+  std::vector<int> modes;
+  std::vector<double> worst;
+  while (std::getline(out, line) && line.find("smallest") == std::string::npos) {
+    std::istringstream row(line);
+    int m = 0, coordinates = 0;
+    double mass = 0, frequency = 0, response = 0;
+    row >> m >> coordinates >> mass >> frequency >> response;
+    ASSERT_TRUE(row) << line;
+    EXPECT_EQ(coordinates, 2 * m);
+    modes.push_back(m);
+    worst.push_back(std::max(frequency, response));
+  }
+  EXPECT_EQ(modes, (std::vector<int>{1, 2, 4, 8, 16, 26}));
+  ASSERT_EQ(worst.size(), 6u);
+  EXPECT_LT(worst.back(), 1e-9);
+  for (std::size_t k = 2; k < worst.size(); ++k) EXPECT_LT(worst[k], worst[k - 1]) << modes[k];
+  std::size_t first = 0;
+  while (worst[first] > 1e-2) ++first;
+  EXPECT_NE(line.find("smallest model within 0.01: " + std::to_string(modes[first]) + " planar modes"),
+            std::string::npos)
+      << line;
+}
+
+TEST(ModalCli, BadInputIsOneLineWithStatus2) {
+  expect_bad_input(modal("--rotor " + rotor("seal_rub.yaml") + " --modes 2 --max-speed 100 --station 13"),
+                   "node 13 is out of range; accepted: 0 to 12");
+  expect_bad_input(
+      modal("--rotor " + rotor("seal_rub.yaml") + " --modes 2 --max-speed 100 --station 6 --probe-nodes 40"),
+      "probe node 40 is out of range");
+  expect_bad_input(modal("--rotor " + rotor("seal_rub.yaml") + " --tolerance 2"), "--tolerance");
+}
