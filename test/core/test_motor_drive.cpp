@@ -415,7 +415,9 @@ TEST(MotorDrive, ImpactWithSpinFollowsTheIncrementalImpact) {
           EXPECT_NEAR(got.spin.speed_rad_per_s, ref.spin.speed_rad_per_s, 1e-4 * w_scale) << where;
           EXPECT_NEAR(geometry(got).normal_velocity_m_per_s, target, 1e-12) << where;
           const double vs_end = geometry(ref).sliding_velocity_m_per_s;
-          if (ir.sliding_stopped) EXPECT_NEAR(vs_end, 0.0, 1e-4 * v_scale) << where;
+          if (ir.sliding_stopped) {
+            EXPECT_NEAR(vs_end, 0.0, 1e-4 * v_scale) << where;
+          }
           slid_back += reversed;
           stuck += was_stuck && !reversed && ir.sliding_stopped;
           slid_through += !was_stuck && !reversed;

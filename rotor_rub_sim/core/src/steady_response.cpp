@@ -15,6 +15,22 @@ std::complex<double> unbalance_response_m(const ModelParameters& p, double w) {
          cd(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w);
 }
 
+std::vector<double> positive_circle_roots(std::complex<double> a, std::complex<double> b, double r) {
+  // |a + N b|^2 = r^2:  |b|^2 N^2 + 2 Re(a conj(b)) N + |a|^2 - r^2 = 0.
+  const double bb = std::norm(b), ab = std::real(a * std::conj(b)), c0 = std::norm(a) - r * r;
+  const double disc = ab * ab - bb * c0;
+  std::vector<double> out;
+  if (disc < 0.0 || bb == 0.0) return out;
+  const double sq = std::sqrt(disc);
+  // The two roots without cancellation (Vieta for the smaller one).
+  const double big = (-ab + (ab <= 0.0 ? sq : -sq)) / bb;
+  const double other = big != 0.0 ? c0 / (bb * big) : 0.0;
+  for (const double N : {std::max(big, other), std::min(big, other)}) {
+    if (N > 0.0 && (out.empty() || N != out.front())) out.push_back(N);
+  }
+  return out;
+}
+
 std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
   // Rotor:  A z_r = F - N (1 + i f) n,  stator: B z_s = N (1 + i f) n,
   // n = (z_r - z_s) / C, with A = k_r - m_r w^2 + i c_r w, F = m_r e w^2,
@@ -32,18 +48,8 @@ std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
   const cd a = rigid ? A : A * B;
   const cd b = rigid ? cd(1.0, f) / C : cd(1.0, f) * (A + B) / C;
   const double r = rigid ? std::abs(F) / C : std::abs(F * B) / C;
-  // |a + N b|^2 = r^2:  |b|^2 N^2 + 2 Re(a conj(b)) N + |a|^2 - r^2 = 0.
-  const double bb = std::norm(b), ab = std::real(a * std::conj(b)), c0 = std::norm(a) - r * r;
-  const double disc = ab * ab - bb * c0;
   std::vector<FullRub> out;
-  if (disc < 0.0 || bb == 0.0) return out;
-  const double sq = std::sqrt(disc);
-  // The two roots without cancellation (Vieta for the smaller one).
-  const double big = (-ab + (ab <= 0.0 ? sq : -sq)) / bb;
-  const double other = big != 0.0 ? c0 / (bb * big) : 0.0;
-  double roots[2] = {std::max(big, other), std::min(big, other)};
-  for (const double N : roots) {
-    if (!(N > 0.0) || (out.size() == 1 && N == out.front().normal_force_N)) continue;
+  for (const double N : positive_circle_roots(a, b, r)) {
     const cd q = N * cd(1.0, f) / C;
     FullRub s;
     s.normal_force_N = N;

@@ -28,6 +28,10 @@ struct FullRub {
 // stator by N / k_c more (not included).
 std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w_rad_per_s);
 
+// The full rub's equation in every model: the real N > 0 with |a + N b| = r,
+// the larger first, a double root once.
+std::vector<double> positive_circle_roots(std::complex<double> a, std::complex<double> b, double r);
+
 // The lowest speed at which the steady unbalance orbit (offset by the static
 // sags under gravity, m_r g / k_r - m_s g / k_s) reaches the clearance:
 // |z(w)| + |sag offset| = C, solved by TOMS 748 below the amplitude's peak.
