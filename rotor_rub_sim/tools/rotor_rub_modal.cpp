@@ -127,6 +127,9 @@ int main(int argc, char** argv) {
   if (!response_csv.empty() && (unbalance_node < 0 || me <= 0.0)) {
     cli::usage_error(app, "--response needs --unbalance-node and --unbalance-kg-m");
   }
+  if ((unbalance_node >= 0) != (me > 0.0)) {
+    cli::usage_error(app, "--unbalance-node and --unbalance-kg-m go together");
+  }
   core::FeRotor rotor;
   core::RotorMatrices m;
   try {
@@ -146,6 +149,7 @@ int main(int argc, char** argv) {
                                     " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
       }
     }
+    if (station >= 0) core::reduce_rotor(rotor, m, station, 1);  // a station the rotor cannot stand on, before output
     std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF\n", rotor_path.c_str(),
                 rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(), rotor.dofs());
     std::printf("at rest:\n  mode  w_d [rad/s]      w_n [rad/s]      zeta        whirl\n");

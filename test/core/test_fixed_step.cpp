@@ -26,9 +26,13 @@ constexpr double kMarginBelow = 0.8, kMarginAbove = 1.5, kDivergedMultiple = 5.0
 
 struct Count : core::SimulationObserver {
   long samples = 0;
+  double first_touchdown_s = -1.0;
   void on_sample(const core::Sample& s) override {
     ++samples;
     EXPECT_TRUE(s.kin.rotor_pos.allFinite());
+  }
+  void on_event(const core::ContactEvent& e) override {
+    if (e.kind == core::EventKind::kTouchdown && first_touchdown_s < 0.0) first_touchdown_s = e.t_s;
   }
 };
 
@@ -61,6 +65,14 @@ TEST(FixedStep, StableBelowTheBoundDivergedAbove) {
   EXPECT_FALSE(below.failure) << below.failure->message;
   EXPECT_EQ(below_samples.samples, 1501);
   EXPECT_GT(below.stats.touchdowns, 0);
+  // The touchdown is located on the dense output and restarted at (a fixed
+  // step then ends there): at the reference's first contact, 1e-9 s (RK4's
+  // error at 4e-6 s steps, h^4 ~ 3e-22 per unit time, is far below the
+  // location's resolution).
+  test::Collect reference;
+  core::run_scene(test::with_method(test::paper_scene(), test::Solver{}, 1e-12, 1e-15), reference);
+  ASSERT_FALSE(reference.events.empty());
+  EXPECT_NEAR(below_samples.first_touchdown_s, reference.events.front().t_s, 1e-9);
 
   // Above the bound the clamp keeps the state bounded for a while (to ~4x,
   // measured) but the contact chatters: validate_scene() refuses the step.

@@ -373,7 +373,7 @@ TEST(MotorDrive, ImpactWithSpinFollowsTheIncrementalImpact) {
           // frictionless one over kSteps.
           const double dp = 2.0 * g.normal_velocity_m_per_s * m.effective_mass_kg() / kSteps;
           core::Kinematics ref = k;
-          bool was_stuck = false, reversed = false;
+          bool was_stuck = false, reversed = false, ended_stuck = false;
           const double s0 = g.sliding_velocity_m_per_s > 0 ? 1 : (g.sliding_velocity_m_per_s < 0 ? -1 : 0);
           for (int i = 0; i < 4 * kSteps; ++i) {
             auto after = [&](double pn, double pt) {
@@ -384,14 +384,16 @@ TEST(MotorDrive, ImpactWithSpinFollowsTheIncrementalImpact) {
             const double lo = geometry(after(dp, -f * dp)).sliding_velocity_m_per_s;
             const double hi = geometry(after(dp, f * dp)).sliding_velocity_m_per_s;
             double pt;
+            bool stick_step = false;
             if (lo > 0.0) {
               pt = -f * dp;
             } else if (hi < 0.0) {
               pt = f * dp;
             } else {  // v_slide is affine in P_t: the increment that zeroes it
               pt = -f * dp + 2.0 * f * dp * lo / (lo - hi);
-              was_stuck = true;
+              was_stuck = stick_step = true;
             }
+            ended_stuck = stick_step;
             const core::Kinematics next = after(dp, pt);
             const double vn0 = geometry(ref).normal_velocity_m_per_s, vn1 = geometry(next).normal_velocity_m_per_s;
             if (vn1 <= target) {  // the last step's share that reaches the target (affine in the step)
@@ -415,6 +417,9 @@ TEST(MotorDrive, ImpactWithSpinFollowsTheIncrementalImpact) {
           EXPECT_NEAR(got.spin.speed_rad_per_s, ref.spin.speed_rad_per_s, 1e-4 * w_scale) << where;
           EXPECT_NEAR(geometry(got).normal_velocity_m_per_s, target, 1e-12) << where;
           const double vs_end = geometry(ref).sliding_velocity_m_per_s;
+          // The flag the methods start the contact from: the reference's
+          // last step was a stick step exactly when the impact ends stuck.
+          EXPECT_EQ(ir.sliding_stopped, ended_stuck) << where;
           if (ir.sliding_stopped) {
             EXPECT_NEAR(vs_end, 0.0, 1e-4 * v_scale) << where;
           }

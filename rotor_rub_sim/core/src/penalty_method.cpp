@@ -102,19 +102,35 @@ class PenaltyMethod final : public ContactMethod {
     double prev_t = t0;
     PenaltyEdgeValues prev = edges_end_;
     ContactGeometry g_end;
+    // Out of contact the field has no contact force: a contact that begins
+    // and ends between two scan points would go unfelt. The gap's closest
+    // approach (delta' from closing to opening) is checked for it.
+    const bool free_field = !system_.mode.clamped && edges_end_steps(system_.mode) && !system_.mode.pressed;
+    double prev_vn = free_field ? geometry_at(t0).normal_velocity_m_per_s : 0.0;
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       g_end = geometry_at(ti);
-      const PenaltyEdgeValues cur = system_.law.edges(g_end);
-      if (system_.mode.clamped || !locked(system_.mode)) {
+      PenaltyEdgeValues cur = system_.law.edges(g_end);
+      double t_cur = ti;
+      if (free_field && !(cur[kPressedEdge] > 0.0) && prev_vn > 0.0 && g_end.normal_velocity_m_per_s < 0.0) {
+        auto vn = [this](double t) { return geometry_at(t).normal_velocity_m_per_s; };
+        const double closest = locate_event(vn, prev_t, prev_vn, ti, g_end.normal_velocity_m_per_s, stats_);
+        const PenaltyEdgeValues at_closest = edges_at(closest);
+        if (at_closest[kPressedEdge] > 0.0) {  // the touchdown lies before it
+          cur = at_closest;
+          t_cur = closest;
+        }
+      }
+      if (system_.mode.clamped || !edges_end_steps(system_.mode)) {
         report_contact_change(prev_t, prev, ti, cur, events);
       } else if (system_.law.mode_of(cur) != system_.mode) {
-        const auto [te, edge] = earliest_crossing(prev_t, prev, ti, cur);
+        const auto [te, edge] = earliest_crossing(prev_t, prev, t_cur, cur);
         on_edge(te, edge, events);
         return;
       }
       prev_t = ti;
       prev = cur;
+      prev_vn = g_end.normal_velocity_m_per_s;
     }
     valid_end_ = t1;
     edges_end_ = prev;
@@ -165,7 +181,7 @@ class PenaltyMethod final : public ContactMethod {
   // Whether the mode's edges end a step (the field is the mode's, smooth):
   // every edge for the implicit integrator; for the explicit ones only the
   // touchdown, out of contact (penalty_system.hpp).
-  static bool locked(const PenaltyMode& mode) { return kModeLocked || !mode.pressed; }
+  static bool edges_end_steps(const PenaltyMode& mode) { return kModeLocked || !mode.pressed; }
 
   // The implicit integrator restarts from a step's end (DenseRodasp::end_step_at).
   void end_step_at(double t_s) {
@@ -242,8 +258,8 @@ class PenaltyMethod final : public ContactMethod {
     return {first, edge < 0 ? kPressedEdge : edge};
   }
 
-  // Explicit integrators (and a fallback step): touchdown and lift-off
-  // located for the report only.
+  // Explicit integrators in contact (and a fallback step), whose field is the
+  // clamped law: touchdown and lift-off located for the report only.
   void report_contact_change(double t0, const PenaltyEdgeValues& e0, double t1, const PenaltyEdgeValues& e1,
                              std::vector<ContactEvent>& events) {
     if ((e0[kPressedEdge] > 0.0) == (e1[kPressedEdge] > 0.0)) return;

@@ -43,6 +43,10 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
                                 " is out of range; accepted: 1 to " + std::to_string(max_planar_modes(rotor)) +
                                 " (the rotor's planar DOFs)");
   }
+  if (m.M.rows() != rotor.dofs()) {
+    throw std::invalid_argument("reduce_rotor: the matrices have " + std::to_string(m.M.rows()) + " DOF, the rotor " +
+                                std::to_string(rotor.dofs()) + ": not assembled from it");
+  }
   const Planes planes = planes_of(nodes);
   const int np = static_cast<int>(planes.x_plane.size());
   // The x-z plane's stiffness of the basis: the shaft's (isotropic) with the
@@ -74,7 +78,8 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
     }
   }
   const Eigen::LLT<Eigen::MatrixXd> k_ii_llt(k_ii);
-  if (k_ii_llt.info() != Eigen::Success) {
+  // A pivot at roundoff is as singular as a negative one.
+  if (k_ii_llt.info() != Eigen::Success || !(k_ii_llt.rcond() > 1e-14)) {
     throw std::invalid_argument("rub station: node " + std::to_string(station_node) +
                                 ": the rotor with its station held cannot stand (its stiffness is singular: a "
                                 "bearing is missing)");

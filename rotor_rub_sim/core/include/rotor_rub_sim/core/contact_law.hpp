@@ -186,16 +186,18 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
   double vn = g.normal_velocity_m_per_s, vs = g.sliding_velocity_m_per_s;
   double pn = 0.0, pt = 0.0;
   auto sign = [](double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); };
-  // At most three phases: slide, then stick or slide back (which never stops).
-  for (int phase = 0; phase < 3 && vn > target_vn; ++phase) {
+  // Two pieces at most: a slide, then a stick or a slide back (which never
+  // stops); the bound is a guard.
+  for (int piece = 0; piece < 3 && vn > target_vn; ++piece) {
     double ratio;  // dP_t / dP_n
     const double s = sign(vs);
+    const bool stick = f > 0.0 && s == 0.0 && std::abs(w.nt) <= f * w.tt;
     if (f == 0.0) {
       ratio = 0.0;
     } else if (s != 0.0) {
       ratio = -f * s;
-    } else if (std::abs(w.nt) <= f * w.tt) {
-      ratio = w.nt / w.tt;  // stick
+    } else if (stick) {
+      ratio = w.nt / w.tt;
     } else {
       ratio = f * sign(w.nt);  // sliding in s' = -sgn W_nt
     }
@@ -208,12 +210,13 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
     }
     double dp = (vn - target_vn) / vn_rate;
     // A slide that v_slide's own rate brings to rest inside the impact.
-    const bool stops = s != 0.0 && f > 0.0 && s * vs_rate > 0.0 && vs / vs_rate < dp;
+    const bool stops = s != 0.0 && f > 0.0 && s * vs_rate > 0.0 && vs / vs_rate <= dp;
     if (stops) dp = vs / vs_rate;
     pn += dp;
     pt += ratio * dp;
     vn -= vn_rate * dp;
-    vs = stops ? 0.0 : vs - vs_rate * dp;
+    // Held at exactly 0 in a stick (vs_rate is 0 there but for a rounding).
+    vs = stops || stick ? 0.0 : vs - vs_rate * dp;
     if (stops) vn = std::max(vn, target_vn);  // rounding at a stop that coincides with the end
   }
   r.sliding_stopped = f > 0.0 && vs == 0.0;

@@ -1,7 +1,8 @@
 // Method I: the contact as a stiff spring k_c with a damper consistent with
 // the restitution (contact_law.hpp), acting while delta > C and pushing.
-// With an explicit integrator, one set of equations (the clamped law); touchdown
-// and lift-off are located on the dense output for reporting only. With the
+// With an explicit integrator, no contact force out of contact, the clamped law
+// in it: a touchdown is located and restarted at, a lift-off located for the
+// report (penalty_system.hpp). With the
 // implicit one, the law's smooth pieces are integrated one at a time and the
 // kinks between them located and restarted at (penalty_law.hpp), the pressed
 // piece in the contact's polar coordinates (penalty_system.hpp).
