@@ -2,10 +2,11 @@
 """Draws rotor_rub_modal's CSVs: the Campbell diagram (damped natural
 frequencies against speed, forward whirl solid, backward dashed, mixed
 dotted, with the synchronous line w = Omega whose crossings are the critical
-speeds) and, if given, the unbalance response at a node (forward and
-backward 1X, |x| and |y|) against speed.
+speeds), if given the unbalance response at a node (forward and backward
+1X, |x| and |y|) against speed, and the mode shapes at rest (x and y along
+the shaft, one panel per mode).
 
-usage: plot_campbell.py CAMPBELL.csv [--response RESPONSE.csv] --out DIR [--title TEXT]"""
+usage: plot_campbell.py CAMPBELL.csv [--response RESPONSE.csv] [--shapes SHAPES.csv] --out DIR [--title TEXT]"""
 import argparse
 import csv
 import os
@@ -29,12 +30,14 @@ def main():
     ap = argparse.ArgumentParser(description="Campbell diagram and unbalance response from rotor_rub_modal's CSVs.")
     ap.add_argument("campbell", help="rotor_rub_modal --campbell output")
     ap.add_argument("--response", help="rotor_rub_modal --response output")
-    ap.add_argument("--out", required=True, help="folder for campbell.png (and response.png)")
+    ap.add_argument("--shapes", help="rotor_rub_modal --shapes output")
+    ap.add_argument("--out", required=True, help="folder for campbell.png (and response.png, shapes.png)")
     ap.add_argument("--title", default="", help="title prefix")
     a = ap.parse_args()
     try:
         rows = read(a.campbell, ["speed_rad_per_s", "mode", "damped_frequency_rad_per_s", "whirl"])
         response = read(a.response, ["speed_rad_per_s", "forward_m", "backward_m", "x_m", "y_m"]) if a.response else []
+        shapes = read(a.shapes, ["mode", "z_m", "x_re", "y_re", "damped_frequency_rad_per_s", "whirl"]) if a.shapes else []
     except (OSError, ValueError) as e:
         print("plot_campbell: %s" % e, file=sys.stderr)
         sys.exit(2)
@@ -76,7 +79,27 @@ def main():
         fig.tight_layout()
         fig.savefig(os.path.join(a.out, "response.png"), dpi=100)
         plt.close(fig)
-    print("plot_campbell: %d modes -> %s/campbell.png%s" % (len(modes), a.out, " and response.png" if response else ""))
+    if shapes:
+        by_mode = {}
+        for r in shapes:
+            by_mode.setdefault(int(r["mode"]), []).append(r)
+        n = len(by_mode)
+        fig, axes = plt.subplots(n, 1, figsize=(8, 1.8 * n + 0.6), sharex=True, squeeze=False)
+        for ax, (k, pts) in zip(axes[:, 0], sorted(by_mode.items())):
+            z = [float(r["z_m"]) for r in pts]
+            ax.plot(z, [float(r["x_re"]) for r in pts], "o-", ms=3, label="x")
+            ax.plot(z, [float(r["y_re"]) for r in pts], "s--", ms=3, label="y")
+            ax.axhline(0.0, color="k", lw=0.5)
+            ax.set_ylabel("mode %d" % k)
+            ax.set_title("%.2f rad/s, %s" % (float(pts[0]["damped_frequency_rad_per_s"]), pts[0]["whirl"]), fontsize=9)
+            ax.legend(fontsize=7, loc="upper right")
+        axes[-1, 0].set_xlabel("z along the shaft [m]")
+        fig.suptitle((a.title + ": " if a.title else "") + "mode shapes at rest (real parts)")
+        fig.tight_layout()
+        fig.savefig(os.path.join(a.out, "shapes.png"), dpi=100)
+        plt.close(fig)
+    made = ["campbell.png"] + (["response.png"] if response else []) + (["shapes.png"] if shapes else [])
+    print("plot_campbell: %d modes -> %s/%s" % (len(modes), a.out, ", ".join(made)))
 
 
 if __name__ == "__main__":

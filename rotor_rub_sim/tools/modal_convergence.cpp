@@ -37,11 +37,11 @@ std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const cor
   std::vector<Eigen::VectorXcd> want;
   std::vector<double> largest;
   std::vector<double> speeds;
-  if (study.unbalance_node >= 0) {
+  if (!study.unbalances.empty()) {
     for (int k = 1; k < study.speeds; ++k) {
       const double w = study.max_speed_rad_per_s * k / (study.speeds - 1);
       speeds.push_back(w);
-      want.push_back(core::unbalance_response(full, study.unbalance_node, study.unbalance_kg_m, w));
+      want.push_back(core::unbalance_response(full, study.unbalances, w));
       double big = 0.0;
       for (int node = 0; node < rotor.nodes(); ++node) {
         big = std::max({big, std::abs(want.back()(core::dof_index(node, core::kDofX))),
@@ -61,7 +61,7 @@ std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const cor
     row.station_mass_kg = r.station_mass_kg;
     row.frequency_error = frequency_error(full, r, study.modes, study.max_speed_rad_per_s);
     for (std::size_t s = 0; s < speeds.size(); ++s) {
-      const Eigen::VectorXcd got = core::unbalance_response(r, study.unbalance_node, study.unbalance_kg_m, speeds[s]);
+      const Eigen::VectorXcd got = core::unbalance_response(r, study.unbalances, speeds[s]);
       for (const int node : watched) {
         for (const auto dof : {core::kDofX, core::kDofY}) {
           const int i = core::dof_index(node, dof);

@@ -28,9 +28,8 @@ struct TruncationStudy {
   std::vector<int> probe_nodes;
   int modes = 4;  ///< frequencies compared
   double max_speed_rad_per_s = 1000.0;
-  int speeds = 101;         ///< response grid: max_speed k / (speeds - 1), k = 1 .. speeds - 1
-  int unbalance_node = -1;  ///< -1: no response compared
-  double unbalance_kg_m = 0.0;
+  int speeds = 101;                              ///< response grid: max_speed k / (speeds - 1), k = 1 .. speeds - 1
+  std::vector<core::RotorUnbalance> unbalances;  ///< none: no response compared
 };
 
 /// Rows for 1, 2, 4, ... planar modes and the rotor's maximum. Throws

@@ -1,8 +1,8 @@
 // rotor_rub_modal: modal analysis of a flexible rotor (a rotor file,
 // docs/rotors.md): natural frequencies at rest, the Campbell diagram (damped
 // frequencies and whirl against speed) as CSV, the critical speeds where the
-// synchronous line crosses it, and, with --unbalance, the unbalance response
-// at a node against speed. scripts/plot_campbell.py draws the CSVs. With
+// synchronous line crosses it, the unbalance response at a node against
+// speed (--response) and the mode shapes at rest (--shapes). scripts/plot_campbell.py draws the CSVs. With
 // --station, the modal truncation study at a rub station
 // (modal_convergence.hpp): reduced models of 1, 2, 4, ... planar modes
 // against the full model, and the smallest within --tolerance.
@@ -30,32 +30,24 @@ namespace {
 
 // The modal truncation study's table and recommendation.
 void print_truncation_study(const rotor_rub::core::FeRotor& rotor, const rotor_rub::core::RotorMatrices& m, int station,
-                            std::vector<int> probes, int count, double max_speed, int speeds, int unbalance_node,
-                            double me, double tolerance) {
+                            const std::vector<int>& probes, int count, double max_speed, int speeds,
+                            const std::vector<rotor_rub::core::RotorUnbalance>& unbalances, double tolerance) {
   namespace tools = rotor_rub::tools;
-  if (probes.empty()) {
-    for (const auto& b : rotor.bearings) {
-      if (b.node != station && std::find(probes.begin(), probes.end(), b.node) == probes.end())
-        probes.push_back(b.node);
-    }
-  }
   tools::TruncationStudy study;
   study.station_node = station;
   study.probe_nodes = probes;
   study.modes = count;
   study.max_speed_rad_per_s = max_speed;
   study.speeds = speeds;
-  if (me > 0.0) {
-    study.unbalance_node = unbalance_node;
-    study.unbalance_kg_m = me;
-  }
+  study.unbalances = unbalances;
   const std::vector<tools::TruncationRow> rows = tools::truncation_rows(rotor, m, study);
   std::printf("modal truncation at the rub station (node %d), against the full model (%d DOF):\n", station,
               rotor.dofs());
   std::printf("  frequencies: the %d lowest at 0 and %g rad/s, relative", count, max_speed);
-  if (study.unbalance_node >= 0) {
-    std::printf("; response: unbalance %g kg m at node %d, %d speeds to %g rad/s, at the station and probe nodes", me,
-                unbalance_node, speeds - 1, max_speed);
+  if (!unbalances.empty()) {
+    std::printf("; response: unbalance");
+    for (const auto& u : unbalances) std::printf(" %g kg m at node %d (%g rad)", u.me_kg_m, u.node, u.phase_rad);
+    std::printf(", %d speeds to %g rad/s, at the station and probe nodes", speeds - 1, max_speed);
     for (const int p : probes) std::printf(" %d", p);
     std::printf(", relative to the rotor's largest displacement");
   }
@@ -76,10 +68,11 @@ void print_truncation_study(const rotor_rub::core::FeRotor& rotor, const rotor_r
 int main(int argc, char** argv) {
   namespace cli = rotor_rub::tools::cli;
   namespace core = rotor_rub::core;
-  std::string rotor_path, campbell_csv, response_csv;
+  std::string rotor_path, campbell_csv, response_csv, shapes_csv;
   double max_speed = 1000.0, me = 0.0;
   int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1, station = -1;
   std::vector<int> probe_nodes;
+  std::vector<core::RotorUnbalance> unbalances;
   double tolerance = 1e-3;
   CLI::App app(
       "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
@@ -98,24 +91,30 @@ int main(int argc, char** argv) {
   app.add_option("--modes", count, "modes per speed (the lowest)")->type_name("N")->check(cli::integer_in(1, 1000));
   app.add_option("--campbell", campbell_csv, "write speed, mode, w_d, w_n, zeta, whirl per row to this CSV")
       ->type_name("FILE");
-  app.add_option("--unbalance-node", unbalance_node, "node of the unbalance (with --unbalance-kg-m)")
+  app.add_option("--unbalance-node", unbalance_node,
+                 "node of an unbalance (with --unbalance-kg-m), in place of the rotor file's unbalances")
       ->type_name("NODE")
       ->check(cli::integer_in(0, 100000));
   app.add_option("--unbalance-kg-m", me, "the unbalance m e [kg m]")
       ->type_name("KG_M")
       ->check(cli::number_in(0, 1e6, true));
-  app.add_option("--response-node", probe_node, "node whose response to write (default: the unbalance's)")
+  app.add_option("--response-node", probe_node, "node whose response to write (default: the first unbalance's)")
       ->type_name("NODE")
       ->check(cli::integer_in(0, 100000));
   app.add_option("--response", response_csv, "write speed, |x|, phase x, |y|, phase y, forward, backward per row")
       ->type_name("FILE");
+  app.add_option("--shapes", shapes_csv,
+                 "write the mode shapes at rest: mode, node, z, x and y (real and imaginary parts) per row; the "
+                 "largest entry of each mode is 1")
+      ->type_name("FILE");
   app.add_option("--station", station,
-                 "the rub station's node: print the modal truncation study there (reduced models of 1, 2, 4, ... "
-                 "planar modes against the full model; with --unbalance-node, the unbalance response over the speeds "
-                 "at the station and the probes too)")
+                 "the rub station's node (default: the rotor file's rub_station): print the modal truncation study "
+                 "there (reduced models of 1, 2, 4, ... planar modes against the full model; with unbalances, the "
+                 "unbalance response over the speeds at the station and the probes too)")
       ->type_name("NODE")
       ->check(cli::integer_in(0, 100000));
-  app.add_option("--probe-nodes", probe_nodes, "nodes of the probes the study compares (default: the bearings' nodes)")
+  app.add_option("--probe-nodes", probe_nodes,
+                 "nodes of the probes the study compares (default: the rotor file's probes, else the bearings' nodes)")
       ->type_name("NODE ...")
       ->check(cli::integer_in(0, 100000));
   app.add_option("--tolerance", tolerance,
@@ -124,9 +123,6 @@ int main(int argc, char** argv) {
       ->check(cli::number_in(0.0, 1.0, true));
   app.footer("Exit status: 0 ok; 2 bad input (usage, a bad rotor file).");
   cli::parse_or_exit(app, argc, argv);
-  if (!response_csv.empty() && (unbalance_node < 0 || me <= 0.0)) {
-    cli::usage_error(app, "--response needs --unbalance-node and --unbalance-kg-m");
-  }
   if ((unbalance_node >= 0) != (me > 0.0)) {
     cli::usage_error(app, "--unbalance-node and --unbalance-kg-m go together");
   }
@@ -149,9 +145,28 @@ int main(int argc, char** argv) {
                                     " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
       }
     }
+    if (station < 0) station = rotor.rub_station_node;
+    if (probe_nodes.empty()) probe_nodes = rotor.probe_nodes;
+    if (probe_nodes.empty()) {
+      for (const auto& b : rotor.bearings) {
+        if (b.node != station && std::find(probe_nodes.begin(), probe_nodes.end(), b.node) == probe_nodes.end())
+          probe_nodes.push_back(b.node);
+      }
+    }
+    if (me > 0.0) unbalances = {{unbalance_node, me, 0.0}};
+    if (unbalances.empty()) unbalances = rotor.unbalances;
+    if (!response_csv.empty() && unbalances.empty()) {
+      throw std::invalid_argument(
+          "--response needs an unbalance: the rotor file's, or --unbalance-node and "
+          "--unbalance-kg-m");
+    }
     if (station >= 0) core::reduce_rotor(rotor, m, station, 1);  // a station the rotor cannot stand on, before output
-    std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF\n", rotor_path.c_str(),
-                rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(), rotor.dofs());
+    if (rotor.imported) {
+      std::printf("%s: %d nodes, imported matrices, %d DOF\n", rotor_path.c_str(), rotor.nodes(), rotor.dofs());
+    } else {
+      std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF\n", rotor_path.c_str(),
+                  rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(), rotor.dofs());
+    }
     std::printf("at rest:\n  mode  w_d [rad/s]      w_n [rad/s]      zeta        whirl\n");
     int k = 0;
     for (const auto& md : core::modes(m, 0.0, count)) {
@@ -164,7 +179,7 @@ int main(int argc, char** argv) {
                   c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
     }
     if (station >= 0)
-      print_truncation_study(rotor, m, station, probe_nodes, count, max_speed, speeds, unbalance_node, me, tolerance);
+      print_truncation_study(rotor, m, station, probe_nodes, count, max_speed, speeds, unbalances, tolerance);
   } catch (const std::exception& e) {
     bad_input(e.what());
   }
@@ -183,14 +198,31 @@ int main(int argc, char** argv) {
       }
       if (!os) bad_input("cannot write '" + campbell_csv + "'");
     }
+    if (!shapes_csv.empty()) {
+      std::ofstream os(shapes_csv);
+      os << "mode,node,z_m,x_re,x_im,y_re,y_im,damped_frequency_rad_per_s,whirl\n";
+      os.precision(12);
+      int k = 0;
+      for (const auto& md : core::modes(m, 0.0, count)) {
+        for (int node = 0; node < rotor.nodes(); ++node) {
+          const double z = rotor.node_z_m(node);
+          const std::complex<double> x = md.shape(core::dof_index(node, core::kDofX)),
+                                     y = md.shape(core::dof_index(node, core::kDofY));
+          os << k << "," << node << "," << z << "," << x.real() << "," << x.imag() << "," << y.real() << "," << y.imag()
+             << "," << md.damped_frequency_rad_per_s << "," << core::to_string(md.whirl) << "\n";
+        }
+        ++k;
+      }
+      if (!os) bad_input("cannot write '" + shapes_csv + "'");
+    }
     if (!response_csv.empty()) {
-      const int at = probe_node >= 0 ? probe_node : unbalance_node;
+      const int at = probe_node >= 0 ? probe_node : unbalances.front().node;
       std::ofstream os(response_csv);
       os << "speed_rad_per_s,x_m,x_phase_rad,y_m,y_phase_rad,forward_m,backward_m\n";
       os.precision(12);
       for (int s = 1; s < speeds; ++s) {
         const double w = max_speed * s / (speeds - 1);
-        const Eigen::VectorXcd q = core::unbalance_response(m, unbalance_node, me, w);
+        const Eigen::VectorXcd q = core::unbalance_response(m, unbalances, w);
         const std::complex<double> x = q(core::dof_index(at, core::kDofX)), y = q(core::dof_index(at, core::kDofY));
         // x + i y = F e^{iwt} + B e^{-iwt}: forward F = (X + i Y) / 2, backward B = conj(X - i Y) / 2.
         const std::complex<double> i(0.0, 1.0);

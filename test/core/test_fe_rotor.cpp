@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "rotor_rub_sim/core/fe_rotor.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
@@ -166,6 +167,80 @@ TEST(FeRotor, OneDiskRotorIsTheJeffcott) {
   EXPECT_NEAR(w / std::sqrt(paper.model.rotor_stiffness_N_per_m / paper.model.rotor_mass_kg), 1.0, 1e-4);
 }
 
+namespace {
+
+// A rotor file of matrices (docs/rotors.md), each entry at max_digits10.
+std::string matrices_file(const core::RotorMatrices& m, const std::vector<double>& z, const std::string& extra = "") {
+  std::ostringstream os;
+  os.precision(17);
+  os << "matrices:\n  nodes_z_m: [";
+  for (std::size_t i = 0; i < z.size(); ++i) os << (i ? ", " : "") << z[i];
+  os << "]\n";
+  for (const auto& [key, x] :
+       {std::pair<const char*, const Eigen::MatrixXd*>{"M", &m.M}, {"K", &m.K}, {"C", &m.C}, {"G", &m.G}}) {
+    os << "  " << key << ":\n";
+    for (int i = 0; i < x->rows(); ++i) {
+      os << "    - [";
+      for (int j = 0; j < x->cols(); ++j) os << (j ? ", " : "") << (*x)(i, j);
+      os << "]\n";
+    }
+  }
+  return os.str() + extra;
+}
+
+}  // namespace
+
+// Matrices exported by another FE program: ROSS's example written as
+// matrices (17 digits: the doubles round-trip exactly) is the same rotor,
+// its modes identical to the bit; stations work on it as on elements.
+TEST(FeRotor, ImportedMatricesAreTheSameRotor) {
+  const core::FeRotor elements = ross_example();
+  const core::RotorMatrices m = core::assemble(elements);
+  std::vector<double> z;
+  for (int node = 0; node < elements.nodes(); ++node) z.push_back(elements.node_z_m(node));
+  const core::FeRotor imported = core::load_rotor_file(
+      write_file("matrices.yaml", matrices_file(m, z, "rub_station: {node: 3, contact_radius_m: 0.025}\n")));
+  ASSERT_TRUE(imported.imported.has_value());
+  EXPECT_EQ(imported.nodes(), 7);
+  EXPECT_DOUBLE_EQ(imported.node_z_m(6), 1.5);
+  EXPECT_EQ(imported.rub_station_node, 3);
+  for (double speed : {0.0, 500.0}) EXPECT_EQ(damped(core::assemble(imported), speed, 4), damped(m, speed, 4)) << speed;
+  // What the physics demands of the matrices.
+  auto error_with = [&](auto change) {
+    core::RotorMatrices bad = m;
+    change(bad);
+    return load_error(matrices_file(bad, z));
+  };
+  EXPECT_NE(error_with([](core::RotorMatrices& b) { b.M(0, 1) += 1.0; }).find("key 'M': not symmetric"),
+            std::string::npos);
+  EXPECT_NE(error_with([](core::RotorMatrices& b) { b.M(5, 5) = -1.0; }).find("key 'M': not positive definite"),
+            std::string::npos);
+  EXPECT_NE(error_with([](core::RotorMatrices& b) { b.K(0, 0) = -1e7; }).find("key 'K': not positive semi-definite"),
+            std::string::npos);
+  EXPECT_NE(error_with([](core::RotorMatrices& b) { b.G(2, 3) = 1.0; }).find("key 'G': not skew-symmetric"),
+            std::string::npos);
+  EXPECT_NE(load_error("matrices:\n  nodes_z_m: [0]\n  M: [[1, 0, 0, 0]]\n  K: [[1]]\n").find("key 'M': 1 rows"),
+            std::string::npos);
+  EXPECT_NE(load_error("shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n" + matrices_file(m, z))
+                .find("gives both 'matrices' and 'shaft'"),
+            std::string::npos);
+}
+
+// The stations a rotor file names: unbalances, the rub station, the probes.
+TEST(FeRotor, StationsOfTheSealRubExample) {
+  const core::FeRotor r = core::load_rotor_file(test::source_path("config/rotors/seal_rub.yaml"));
+  ASSERT_EQ(r.unbalances.size(), 2u);
+  EXPECT_EQ(r.unbalances[1].node, 9);
+  EXPECT_DOUBLE_EQ(r.unbalances[1].me_kg_m, 4.4e-5);
+  EXPECT_DOUBLE_EQ(r.unbalances[1].phase_rad, 1.5708);
+  EXPECT_EQ(r.rub_station_node, 6);
+  EXPECT_DOUBLE_EQ(r.rub_contact_radius_m, 0.05);
+  EXPECT_EQ(r.probe_nodes, (std::vector<int>{0, 12}));
+  const core::FeRotor ross = ross_example();
+  EXPECT_EQ(ross.rub_station_node, -1);  // none named
+  EXPECT_TRUE(ross.unbalances.empty());
+}
+
 TEST(FeRotor, BadFilesNameTheItemTheKeyAndTheRange) {
   const std::string shaft = "shaft:\n  - {elements: 2, length_m: 0.5, outer_diameter_m: 0.05}\n";
   EXPECT_NE(load_error(shaft + "disks:\n  - {node: 3, mass_kg: 1}\n")
@@ -183,5 +258,13 @@ TEST(FeRotor, BadFilesNameTheItemTheKeyAndTheRange) {
             std::string::npos);
   EXPECT_NE(load_error("material: {shear_modulus_Pa: 50e9}\n" + shaft).find("Poisson's ratio"), std::string::npos);
   EXPECT_NE(load_error("disks: []\n").find("lacks the list 'shaft'"), std::string::npos);
+  EXPECT_NE(load_error(shaft + "unbalances:\n  - {node: 3, me_kg_m: 1e-4}\n")
+                .find("unbalance 0 key 'node': value 3 is out of range; accepted: [0, 2]"),
+            std::string::npos);
+  EXPECT_NE(load_error(shaft + "unbalances:\n  - {node: 1, me_kg_m: -1e-4}\n").find("unbalance 0 key 'me_kg_m'"),
+            std::string::npos);
+  EXPECT_NE(load_error(shaft + "rub_station: {node: 1}\n").find("rub_station lacks the key 'contact_radius_m'"),
+            std::string::npos);
+  EXPECT_NE(load_error(shaft + "probes:\n  - {nod: 1}\n").find("did you mean 'node'?"), std::string::npos);
   EXPECT_NE(load_error("shaft: [\n").find("cannot be read"), std::string::npos);
 }

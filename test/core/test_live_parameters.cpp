@@ -231,6 +231,49 @@ TEST_P(LiveChange, MotorSpinAndRigidStatorFrameCarryOver) {
   }
 }
 
+// Support loosening under gravity, beyond the paper's vertical machine: a
+// rotor at rest (no spin, no unbalance) hangs on its shaft at the sag
+// m g / k (1.64 mm, inside the 2 mm clearance of a rigid bore); its shaft
+// stiffness falls to k' at 1 s, the new sag (2.73 mm) lies beyond the bore,
+// and it comes to rest on the bore's bottom, pressed by N = m g - k' C.
+// Damped past critical both sides (zeta 1 and 1.29), so the rest is reached
+// to e^-40 by each checkpoint. A plastic touchdown straight down: no
+// sliding, the rotor stays at x = 0.
+TEST_P(LiveChange, SupportLooseningUnderGravityRestsOnTheBore) {
+  core::Scene s = test::with_method(test::paper_scene(), GetParam(), 1e-10, 1e-13);
+  s.model.stator_model = core::StatorModel::kRigid;
+  s.model.gravity_m_per_s2 = 9.81;
+  s.model.eccentricity_m = 0.0;
+  s.model.restitution = 0.0;
+  const double m = s.model.rotor_mass_kg, k = s.model.rotor_stiffness_N_per_m, C = s.model.clearance_m;
+  s.model.rotor_damping_N_s_per_m = 2.0 * std::sqrt(k * m);
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 0.0;
+  s.end_time_s = 2.0;
+  core::Simulation sim(s);
+  test::Collect before, after;
+  advance(sim, 1.0, before);
+  // Hanging at the sag (rtol 1e-10 of a 1.6 mm position: 1e-12 m; 1e-10 m leaves room).
+  EXPECT_NEAR(before.samples.back().kin.rotor_pos.y(), -m * 9.81 / k, 1e-10);
+  EXPECT_FALSE(before.samples.back().in_contact);
+  const double k_loose = 1500.0;
+  sim.change_parameters({{"rotor_stiffness_N_per_m", core::exact_text(k_loose)}});
+  advance(sim, s.end_time_s, after);
+  const core::Sample& rest = after.samples.back();
+  // The penalty method rests p = N / k_c beyond the bore, where the shaft
+  // pulls k' p more: N = (m g - k' C) / (1 + k' / k_c), 1.5e-6 below the
+  // rigid contact's.
+  const bool penalty = GetParam().method == core::Method::kPenalty;
+  const double k_c = s.model.contact_stiffness_N_per_m;
+  const double n = (m * 9.81 - k_loose * C) / (penalty ? 1.0 + k_loose / k_c : 1.0);  // 1.10 N
+  ASSERT_TRUE(rest.in_contact);
+  // Rigid methods: the constraint force from positions held to atol, times
+  // k' (1e-10 N); the penalty's spring turns the position's tolerance into
+  // force, k_c atol = 1e-4 N (measured 6e-9 N).
+  EXPECT_NEAR(rest.normal_force_N, n, penalty ? k_c * s.solver.atol : 1e-9 * n);
+  EXPECT_NEAR(rest.kin.rotor_pos.y(), -C - (penalty ? n / k_c : 0.0), 1e-10);
+  EXPECT_NEAR(rest.kin.rotor_pos.x(), 0.0, 1e-10);
+}
+
 INSTANTIATE_TEST_SUITE_P(AllSolvers, LiveChange, ::testing::ValuesIn(test::all_solvers()),
                          [](const auto& info) { return info.param.name(); });
 

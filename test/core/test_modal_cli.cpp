@@ -46,6 +46,42 @@ TEST(ModalCli, RossExampleAndItsCsvs) {
   EXPECT_EQ(rows, 1 + 4);  // header, the speeds above 0
 }
 
+// The shapes CSV (every node of every mode, the largest entry 1) and the
+// pictures scripts/plot_campbell.py draws from the three CSVs.
+TEST(ModalCli, ShapesAndPictures) {
+  const std::string dir = rotor_rub::test::tmp();
+  const Result r =
+      modal("--rotor " + rotor("ross_example.yaml") + " --modes 3 --max-speed 400 --speeds 5 --campbell " + dir +
+            "/c.csv --unbalance-node 2 --unbalance-kg-m 1e-4 --response " + dir + "/r.csv --shapes " + dir + "/s.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream shapes(dir + "/s.csv");
+  std::string line;
+  std::getline(shapes, line);
+  EXPECT_EQ(line.rfind("mode,node,z_m,x_re,x_im,y_re,y_im", 0), 0u) << line;
+  int rows = 0;
+  double last_z = 0.0;
+  while (std::getline(shapes, line)) {
+    ++rows;
+    last_z = std::stod(line.substr(line.find(',', line.find(',') + 1) + 1));
+  }
+  EXPECT_EQ(rows, 3 * 7);           // 3 modes x 7 nodes
+  EXPECT_NEAR(last_z, 1.5, 1e-12);  // 6 elements of 0.25 m
+  const std::string plot = std::string("/usr/bin/python3 ") + ROTOR_RUB_SOURCE_DIR + "/scripts/plot_campbell.py ";
+  const Result p = rotor_rub::test::run_cli(
+      plot, dir + "/c.csv --response " + dir + "/r.csv --shapes " + dir + "/s.csv --out " + dir + "/pictures");
+  ASSERT_EQ(p.status, 0) << p.err;
+  for (const char* png : {"campbell.png", "response.png", "shapes.png"}) {
+    std::ifstream f(dir + "/pictures/" + png, std::ios::binary);
+    char magic[4] = {};
+    f.read(magic, 4);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG") << png;
+  }
+  // A CSV that is not the tool's: one line, status 2.
+  const Result bad = rotor_rub::test::run_cli(plot, dir + "/r.csv --out " + dir + "/pictures");
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_NE(bad.err.find("lacks the columns"), std::string::npos) << bad.err;
+}
+
 // The study's rows: 1, 2, 4, 8, 16 and all 26 planar modes of the seal rotor;
 // the last is the full model (errors at roundoff), the errors fall, and the
 // recommendation is the first row within the tolerance.

@@ -140,8 +140,8 @@ TEST(RotorReduction, FrequenciesAndResponsesConvergeWithModes) {
     }
     for (double ratio : {0.9, 1.5}) {
       const double w = ratio * first_critical_rad_per_s;
-      const Eigen::VectorXcd want = core::unbalance_response(full, 3, 1e-4, w);
-      const Eigen::VectorXcd got = core::unbalance_response(r, 3, 1e-4, w);
+      const Eigen::VectorXcd want = core::unbalance_response(full, {{3, 1e-4, 0.0}}, w);
+      const Eigen::VectorXcd got = core::unbalance_response(r, {{3, 1e-4, 0.0}}, w);
       double largest = 0.0;
       for (int node = 0; node < rotor.nodes(); ++node) {
         for (auto dof : {core::kDofX, core::kDofY})
@@ -208,5 +208,5 @@ TEST(RotorReduction, BadRequestsNameTheValueAndTheRange) {
   pivot.bearings = {rotor.bearings[2]};
   EXPECT_NE(error(pivot, core::assemble(pivot), 6, 2).find("cannot stand"), std::string::npos)
       << error(pivot, core::assemble(pivot), 6, 2);
-  EXPECT_THROW(core::unbalance_response(full, 13, 1e-4, 100.0), std::invalid_argument);
+  EXPECT_THROW(core::unbalance_response(full, {{13, 1e-4, 0.0}}, 100.0), std::invalid_argument);
 }

@@ -128,6 +128,7 @@ ElementMatrix shaft_gyroscopic(const ShaftElement& e) {
 }
 
 RotorMatrices assemble(const FeRotor& rotor) {
+  if (rotor.imported) return *rotor.imported;
   if (rotor.shaft.empty()) refuse("rotor: no shaft elements");
   const int n = rotor.dofs();
   RotorMatrices m;

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -91,6 +92,87 @@ YAML::Node sequence(const std::string& file, const YAML::Node& root, const std::
   return n;
 }
 
+// A square matrix of `size` rows from a list of rows.
+Eigen::MatrixXd read_matrix(const Reader& r, const YAML::Node& n, const std::string& key, int size) {
+  const YAML::Node rows = n[key];
+  if (!rows || !rows.IsSequence() || static_cast<int>(rows.size()) != size) {
+    r.fail("key '" + key +
+           "': " + (rows && rows.IsSequence() ? std::to_string(rows.size()) + " rows" : "no list of rows") +
+           "; accepted: " + std::to_string(size) + " rows of " + std::to_string(size) + " numbers (4 DOF per node)");
+  }
+  Eigen::MatrixXd m(size, size);
+  for (int i = 0; i < size; ++i) {
+    const YAML::Node row = rows[i];
+    if (!row.IsSequence() || static_cast<int>(row.size()) != size) {
+      r.fail("key '" + key + "': row " + std::to_string(i) + " has " +
+             (row.IsSequence() ? std::to_string(row.size()) : std::string("no list of")) +
+             " entries; accepted: " + std::to_string(size));
+    }
+    for (int j = 0; j < size; ++j) {
+      try {
+        m(i, j) = row[j].as<double>();
+      } catch (const YAML::Exception&) {
+        r.fail("key '" + key + "': row " + std::to_string(i) + " entry " + std::to_string(j) + " is not a number");
+      }
+      if (!std::isfinite(m(i, j))) {
+        r.fail("key '" + key + "': row " + std::to_string(i) + " entry " + std::to_string(j) + " is not finite");
+      }
+    }
+  }
+  return m;
+}
+
+// The smallest eigenvalue of a matrix's symmetric part against its largest
+// magnitude: >= -1e-9 of it counts as positive semi-definite (roundoff).
+void require_semidefinite(const Reader& r, const std::string& key, const Eigen::MatrixXd& m) {
+  const Eigen::MatrixXd sym = 0.5 * (m + m.transpose());
+  const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly).eigenvalues();
+  const double scale = eig.cwiseAbs().maxCoeff();
+  if (eig.minCoeff() < -1e-9 * scale) {
+    std::ostringstream os;
+    os << "key '" << key << "': not positive semi-definite (its symmetric part has the eigenvalue " << eig.minCoeff()
+       << " against " << scale << ")";
+    r.fail(os.str());
+  }
+}
+
+// Matrices exported by another FE program (docs/rotors.md): node positions
+// and M, K, C, G in 4 DOF per node, checked for what the physics demands.
+void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor) {
+  const Reader r(path, "matrices", n, {"nodes_z_m", "M", "K", "C", "G"});
+  const YAML::Node z = n["nodes_z_m"];
+  if (!z || !z.IsSequence() || z.size() == 0) r.fail("lacks the list 'nodes_z_m' (a node's position per entry)");
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    double v = 0.0;
+    try {
+      v = z[i].as<double>();
+    } catch (const YAML::Exception&) {
+      r.fail("key 'nodes_z_m': entry " + std::to_string(i) + " is not a number");
+    }
+    if (!std::isfinite(v) || (i > 0 && !(v > rotor.imported_node_z_m.back()))) {
+      r.fail("key 'nodes_z_m': entry " + std::to_string(i) + " is not finite and above the one before");
+    }
+    rotor.imported_node_z_m.push_back(v);
+  }
+  const int size = 4 * static_cast<int>(z.size());
+  RotorMatrices m;
+  m.M = read_matrix(r, n, "M", size);
+  m.K = read_matrix(r, n, "K", size);
+  m.C = n["C"] ? read_matrix(r, n, "C", size) : Eigen::MatrixXd::Zero(size, size);
+  m.G = n["G"] ? read_matrix(r, n, "G", size) : Eigen::MatrixXd::Zero(size, size);
+  const double mass_scale = m.M.cwiseAbs().maxCoeff();
+  if ((m.M - m.M.transpose()).cwiseAbs().maxCoeff() > 1e-9 * mass_scale) r.fail("key 'M': not symmetric");
+  if (Eigen::LLT<Eigen::MatrixXd>(m.M).info() != Eigen::Success) {
+    r.fail("key 'M': not positive definite (a DOF without mass or inertia?)");
+  }
+  require_semidefinite(r, "K", m.K);
+  require_semidefinite(r, "C", m.C);
+  if ((m.G + m.G.transpose()).cwiseAbs().maxCoeff() > 1e-9 * m.G.cwiseAbs().maxCoeff()) {
+    r.fail("key 'G': not skew-symmetric (G = -G^T for a gyroscopic matrix)");
+  }
+  rotor.imported = std::move(m);
+}
+
 }  // namespace
 
 FeRotor load_rotor_file(const std::string& path) {
@@ -100,13 +182,22 @@ FeRotor load_rotor_file(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("rotor file '" + path + "': cannot be read: " + e.what());
   }
-  const Reader top(path, "(top level)", root, {"material", "shaft", "disks", "bearings"});
+  const Reader top(path, "(top level)", root,
+                   {"material", "shaft", "disks", "bearings", "unbalances", "rub_station", "probes", "matrices"});
+  FeRotor rotor;
+  if (top.has("matrices")) {
+    for (const char* key : {"material", "shaft", "disks", "bearings"}) {
+      if (top.has(key)) top.fail("gives both 'matrices' and '" + std::string(key) + "'; accepted: one of them");
+    }
+    read_matrices(path, root["matrices"], rotor);
+  }
   Material material;
   if (top.has("material")) material = read_material(path, "material", root["material"], material);
-  FeRotor rotor;
   const YAML::Node shaft = sequence(path, root, "shaft");
-  if (!shaft || shaft.size() == 0) top.fail("lacks the list 'shaft' (at least one element)");
-  for (std::size_t i = 0; i < shaft.size(); ++i) {
+  if (!rotor.imported && (!shaft || shaft.size() == 0)) {
+    top.fail("lacks the list 'shaft' (at least one element) or the map 'matrices'");
+  }
+  for (std::size_t i = 0; shaft && i < shaft.size(); ++i) {
     const std::string item = "shaft entry " + std::to_string(i);
     const Reader r(path, item, shaft[i], {"elements", "length_m", "outer_diameter_m", "inner_diameter_m", "material"});
     ShaftElement e;
@@ -163,6 +254,25 @@ FeRotor load_rotor_file(const std::string& path) {
     b.cxy = r.number("cxy", -kInf, false, kInf, 0.0);
     b.cyx = r.number("cyx", -kInf, false, kInf, 0.0);
     rotor.bearings.push_back(b);
+  }
+  const YAML::Node unbalances = sequence(path, root, "unbalances");
+  for (std::size_t i = 0; unbalances && i < unbalances.size(); ++i) {
+    const Reader r(path, "unbalance " + std::to_string(i), unbalances[i], {"node", "me_kg_m", "phase_rad"});
+    RotorUnbalance u;
+    u.node = r.node(last_node);
+    u.me_kg_m = r.required("me_kg_m", 0.0, false, kInf);
+    u.phase_rad = r.number("phase_rad", -kInf, false, kInf, 0.0);
+    rotor.unbalances.push_back(u);
+  }
+  if (top.has("rub_station")) {
+    const Reader r(path, "rub_station", root["rub_station"], {"node", "contact_radius_m"});
+    rotor.rub_station_node = r.node(last_node);
+    rotor.rub_contact_radius_m = r.required("contact_radius_m", 0.0, true, kInf);
+  }
+  const YAML::Node probes = sequence(path, root, "probes");
+  for (std::size_t i = 0; probes && i < probes.size(); ++i) {
+    const Reader r(path, "probe " + std::to_string(i), probes[i], {"node"});
+    rotor.probe_nodes.push_back(r.node(last_node));
   }
   return rotor;
 }

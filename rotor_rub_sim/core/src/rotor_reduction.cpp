@@ -141,26 +141,31 @@ Eigen::VectorXcd solve_unbalance(const RotorMatrices& m, const Eigen::VectorXcd&
   return d.partialPivLu().solve(f);
 }
 
-Eigen::VectorXcd unbalance_force(int dofs, int node, double me_kg_m, double w) {
-  if (node < 0 || 4 * node >= dofs) {
-    throw std::invalid_argument("unbalance: node " + std::to_string(node) + " is out of range; accepted: 0 to " +
-                                std::to_string(dofs / 4 - 1));
-  }
+Eigen::VectorXcd unbalance_force(int dofs, const std::vector<RotorUnbalance>& unbalances, double w) {
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(dofs);
-  f(dof_index(node, kDofX)) = me_kg_m * w * w;
-  f(dof_index(node, kDofY)) = std::complex<double>(0.0, -1.0) * (me_kg_m * w * w);
+  for (const RotorUnbalance& u : unbalances) {
+    if (u.node < 0 || 4 * u.node >= dofs) {
+      throw std::invalid_argument("unbalance: node " + std::to_string(u.node) + " is out of range; accepted: 0 to " +
+                                  std::to_string(dofs / 4 - 1));
+    }
+    const std::complex<double> force = u.me_kg_m * w * w * std::polar(1.0, u.phase_rad);
+    f(dof_index(u.node, kDofX)) += force;
+    f(dof_index(u.node, kDofY)) += std::complex<double>(0.0, -1.0) * force;
+  }
   return f;
 }
 
 }  // namespace
 
-Eigen::VectorXcd unbalance_response(const RotorMatrices& m, int node, double me_kg_m, double w_rad_per_s) {
-  return solve_unbalance(m, unbalance_force(static_cast<int>(m.M.rows()), node, me_kg_m, w_rad_per_s), w_rad_per_s);
+Eigen::VectorXcd unbalance_response(const RotorMatrices& m, const std::vector<RotorUnbalance>& unbalances,
+                                    double w_rad_per_s) {
+  return solve_unbalance(m, unbalance_force(static_cast<int>(m.M.rows()), unbalances, w_rad_per_s), w_rad_per_s);
 }
 
-Eigen::VectorXcd unbalance_response(const ReducedRotor& r, int node, double me_kg_m, double w_rad_per_s) {
+Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<RotorUnbalance>& unbalances,
+                                    double w_rad_per_s) {
   const Eigen::MatrixXcd e = r.expansion.cast<std::complex<double>>();
-  const Eigen::VectorXcd f = unbalance_force(static_cast<int>(r.expansion.rows()), node, me_kg_m, w_rad_per_s);
+  const Eigen::VectorXcd f = unbalance_force(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s);
   return e * solve_unbalance(r.matrices, e.transpose() * f, w_rad_per_s);
 }
 

@@ -23,6 +23,7 @@
 
 #include <Eigen/Dense>
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,11 +61,40 @@ struct BearingElement {
   double cxx = 0.0, cxy = 0.0, cyx = 0.0, cyy = 0.0;
 };
 
+/// An unbalance at a node: its force m e w^2 points along phase_rad (from
+/// +x) at spin angle 0 and turns with the spin.
+struct RotorUnbalance {
+  int node = 0;
+  double me_kg_m = 0.0;    ///< m e
+  double phase_rad = 0.0;  ///< the force's direction at spin angle 0, from +x
+};
+
+struct RotorMatrices {
+  Eigen::MatrixXd M, K, C, G;  ///< dofs() x dofs()
+};
+
 struct FeRotor {
   std::vector<ShaftElement> shaft;
   std::vector<DiskElement> disks;
   std::vector<BearingElement> bearings;
-  int nodes() const { return static_cast<int>(shaft.size()) + 1; }
+  std::vector<RotorUnbalance> unbalances;
+  int rub_station_node = -1;          ///< where the rotor meets the stator; -1: none named
+  double rub_contact_radius_m = 0.0;  ///< R_r at the station: the rotating surface's radius there
+  std::vector<int> probe_nodes;       ///< where the X/Y proximity probes sit
+  /// Matrices exported by another FE program, in place of shaft, disks and
+  /// bearings (assemble() returns them), with their nodes' positions.
+  std::optional<RotorMatrices> imported;
+  std::vector<double> imported_node_z_m;
+  int nodes() const {
+    return imported ? static_cast<int>(imported_node_z_m.size()) : static_cast<int>(shaft.size()) + 1;
+  }
+  /// A node's position along the shaft from node 0 [m].
+  double node_z_m(int node) const {
+    if (imported) return imported_node_z_m[static_cast<std::size_t>(node)];
+    double z = 0.0;
+    for (int i = 0; i < node; ++i) z += shaft[static_cast<std::size_t>(i)].length_m;
+    return z;
+  }
   int dofs() const { return 4 * nodes(); }
 };
 
@@ -84,9 +114,6 @@ ElementMatrix shaft_mass(const ShaftElement& e);
 ElementMatrix shaft_stiffness(const ShaftElement& e);
 ElementMatrix shaft_gyroscopic(const ShaftElement& e);
 
-struct RotorMatrices {
-  Eigen::MatrixXd M, K, C, G;  ///< dofs() x dofs()
-};
 /// Assembles the global matrices. Throws std::invalid_argument naming the
 /// item (a disk or bearing on no node, a non-positive length or diameter).
 RotorMatrices assemble(const FeRotor& rotor);

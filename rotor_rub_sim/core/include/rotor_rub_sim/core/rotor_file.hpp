@@ -10,6 +10,11 @@
 ///     - {node: 4, mass_kg: 32.6, polar_inertia_kg_m2: 0.33, diametral_inertia_kg_m2: 0.18}
 ///   bearings:   # bearings and seals: kxx kxy kyx kyy [N/m], cxx cxy cyx cyy [N s/m]; absent ones 0
 ///     - {node: 0, kxx: 1e6, kyy: 0.8e6}
+///   unbalances: # m e [kg m] and the force's direction at spin angle 0 [rad, from +x]
+///     - {node: 2, me_kg_m: 1e-4, phase_rad: 0}
+///   rub_station: {node: 3, contact_radius_m: 0.05}  # where the stator is met, the surface's radius there
+///   probes:     # X/Y proximity probe pairs (their angles and signals are the scene's probe keys)
+///     - {node: 0}
 ///
 /// A shaft entry may carry its own `material`. Errors name the item (the
 /// section and its index), the key, the value and the accepted range; an

@@ -64,12 +64,14 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
 /// full FE DOFs (whirl judged there): as modes() for the full model.
 std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count);
 
-/// The steady response to an unbalance m e [kg m] at `node`, turning with the
-/// spin at speed w (angle 0 along +x at t = 0): q = Re(Q e^{i w t}) with
-/// (K - w^2 M + i w (C + w G)) Q = m e w^2 (1, -i) at the node's (x, y),
-/// in the full FE DOFs.
-Eigen::VectorXcd unbalance_response(const RotorMatrices& m, int node, double me_kg_m, double w_rad_per_s);
+/// The steady response to unbalances turning with the spin at speed w (spin
+/// angle 0 at t = 0): q = Re(Q e^{i w t}) with (K - w^2 M + i w (C + w G)) Q =
+/// F, F = m e w^2 e^{i phase} (1, -i) at each unbalance's node (x, y), in the
+/// full FE DOFs. Throws std::invalid_argument for a node out of range.
+Eigen::VectorXcd unbalance_response(const RotorMatrices& m, const std::vector<RotorUnbalance>& unbalances,
+                                    double w_rad_per_s);
 /// The same for a reduced rotor (forces projected, the response expanded).
-Eigen::VectorXcd unbalance_response(const ReducedRotor& r, int node, double me_kg_m, double w_rad_per_s);
+Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<RotorUnbalance>& unbalances,
+                                    double w_rad_per_s);
 
 }  // namespace rotor_rub::core

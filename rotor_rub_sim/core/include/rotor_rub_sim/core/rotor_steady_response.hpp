@@ -22,12 +22,6 @@
 
 namespace rotor_rub::core {
 
-struct RotorUnbalance {
-  int node = 0;
-  double me_kg_m = 0.0;    ///< m e
-  double phase_rad = 0.0;  ///< the force's direction at spin angle 0, from +x
-};
-
 struct StationStator {
   bool rigid = true;
   double mass_kg = 0.0, stiffness_N_per_m = 0.0, damping_N_s_per_m = 0.0;  ///< elastic only

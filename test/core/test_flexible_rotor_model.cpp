@@ -1,0 +1,98 @@
+// The reduced flexible rotor's free forces (flexible_rotor_model.hpp): at
+// rest in its coordinates they are the unbalances' forces of the full FE
+// model projected (spin angle, speed and acceleration as the Jeffcott's
+// law), and integrated in free flight from the closed-form steady state they
+// stay on it (the unbalance response), so the stiffness, damping and
+// gyroscopic terms are the ones the modal analysis uses.
+#include <gtest/gtest.h>
+
+#include <boost/numeric/odeint.hpp>
+#include <boost/numeric/odeint/external/eigen/eigen.hpp>
+#include <cmath>
+#include <complex>
+
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
+#include "rotor_rub_sim/core/rotor_file.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+
+namespace {
+
+struct SealRotor {
+  core::FeRotor rotor = core::load_rotor_file(test::source_path("config/rotors/seal_rub.yaml"));
+  core::RotorMatrices full = core::assemble(rotor);
+  core::ReducedRotor reduced = core::reduce_rotor(rotor, full, rotor.rub_station_node, 4);
+};
+
+}  // namespace
+
+// q = 0, q' = 0: the forces are the unbalances' alone, m e (w^2 (cos, sin) +
+// A (sin, -cos))(phi + beta) at each node, projected: E^T f. Roundoff: 1e-12
+// of the largest.
+TEST(FlexibleRotorModel, UnbalanceForcesAreTheFullModelsProjected) {
+  const SealRotor s;
+  const core::FlexibleRotorModel model(s.reduced, s.rotor.unbalances);
+  ASSERT_EQ(model.modal_size(), 6);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.modal_size());
+  for (const auto& [phi, w, a] : {std::tuple{0.0, 300.0, 0.0}, {1.1, 250.0, 70.0}, {4.0, 10.0, -500.0}}) {
+    core::DriveState d;
+    d.angle_rad = phi;
+    d.speed_rad_per_s = w;
+    d.accel_rad_per_s2 = a;
+    core::FlexibleRotorModel::FreeLoads loads;
+    model.free_loads(core::Vec2::Zero(), core::Vec2::Zero(), zero, zero, d, loads);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(s.full.M.rows());
+    for (const auto& u : s.rotor.unbalances) {
+      const double angle = phi + u.phase_rad;
+      f(core::dof_index(u.node, core::kDofX)) += u.me_kg_m * (w * w * std::cos(angle) + a * std::sin(angle));
+      f(core::dof_index(u.node, core::kDofY)) += u.me_kg_m * (w * w * std::sin(angle) - a * std::cos(angle));
+    }
+    const Eigen::VectorXd want = s.reduced.expansion.transpose() * f;
+    const double scale = want.cwiseAbs().maxCoeff();
+    EXPECT_LT((loads.station_N - want.head<2>()).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
+    EXPECT_LT((loads.modal_acc - want.tail(model.modal_size())).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
+  }
+}
+
+// Free flight at a constant 300 rad/s (above the first critical speed)
+// from the steady state of the reduced model's unbalance response: 0.05 s
+// later (15 turns) the motion is still Re(Q e^{i w t}). A force with a
+// wrong sign or a missing gyroscopic term starts a transient of the order
+// of the response itself; dopri5 at rtol 1e-10 keeps 1e-8 of it.
+TEST(FlexibleRotorModel, FreeFlightStaysOnTheUnbalanceResponse) {
+  const SealRotor s;
+  const core::FlexibleRotorModel model(s.reduced, s.rotor.unbalances);
+  const double w = 300.0, m_st = model.station_mass_kg();
+  const int n = s.reduced.size();
+  // Reduced response: E^T-projected forces, solved in the reduced matrices.
+  const Eigen::VectorXcd q_full = core::unbalance_response(s.reduced, s.rotor.unbalances, w);
+  // Back to reduced coordinates: the expansion has full column rank; least squares is exact here.
+  const Eigen::VectorXcd q = s.reduced.expansion.cast<std::complex<double>>().colPivHouseholderQr().solve(q_full);
+  using State = Eigen::VectorXd;
+  State x(2 * n);
+  const std::complex<double> i(0.0, 1.0);
+  for (int k = 0; k < n; ++k) {
+    x(k) = q(k).real();
+    x(n + k) = (i * w * q(k)).real();
+  }
+  core::FlexibleRotorModel::FreeLoads loads;
+  auto rhs = [&](const State& y, State& dy, double t) {
+    core::DriveState d;
+    d.angle_rad = w * t;
+    d.speed_rad_per_s = w;
+    model.free_loads(y.head<2>(), y.segment<2>(n), y.segment(2, n - 2), y.tail(n - 2), d, loads);
+    dy.head(n) = y.tail(n);
+    dy.segment<2>(n) = loads.station_N / m_st;
+    dy.tail(n - 2) = loads.modal_acc;
+  };
+  namespace odeint = boost::numeric::odeint;
+  using Stepper = odeint::runge_kutta_dopri5<State, double, State, double, odeint::vector_space_algebra>;
+  const double t_end = 0.05;
+  odeint::integrate_adaptive(odeint::make_controlled<Stepper>(1e-14, 1e-10), rhs, x, 0.0, t_end, 1e-5);
+  const double scale = q.cwiseAbs().maxCoeff();
+  for (int k = 0; k < n; ++k) {
+    const double want = (q(k) * std::exp(i * w * t_end)).real();
+    EXPECT_NEAR(x(k), want, 1e-8 * scale) << k;
+  }
+}
