@@ -43,11 +43,13 @@ void print_truncation_study(const rotor_rub::core::FeRotor& rotor, const rotor_r
   const std::vector<tools::TruncationRow> rows = tools::truncation_rows(rotor, m, study);
   std::printf("modal truncation at the rub station (node %d), against the full model (%d DOF):\n", station,
               rotor.dofs());
-  std::printf("  frequencies: the %d lowest at 0 and %g rad/s, relative", count, max_speed);
+  std::printf("  frequencies: the %d lowest at 0 and %g rad/s, relative",
+              std::min(count, static_cast<int>(rotor_rub::core::modes(m, 0.0, count).size())), max_speed);
   if (!unbalances.empty()) {
     std::printf("; response: unbalance");
     for (const auto& u : unbalances) std::printf(" %g kg m at node %d (%g rad)", u.me_kg_m, u.node, u.phase_rad);
-    std::printf(", %d speeds to %g rad/s, at the station and probe nodes", speeds - 1, max_speed);
+    std::printf(", %d speeds to %g rad/s, at the station", speeds - 1, max_speed);
+    if (!probes.empty()) std::printf(" and probe nodes");
     for (const int p : probes) std::printf(" %d", p);
     std::printf(", relative to the rotor's largest displacement");
   }
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
   int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1, station = -1;
   std::vector<int> probe_nodes;
   std::vector<core::RotorUnbalance> unbalances;
+  bool study = false;
   double tolerance = 1e-3;
   CLI::App app(
       "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
@@ -84,11 +87,16 @@ int main(int argc, char** argv) {
       ->check(cli::existing_file());
   app.add_option("--max-speed", max_speed, "the Campbell diagram's top speed [rad/s]")
       ->type_name("RAD_PER_S")
+      ->capture_default_str()
       ->check(cli::number_in(0.0, 1e6, true));
   app.add_option("--speeds", speeds, "speeds from 0 to --max-speed, evenly spaced")
       ->type_name("N")
+      ->capture_default_str()
       ->check(cli::integer_in(2, 100000));
-  app.add_option("--modes", count, "modes per speed (the lowest)")->type_name("N")->check(cli::integer_in(1, 1000));
+  app.add_option("--modes", count, "modes per speed (the lowest)")
+      ->type_name("N")
+      ->capture_default_str()
+      ->check(cli::integer_in(1, 1000));
   app.add_option("--campbell", campbell_csv, "write speed, mode, w_d, w_n, zeta, whirl per row to this CSV")
       ->type_name("FILE");
   app.add_option("--unbalance-node", unbalance_node,
@@ -104,13 +112,15 @@ int main(int argc, char** argv) {
   app.add_option("--response", response_csv, "write speed, |x|, phase x, |y|, phase y, forward, backward per row")
       ->type_name("FILE");
   app.add_option("--shapes", shapes_csv,
-                 "write the mode shapes at rest: mode, node, z, x and y (real and imaginary parts) per row; the "
-                 "largest entry of each mode is 1")
+                 "write the mode shapes at rest: mode, node, z, x and y (real and imaginary parts) per row; each "
+                 "mode scaled so that its largest displacement is 1")
       ->type_name("FILE");
+  app.add_flag("--study", study,
+               "print the modal truncation study at the rub station (the rotor file's, or --station): reduced models "
+               "of 1, 2, 4, ... planar modes against the full model; with unbalances, the unbalance response over "
+               "the speeds at the station and the probes too");
   app.add_option("--station", station,
-                 "the rub station's node (default: the rotor file's rub_station): print the modal truncation study "
-                 "there (reduced models of 1, 2, 4, ... planar modes against the full model; with unbalances, the "
-                 "unbalance response over the speeds at the station and the probes too)")
+                 "the rub station's node for the study (default: the rotor file's); implies --study")
       ->type_name("NODE")
       ->check(cli::integer_in(0, 100000));
   app.add_option("--probe-nodes", probe_nodes,
@@ -120,6 +130,7 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", tolerance,
                  "the study's recommendation: the smallest model whose frequency and response errors are within it")
       ->type_name("REL")
+      ->capture_default_str()
       ->check(cli::number_in(0.0, 1.0, true));
   app.footer("Exit status: 0 ok; 2 bad input (usage, a bad rotor file).");
   cli::parse_or_exit(app, argc, argv);
@@ -145,7 +156,11 @@ int main(int argc, char** argv) {
                                     " is out of range; accepted: 0 to " + std::to_string(rotor.nodes() - 1));
       }
     }
-    if (station < 0) station = rotor.rub_station_node;
+    if (station >= 0) study = true;
+    if (station < 0 && study) station = rotor.rub_station_node;
+    if (study && station < 0) {
+      throw std::invalid_argument("--study needs a rub station: the rotor file's rub_station, or --station");
+    }
     if (probe_nodes.empty()) probe_nodes = rotor.probe_nodes;
     if (probe_nodes.empty()) {
       for (const auto& b : rotor.bearings) {
@@ -204,10 +219,18 @@ int main(int argc, char** argv) {
       os.precision(12);
       int k = 0;
       for (const auto& md : core::modes(m, 0.0, count)) {
+        // Scaled so that the largest displacement is 1 (the shape's largest
+        // entry may be a tilt); a mode without displacement stays as it is.
+        double largest = 0.0;
+        for (int node = 0; node < rotor.nodes(); ++node) {
+          largest = std::max({largest, std::abs(md.shape(core::dof_index(node, core::kDofX))),
+                              std::abs(md.shape(core::dof_index(node, core::kDofY)))});
+        }
+        const double scale = largest > 1e-6 ? 1.0 / largest : 1.0;
         for (int node = 0; node < rotor.nodes(); ++node) {
           const double z = rotor.node_z_m(node);
-          const std::complex<double> x = md.shape(core::dof_index(node, core::kDofX)),
-                                     y = md.shape(core::dof_index(node, core::kDofY));
+          const std::complex<double> x = scale * md.shape(core::dof_index(node, core::kDofX)),
+                                     y = scale * md.shape(core::dof_index(node, core::kDofY));
           os << k << "," << node << "," << z << "," << x.real() << "," << x.imag() << "," << y.real() << "," << y.imag()
              << "," << md.damped_frequency_rad_per_s << "," << core::to_string(md.whirl) << "\n";
         }

@@ -219,11 +219,40 @@ TEST(FeRotor, ImportedMatricesAreTheSameRotor) {
             std::string::npos);
   EXPECT_NE(error_with([](core::RotorMatrices& b) { b.G(2, 3) = 1.0; }).find("key 'G': not skew-symmetric"),
             std::string::npos);
+  EXPECT_NE(error_with([](core::RotorMatrices& b) { b.C(4, 4) = -1e3; }).find("key 'C': not positive semi-definite"),
+            std::string::npos);
+  EXPECT_NE(load_error("matrices:\n  nodes_z_m: [0]\n  M: [[1, 0, 0, 0], [0, 1, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n"
+                       "  K: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n")
+                .find("key 'M': row 1 has 3 entries; accepted: 4"),
+            std::string::npos);
   EXPECT_NE(load_error("matrices:\n  nodes_z_m: [0]\n  M: [[1, 0, 0, 0]]\n  K: [[1]]\n").find("key 'M': 1 rows"),
             std::string::npos);
   EXPECT_NE(load_error("shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n" + matrices_file(m, z))
                 .find("gives both 'matrices' and 'shaft'"),
             std::string::npos);
+}
+
+// A rigid disk on a bearing, as matrices: its tilt, I_d theta'' -+ Omega I_p
+// theta' + k_t theta = 0, whirls at w = (-+Omega I_p + sqrt((Omega I_p)^2 + 4
+// I_d k_t)) / (2 I_d), backward the lower; its translation at sqrt(k / m).
+// The tilt modes move no displacement: their whirl is the slopes'.
+TEST(FeRotor, PureTiltWhirlsAsItsSlopes) {
+  const double m = 10.0, k = 1e6, id = 0.1, kt = 2e4, ip = 0.2, speed = 500.0;
+  core::RotorMatrices mat;
+  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
+  mat.K = Eigen::Vector4d(k, k, kt, kt).asDiagonal();
+  mat.C = Eigen::Matrix4d::Zero();
+  mat.G = Eigen::Matrix4d::Zero();
+  mat.G(core::kDofAlpha, core::kDofBeta) = ip;  // a disk's (fe_rotor.cpp)
+  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const auto md = core::modes(mat, speed, 4);
+  ASSERT_EQ(md.size(), 4u);
+  const double root = std::sqrt(std::pow(speed * ip, 2) + 4 * id * kt);
+  EXPECT_NEAR(md[0].damped_frequency_rad_per_s, (root - speed * ip) / (2 * id), 1e-9);
+  EXPECT_EQ(md[0].whirl, core::ModeWhirl::kBackward);
+  EXPECT_NEAR(md[1].damped_frequency_rad_per_s, std::sqrt(k / m), 1e-9);
+  EXPECT_NEAR(md[3].damped_frequency_rad_per_s, (root + speed * ip) / (2 * id), 1e-9);
+  EXPECT_EQ(md[3].whirl, core::ModeWhirl::kForward);
 }
 
 // The stations a rotor file names: unbalances, the rub station, the probes.

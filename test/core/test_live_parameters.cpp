@@ -236,9 +236,9 @@ TEST_P(LiveChange, MotorSpinAndRigidStatorFrameCarryOver) {
 // m g / k (1.64 mm, inside the 2 mm clearance of a rigid bore); its shaft
 // stiffness falls to k' at 1 s, the new sag (2.73 mm) lies beyond the bore,
 // and it comes to rest on the bore's bottom, pressed by N = m g - k' C.
-// Damped past critical both sides (zeta 1 and 1.29), so the rest is reached
-// to e^-40 by each checkpoint. A plastic touchdown straight down: no
-// sliding, the rotor stays at x = 0.
+// Critically damped before (zeta 1: at rest to e^-77 by 1 s); after the
+// change the rotor falls onto the bore, where the plastic touchdown straight
+// down ends its motion (no sliding: it stays at x = 0).
 TEST_P(LiveChange, SupportLooseningUnderGravityRestsOnTheBore) {
   core::Scene s = test::with_method(test::paper_scene(), GetParam(), 1e-10, 1e-13);
   s.model.stator_model = core::StatorModel::kRigid;

@@ -123,4 +123,6 @@ TEST(ModalCli, BadInputIsOneLineWithStatus2) {
       modal("--rotor " + rotor("seal_rub.yaml") + " --modes 2 --max-speed 100 --station 6 --probe-nodes 40"),
       "probe node 40 is out of range");
   expect_bad_input(modal("--rotor " + rotor("seal_rub.yaml") + " --tolerance 2"), "--tolerance");
+  expect_bad_input(modal("--rotor " + rotor("ross_example.yaml") + " --modes 2 --study"),
+                   "--study needs a rub station");
 }

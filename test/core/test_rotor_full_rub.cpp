@@ -60,6 +60,22 @@ TEST(FlexibleFullRub, EveryBranchPutsTheStationOnTheBore) {
                    y = s.response(core::dof_index(node, core::kDofY));
           EXPECT_LT(std::abs(y + cd(0, 1) * x), 1e-9 * std::abs(zr)) << node;
         }
+        // The rotor's own equation, D q = f_unbalance + f_contact, with the
+        // contact force rebuilt here from N and the normal the positions give.
+        {
+          const cd n = (zr - s.stator_m) / C;
+          const cd contact = -s.normal_force_N * cd(1, f) * n;
+          Eigen::VectorXcd force = Eigen::VectorXcd::Zero(m.M.rows());
+          for (const auto& u : unbalance) {
+            const cd fu = u.me_kg_m * w * w * std::polar(1.0, u.phase_rad);
+            force(core::dof_index(u.node, core::kDofX)) += fu;
+            force(core::dof_index(u.node, core::kDofY)) += cd(0, -1) * fu;
+          }
+          force(core::dof_index(6, core::kDofX)) += contact;
+          force(core::dof_index(6, core::kDofY)) += cd(0, -1) * contact;
+          const Eigen::MatrixXcd d = m.K.cast<cd>() - w * w * m.M.cast<cd>() + cd(0, w) * (m.C + w * m.G).cast<cd>();
+          EXPECT_LT((d * s.response - force).cwiseAbs().maxCoeff(), 1e-9 * force.cwiseAbs().maxCoeff()) << w;
+        }
         // The stator's equation: B z_s = N (1 + i f) n, n = (z_r - z_s) / C.
         if (!stator.rigid) {
           const cd b(stator.stiffness_N_per_m - stator.mass_kg * w * w, stator.damping_N_s_per_m * w);

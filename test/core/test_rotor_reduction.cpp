@@ -209,4 +209,12 @@ TEST(RotorReduction, BadRequestsNameTheValueAndTheRange) {
   EXPECT_NE(error(pivot, core::assemble(pivot), 6, 2).find("cannot stand"), std::string::npos)
       << error(pivot, core::assemble(pivot), 6, 2);
   EXPECT_THROW(core::unbalance_response(full, {{13, 1e-4, 0.0}}, 100.0), std::invalid_argument);
+  // Imported matrices whose y-z plane is not the x-z plane's twin (a mass
+  // added to y alone): the promised M = diag(m_st, m_st, I) cannot hold.
+  core::FeRotor lopsided;
+  lopsided.imported = full;
+  lopsided.imported->M(core::dof_index(3, core::kDofY), core::dof_index(3, core::kDofY)) += 1.0;
+  for (int node = 0; node < rotor.nodes(); ++node) lopsided.imported_node_z_m.push_back(rotor.node_z_m(node));
+  EXPECT_NE(error(lopsided, *lopsided.imported, 6, 2).find("not the same in its x-z and y-z planes"), std::string::npos)
+      << error(lopsided, *lopsided.imported, 6, 2);
 }

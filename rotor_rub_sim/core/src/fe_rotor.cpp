@@ -128,7 +128,14 @@ ElementMatrix shaft_gyroscopic(const ShaftElement& e) {
 }
 
 RotorMatrices assemble(const FeRotor& rotor) {
-  if (rotor.imported) return *rotor.imported;
+  if (rotor.imported) {
+    if (rotor.imported->M.rows() != rotor.dofs() || !rotor.shaft.empty() || !rotor.disks.empty() ||
+        !rotor.bearings.empty()) {
+      refuse("rotor: imported matrices of " + std::to_string(rotor.imported->M.rows()) + " DOF for " +
+             std::to_string(rotor.nodes()) + " nodes, or beside elements; accepted: 4 DOF per node, alone");
+    }
+    return *rotor.imported;
+  }
   if (rotor.shaft.empty()) refuse("rotor: no shaft elements");
   const int n = rotor.dofs();
   RotorMatrices m;
@@ -202,19 +209,34 @@ namespace {
 // A node's orbit x = Re(u e^{i w t}), y = Re(v e^{i w t}) turns forward
 // (counter-clockwise) when Im(conj(u) v) < 0 (u = 1, v = -i: x = cos, y = sin).
 // Relative to the orbit's size; below 1e-3 it is a line (a planar mode).
+// The slopes (dx/dz, dy/dz) = (beta, -alpha) whirl the same way as the
+// displacements and are judged alike, so that a mode with (nearly) no
+// displacement, a disk's pure tilt, gets the whirl of its tilt; a kind of
+// motion (displacements, slopes) below 1e-6 of the shape's largest entry is
+// left out as roundoff.
 ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
-  double largest = 0.0;
-  for (int k = 0; k < nodes; ++k) {
-    largest = std::max(largest, std::norm(shape(dof_index(k, kDofX))) + std::norm(shape(dof_index(k, kDofY))));
-  }
+  using Complex = std::complex<double>;
+  struct Pair {
+    NodeDof u, v;
+    double v_sign;
+  };
+  const Pair kinds[2] = {{kDofX, kDofY, 1.0}, {kDofBeta, kDofAlpha, -1.0}};
+  const double entry = shape.cwiseAbs().maxCoeff();
   bool forward = false, backward = false;
-  for (int k = 0; k < nodes; ++k) {
-    const std::complex<double> u = shape(dof_index(k, kDofX)), v = shape(dof_index(k, kDofY));
-    const double size = std::norm(u) + std::norm(v);
-    if (size < 1e-12 * largest) continue;  // a node at rest (a bearing's, say)
-    const double turn = -std::imag(std::conj(u) * v) / size;
-    if (turn > 1e-3) forward = true;
-    if (turn < -1e-3) backward = true;
+  for (const Pair& kind : kinds) {
+    double largest = 0.0;
+    for (int k = 0; k < nodes; ++k) {
+      largest = std::max(largest, std::norm(shape(dof_index(k, kind.u))) + std::norm(shape(dof_index(k, kind.v))));
+    }
+    if (!(std::sqrt(largest) > 1e-6 * entry)) continue;
+    for (int k = 0; k < nodes; ++k) {
+      const Complex u = shape(dof_index(k, kind.u)), v = kind.v_sign * shape(dof_index(k, kind.v));
+      const double size = std::norm(u) + std::norm(v);
+      if (size < 1e-12 * largest) continue;  // a node at rest (a bearing's, say)
+      const double turn = -std::imag(std::conj(u) * v) / size;
+      if (turn > 1e-3) forward = true;
+      if (turn < -1e-3) backward = true;
+    }
   }
   if (forward && backward) return ModeWhirl::kMixed;
   return backward ? ModeWhirl::kBackward : ModeWhirl::kForward;  // a planar mode counts as forward

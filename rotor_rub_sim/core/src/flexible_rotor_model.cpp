@@ -35,6 +35,11 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
 void FlexibleRotorModel::free_loads(const Vec2& u, const Vec2& u_dot, const Eigen::VectorXd& xi,
                                     const Eigen::VectorXd& xi_dot, const DriveState& d, FreeLoads& out) const {
   const int m = modal_size();
+  if (xi.size() != m || xi_dot.size() != m) {
+    throw std::invalid_argument("FlexibleRotorModel: " + std::to_string(xi.size()) + " and " +
+                                std::to_string(xi_dot.size()) + " modal coordinates given; the model has " +
+                                std::to_string(m));
+  }
   q_.head<2>() = u;
   q_.tail(m) = xi;
   q_dot_.head<2>() = u_dot;

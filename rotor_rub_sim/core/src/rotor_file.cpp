@@ -233,7 +233,11 @@ FeRotor load_rotor_file(const std::string& path) {
       rotor.disks.push_back(d);
     } else {
       const double od = r.required("outer_diameter_m", 0.0, true, kInf);
-      const double id = r.number("inner_diameter_m", 0.0, false, od, 0.0);
+      const double id = r.number("inner_diameter_m", 0.0, false, kInf, 0.0);
+      if (!(id < od)) {
+        r.fail("key 'inner_diameter_m': value " + std::to_string(id) +
+               " is out of range; accepted: [0, outer_diameter_m)");
+      }
       rotor.disks.push_back(DiskElement::from_geometry(node, material, r.required("width_m", 0.0, true, kInf), id, od));
     }
   }

@@ -1,6 +1,7 @@
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <complex>
 #include <stdexcept>
 #include <string>
@@ -125,6 +126,17 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   r.matrices.C = project(m.C);
   r.matrices.G = project(m.G);
   r.station_mass_kg = r.matrices.M(ReducedRotor::kStationX, ReducedRotor::kStationX);
+  // The promised M = diag(m_st, m_st, I) holds when the two planes are twins
+  // (an axisymmetric rotor in [x, y, alpha, beta] per node); matrices from
+  // elsewhere (imported) may not be.
+  Eigen::MatrixXd want = Eigen::MatrixXd::Identity(size, size);
+  want(0, 0) = want(1, 1) = r.station_mass_kg;
+  if (!((r.matrices.M - want).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, r.station_mass_kg))) {
+    throw std::invalid_argument(
+        "rub station: node " + std::to_string(station_node) +
+        ": the rotor's mass is not the same in its x-z and y-z planes (M's y, alpha rows are not the x, -beta rows: "
+        "matrices in another DOF order, or of a rotor that is not axisymmetric)");
+  }
   return r;
 }
 

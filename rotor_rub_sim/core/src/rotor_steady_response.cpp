@@ -44,7 +44,8 @@ std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int st
   const int x = dof_index(station_node, kDofX), y = dof_index(station_node, kDofY);
   // Forward: y = -i x at the station. An anisotropic rotor answers a
   // forward force with a backward part too (elliptic orbits).
-  if (std::abs(by_unit(y) + cd(0.0, 1.0) * by_unit(x)) > 1e-9 * std::abs(by_unit(x))) {
+  if (std::abs(by_unit(y) + cd(0.0, 1.0) * by_unit(x)) > 1e-9 * std::abs(by_unit(x)) ||
+      std::abs(by_unbalance(y) + cd(0.0, 1.0) * by_unbalance(x)) > 1e-9 * std::abs(by_unbalance(x))) {
     throw std::invalid_argument(
         "synchronous full rub: the rotor is not isotropic (a bearing with kxx != kyy or kxy != -kyx, or its "
         "damping alike): its orbits are ellipses, not the circles of a full annular rub");
@@ -55,6 +56,7 @@ std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int st
                     : 1.0 / cd(stator.stiffness_N_per_m - stator.mass_kg * w * w, stator.damping_N_s_per_m * w);
   const cd g = cd(1.0, friction_coefficient) * (h + hs);
   std::vector<FlexibleFullRub> out;
+  if (!(std::abs(u0) > 0.0)) return out;  // no unbalance moves the station: nothing presses it on the bore
   for (const double normal_force : positive_circle_roots(clearance_m, g, std::abs(u0))) {
     const cd normal = u0 / (clearance_m + normal_force * g);                    // n at spin angle 0
     const cd contact = -normal_force * cd(1.0, friction_coefficient) * normal;  // on the rotor

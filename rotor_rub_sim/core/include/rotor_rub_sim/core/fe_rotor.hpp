@@ -24,6 +24,7 @@
 #include <Eigen/Dense>
 #include <complex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,10 @@ struct FeRotor {
   int nodes() const {
     return imported ? static_cast<int>(imported_node_z_m.size()) : static_cast<int>(shaft.size()) + 1;
   }
-  /// A node's position along the shaft from node 0 [m].
+  /// A node's position along the shaft [m]: from node 0 for elements, the
+  /// file's z for imported matrices. node in [0, nodes()).
   double node_z_m(int node) const {
+    if (node < 0 || node >= nodes()) throw std::out_of_range("node_z_m: node " + std::to_string(node));
     if (imported) return imported_node_z_m[static_cast<std::size_t>(node)];
     double z = 0.0;
     for (int i = 0; i < node; ++i) z += shaft[static_cast<std::size_t>(i)].length_m;

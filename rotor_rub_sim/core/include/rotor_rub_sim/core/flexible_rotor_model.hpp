@@ -37,7 +37,9 @@ class FlexibleRotorModel {
     Eigen::VectorXd modal_acc;      ///< xi'' [sqrt(kg) m / s^2] (M = I there)
   };
   /// At the station's position u and velocity u_dot [m, m/s], the modal
-  /// coordinates xi, xi_dot, and the drive d. modal_acc is resized once.
+  /// coordinates xi, xi_dot (modal_size() each, else std::invalid_argument),
+  /// and the drive d. modal_acc is resized once. Not thread-safe: a work
+  /// space is kept in the model (one model per run, as the methods hold theirs).
   void free_loads(const Vec2& u, const Vec2& u_dot, const Eigen::VectorXd& xi, const Eigen::VectorXd& xi_dot,
                   const DriveState& d, FreeLoads& out) const;
 

@@ -13,9 +13,13 @@
 ///   unbalances: # m e [kg m] and the force's direction at spin angle 0 [rad, from +x]
 ///     - {node: 2, me_kg_m: 1e-4, phase_rad: 0}
 ///   rub_station: {node: 3, contact_radius_m: 0.05}  # where the stator is met, the surface's radius there
+///                                                   # (read for the contact methods; not used yet)
 ///   probes:     # X/Y proximity probe pairs (their angles and signals are the scene's probe keys)
 ///     - {node: 0}
 ///
+/// Or, in place of material, shaft, disks and bearings, the assembled
+///   matrices: {nodes_z_m: [...], M: [[...]], K: [[...]], C: [[...]], G: [[...]]}
+/// (4 DOF per node, [x, y, alpha, beta]; C and G optional; docs/rotors.md).
 /// A shaft entry may carry its own `material`. Errors name the item (the
 /// section and its index), the key, the value and the accepted range; an
 /// unknown key names the nearest known one.
