@@ -10,6 +10,7 @@
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
+#include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "test_support.hpp"
 
 using namespace rotor_rub;
@@ -446,21 +447,22 @@ INSTANTIATE_TEST_SUITE_P(RigidMethods, DriveChange, ::testing::ValuesIn(test::ri
 // far below the 1e-6 s a stall or a missed touchdown moves it).
 class ViolentTouchdown : public ::testing::TestWithParam<test::Solver> {};
 
+namespace {
+// The first contact (a touchdown or a graze) of a run that must end ok.
+double first_contact_of(const core::Scene& scene) {
+  const test::Run r = test::run(scene);
+  EXPECT_FALSE(r.result.failure) << r.result.failure->message;
+  return core::first_contact_s(r.out.events);
+}
+}  // namespace
+
 TEST_P(ViolentTouchdown, TightToleranceRunsThroughAtTheSameInstant) {
   core::Scene s = test::paper_scene();
   s.model.friction_coefficient = 0.5;
   s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 600.0;
   s.end_time_s = 0.05;
-  auto first_touchdown = [](const core::Scene& scene) {
-    const test::Run r = test::run(scene);
-    EXPECT_FALSE(r.result.failure) << r.result.failure->message;
-    for (const auto& e : r.out.events) {
-      if (e.kind != core::EventKind::kLiftoff) return e.t_s;
-    }
-    return std::numeric_limits<double>::quiet_NaN();
-  };
-  const double reference = first_touchdown(test::with_method(s, test::Solver{}, 1e-12, 1e-15));
-  const double t = first_touchdown(test::with_method(s, GetParam(), 1e-10, 1e-13));
+  const double reference = first_contact_of(test::with_method(s, test::Solver{}, 1e-12, 1e-15));
+  const double t = first_contact_of(test::with_method(s, GetParam(), 1e-10, 1e-13));
   EXPECT_NEAR(t, reference, 1e-9);
   EXPECT_GT(reference, 0.006);  // a touchdown at all, before the end
 }
@@ -484,17 +486,9 @@ TEST_P(ShallowGraze, ContactShorterThanAStepIsFelt) {
   s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 300.0;
   s.end_time_s = 0.02;
   s.model.clearance_m = 1.967857603e-3 - 1e-9;
-  auto first_contact = [](const core::Scene& scene) {
-    const test::Run r = test::run(scene);
-    EXPECT_FALSE(r.result.failure) << r.result.failure->message;
-    for (const auto& e : r.out.events) {
-      if (e.kind != core::EventKind::kLiftoff) return e.t_s;
-    }
-    return std::numeric_limits<double>::quiet_NaN();
-  };
-  const double reference = first_contact(test::with_method(s, test::Solver{}, 1e-12, 1e-15));
+  const double reference = first_contact_of(test::with_method(s, test::Solver{}, 1e-12, 1e-15));
   ASSERT_NEAR(reference, 0.0165, 1e-4);  // the graze is there to be found
-  EXPECT_NEAR(first_contact(test::with_method(s, GetParam(), 1e-9, 1e-12)), reference, 1e-6);
+  EXPECT_NEAR(first_contact_of(test::with_method(s, GetParam(), 1e-9, 1e-12)), reference, 1e-6);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, ShallowGraze, ::testing::ValuesIn(test::all_solvers()),
