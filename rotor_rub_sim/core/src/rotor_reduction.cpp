@@ -144,16 +144,13 @@ std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count
   return modes(r.matrices, speed_rad_per_s, count, r.expansion);
 }
 
-namespace {
-
-Eigen::VectorXcd solve_unbalance(const RotorMatrices& m, const Eigen::VectorXcd& f, double w) {
+Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w) {
   const std::complex<double> i(0.0, 1.0);
-  const Eigen::MatrixXcd d = m.K.cast<std::complex<double>>() - w * w * m.M.cast<std::complex<double>>() +
-                             i * w * (m.C + w * m.G).cast<std::complex<double>>();
-  return d.partialPivLu().solve(f);
+  return m.K.cast<std::complex<double>>() - w * w * m.M.cast<std::complex<double>>() +
+         i * w * (m.C + w * m.G).cast<std::complex<double>>();
 }
 
-Eigen::VectorXcd unbalance_force(int dofs, const std::vector<RotorUnbalance>& unbalances, double w) {
+Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w) {
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(dofs);
   for (const RotorUnbalance& u : unbalances) {
     if (u.node < 0 || 4 * u.node >= dofs) {
@@ -167,18 +164,18 @@ Eigen::VectorXcd unbalance_force(int dofs, const std::vector<RotorUnbalance>& un
   return f;
 }
 
-}  // namespace
-
 Eigen::VectorXcd unbalance_response(const RotorMatrices& m, const std::vector<RotorUnbalance>& unbalances,
                                     double w_rad_per_s) {
-  return solve_unbalance(m, unbalance_force(static_cast<int>(m.M.rows()), unbalances, w_rad_per_s), w_rad_per_s);
+  return dynamic_stiffness(m, w_rad_per_s)
+      .partialPivLu()
+      .solve(unbalance_forces(static_cast<int>(m.M.rows()), unbalances, w_rad_per_s));
 }
 
 Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<RotorUnbalance>& unbalances,
                                     double w_rad_per_s) {
   const Eigen::MatrixXcd e = r.expansion.cast<std::complex<double>>();
-  const Eigen::VectorXcd f = unbalance_force(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s);
-  return e * solve_unbalance(r.matrices, e.transpose() * f, w_rad_per_s);
+  const Eigen::VectorXcd f = unbalance_forces(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s);
+  return e * dynamic_stiffness(r.matrices, w_rad_per_s).partialPivLu().solve(e.transpose() * f);
 }
 
 }  // namespace rotor_rub::core

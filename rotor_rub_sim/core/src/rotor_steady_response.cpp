@@ -5,19 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "rotor_rub_sim/core/rotor_reduction.hpp"
 #include "rotor_rub_sim/core/steady_response.hpp"
 
 namespace rotor_rub::core {
 namespace {
-
 using cd = std::complex<double>;
-
-// A forward force of complex amplitude F (z = x + i y) at a node: x = Re(F e^{iwt}), y = Re(-i F e^{iwt}).
-void add_forward_force(Eigen::VectorXcd& f, int node, cd force) {
-  f(dof_index(node, kDofX)) += force;
-  f(dof_index(node, kDofY)) += cd(0.0, -1.0) * force;
-}
-
 }  // namespace
 
 std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int station_node,
@@ -32,16 +25,13 @@ std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int st
     }
   };
   check_node(station_node, "rub station");
-  const Eigen::MatrixXcd d = m.K.cast<cd>() - w * w * m.M.cast<cd>() + cd(0.0, w) * (m.C + w * m.G).cast<cd>();
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(d);
-  Eigen::VectorXcd unit = Eigen::VectorXcd::Zero(n), unbalance = Eigen::VectorXcd::Zero(n);
-  add_forward_force(unit, station_node, 1.0);
-  for (const RotorUnbalance& u : unbalances) {
-    check_node(u.node, "unbalance");
-    add_forward_force(unbalance, u.node, u.me_kg_m * w * w * std::polar(1.0, u.phase_rad));
-  }
-  const Eigen::VectorXcd by_unit = lu.solve(unit), by_unbalance = lu.solve(unbalance);
   const int x = dof_index(station_node, kDofX), y = dof_index(station_node, kDofY);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(dynamic_stiffness(m, w));
+  // The response to a unit forward force at the station (its receptance).
+  Eigen::VectorXcd unit = Eigen::VectorXcd::Zero(n);
+  unit(x) = 1.0;
+  unit(y) = cd(0.0, -1.0);
+  const Eigen::VectorXcd by_unit = lu.solve(unit), by_unbalance = lu.solve(unbalance_forces(n, unbalances, w));
   // Forward: y = -i x at the station. An anisotropic rotor answers a
   // forward force with a backward part too (elliptic orbits).
   if (std::abs(by_unit(y) + cd(0.0, 1.0) * by_unit(x)) > 1e-9 * std::abs(by_unit(x)) ||

@@ -64,6 +64,14 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
 /// full FE DOFs (whirl judged there): as modes() for the full model.
 std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count);
 
+/// D(w) = K - w^2 M + i w (C + w G): the steady response to forces turning
+/// at w is Q = D^-1 F (q = Re(Q e^{i w t})).
+Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w_rad_per_s);
+/// The complex amplitudes F of the unbalances' forces at speed w: m e w^2
+/// e^{i phase} at each node's x and -i times that at its y (a forward force).
+/// Throws std::invalid_argument for a node out of range.
+Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w_rad_per_s);
+
 /// The steady response to unbalances turning with the spin at speed w (spin
 /// angle 0 at t = 0): q = Re(Q e^{i w t}) with (K - w^2 M + i w (C + w G)) Q =
 /// F, F = m e w^2 e^{i phase} (1, -i) at each unbalance's node (x, y), in the
