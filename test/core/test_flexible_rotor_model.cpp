@@ -34,14 +34,11 @@ TEST(FlexibleRotorModel, UnbalanceForcesAreTheFullModelsProjected) {
   const SealRotor s;
   const core::FlexibleRotorModel model(s.reduced, s.rotor.unbalances);
   ASSERT_EQ(model.modal_size(), 6);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.modal_size());
+  const core::ModalState zero = core::ModalState::Zero(2 * model.modal_size());
   for (const auto& [phi, w, a] : {std::tuple{0.0, 300.0, 0.0}, {1.1, 250.0, 70.0}, {4.0, 10.0, -500.0}}) {
-    core::DriveState d;
-    d.angle_rad = phi;
-    d.speed_rad_per_s = w;
-    d.accel_rad_per_s2 = a;
-    core::FlexibleRotorModel::FreeLoads loads;
-    model.free_loads(core::Vec2::Zero(), core::Vec2::Zero(), zero, zero, d, loads);
+    core::ModalVector modal_acc(model.modal_size());
+    const core::Vec2 station_N = model.free_loads(core::Vec2::Zero(), core::Vec2::Zero(), zero,
+                                                  core::Vec2(std::cos(phi), std::sin(phi)), w, a, modal_acc);
     Eigen::VectorXd f = Eigen::VectorXd::Zero(s.full.M.rows());
     for (const auto& u : s.rotor.unbalances) {
       const double angle = phi + u.phase_rad;
@@ -50,8 +47,8 @@ TEST(FlexibleRotorModel, UnbalanceForcesAreTheFullModelsProjected) {
     }
     const Eigen::VectorXd want = s.reduced.expansion.transpose() * f;
     const double scale = want.cwiseAbs().maxCoeff();
-    EXPECT_LT((loads.station_N - want.head<2>()).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
-    EXPECT_LT((loads.modal_acc - want.tail(model.modal_size())).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
+    EXPECT_LT((station_N - want.head<2>()).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
+    EXPECT_LT((modal_acc - want.tail(model.modal_size())).cwiseAbs().maxCoeff(), 1e-12 * scale) << phi;
   }
 }
 
@@ -76,15 +73,15 @@ TEST(FlexibleRotorModel, FreeFlightStaysOnTheUnbalanceResponse) {
     x(k) = q(k).real();
     x(n + k) = (i * w * q(k)).real();
   }
-  core::FlexibleRotorModel::FreeLoads loads;
   auto rhs = [&](const State& y, State& dy, double t) {
-    core::DriveState d;
-    d.angle_rad = w * t;
-    d.speed_rad_per_s = w;
-    model.free_loads(y.head<2>(), y.segment<2>(n), y.segment(2, n - 2), y.tail(n - 2), d, loads);
+    core::ModalState modal(2 * (n - 2));
+    modal << y.segment(2, n - 2), y.tail(n - 2);
+    core::ModalVector modal_acc(n - 2);
+    const core::Vec2 station_N = model.free_loads(y.head<2>(), y.segment<2>(n), modal,
+                                                  core::Vec2(std::cos(w * t), std::sin(w * t)), w, 0.0, modal_acc);
     dy.head(n) = y.tail(n);
-    dy.segment<2>(n) = loads.station_N / m_st;
-    dy.tail(n - 2) = loads.modal_acc;
+    dy.segment<2>(n) = station_N / m_st;
+    dy.tail(n - 2) = modal_acc;
   };
   namespace odeint = boost::numeric::odeint;
   using Stepper = odeint::runge_kutta_dopri5<State, double, State, double, odeint::vector_space_algebra>;
@@ -95,4 +92,45 @@ TEST(FlexibleRotorModel, FreeFlightStaysOnTheUnbalanceResponse) {
     const double want = (q(k) * std::exp(i * w * t_end)).real();
     EXPECT_NEAR(x(k), want, 1e-8 * scale) << k;
   }
+}
+
+// The rates (the switching method's jerk) are the forces' time derivatives
+// along a motion: against a central difference of free_loads along q(t) = q0
+// + q0' t + q0'' t^2 / 2 under phi = phi0 + w t + A t^2 / 2, w(t) = w0 + A t.
+// The difference's truncation error (h^2 / 6 of the third derivative,
+// h = 1e-6 s) and rounding (1e-16 |f| / h) are both below 1e-7 of the rate.
+TEST(FlexibleRotorModel, RatesAreTheForcesTimeDerivatives) {
+  const SealRotor s;
+  const core::FlexibleRotorModel model(s.reduced, s.rotor.unbalances);
+  const int n = model.modal_size();
+  Eigen::VectorXd q0(n + 2), v0(n + 2), a0(n + 2);
+  for (int i = 0; i < n + 2; ++i) {
+    q0(i) = 1e-4 * std::sin(1.0 + i);
+    v0(i) = 3e-2 * std::cos(2.0 * i);
+    a0(i) = 10.0 * std::sin(0.5 + 3.0 * i);
+  }
+  const double phi0 = 0.7, w0 = 260.0, A = 70.0, h = 1e-6;
+  auto loads_at = [&](double t, Eigen::VectorXd& out) {
+    const Eigen::VectorXd q = q0 + v0 * t + 0.5 * a0 * t * t, v = v0 + a0 * t;
+    core::ModalState modal(2 * n);
+    modal << q.tail(n), v.tail(n);
+    const double phi = phi0 + w0 * t + 0.5 * A * t * t;
+    core::ModalVector acc(n);
+    out.resize(n + 2);
+    out.head<2>() =
+        model.free_loads(q.head<2>(), v.head<2>(), modal, core::Vec2(std::cos(phi), std::sin(phi)), w0 + A * t, A, acc);
+    out.tail(n) = acc;
+  };
+  Eigen::VectorXd before, after;
+  loads_at(-h, before);
+  loads_at(h, after);
+  const Eigen::VectorXd want = (after - before) / (2.0 * h);
+  core::ModalState rates(2 * n);
+  rates << v0.tail(n), a0.tail(n);
+  core::ModalVector jerk(n);
+  const core::Vec2 station_rate =
+      model.free_load_rates(v0.head<2>(), a0.head<2>(), rates, core::Vec2(std::cos(phi0), std::sin(phi0)), w0, A, jerk);
+  const double scale = want.cwiseAbs().maxCoeff();
+  EXPECT_LT((station_rate - want.head<2>()).cwiseAbs().maxCoeff(), 1e-7 * scale);
+  EXPECT_LT((jerk - want.tail(n)).cwiseAbs().maxCoeff(), 1e-7 * scale);
 }

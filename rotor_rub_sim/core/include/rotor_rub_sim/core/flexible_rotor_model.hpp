@@ -2,9 +2,7 @@
 /// The reduced flexible rotor's free forces (rotor_reduction.hpp) in the
 /// form the contact methods take the Jeffcott's (model.hpp): the force on the
 /// rub station, a point of mass m_st, and the accelerations of the modal
-/// coordinates, which no contact force reaches. The building block of the
-/// methods' seam (docs/rotors.md); tested on its own against the unbalance
-/// response.
+/// coordinates, which no contact force reaches (docs/rotors.md, the seam).
 ///
 /// In q = [u, xi] (M = diag(m_st I, I)):
 ///   M q'' = -K q - (C + w G) q' + f(phi, w, A) + [F_contact; 0],
@@ -12,6 +10,9 @@
 /// a and b the unbalances' forces (projected) at spin angle 0 and a quarter
 /// turn on, per unit w^2: each unbalance m e at angle beta pushes its node by
 /// m e (w^2 (cos, sin) + A (sin, -cos))(phi + beta), the Jeffcott's law.
+/// u is the station's displacement in the casing's frame, where the bearings
+/// sit. No gravity and no drive coupling (the unbalances' lever on the spin):
+/// a flexible rotor runs under the prescribed drive.
 #pragma once
 
 #include <Eigen/Dense>
@@ -19,37 +20,78 @@
 
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
-#include "rotor_rub_sim/core/speed_profile.hpp"
 
 namespace rotor_rub::core {
 
+/// xi, xi'' or xi''' of a flexible rotor (at most kMaxModalCoordinates).
+using ModalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates, 1>;
+
 class FlexibleRotorModel {
  public:
-  /// Throws std::invalid_argument for an unbalance on no node.
+  /// Throws std::invalid_argument for an unbalance on no node or a rotor of
+  /// more than kMaxPlanarModes planar modes.
   FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances);
 
-  int modal_size() const { return static_cast<int>(k_.rows()) - 2; }
+  int modal_size() const { return static_cast<int>(k_.rows()) - 2; }  ///< n: xi's entries
   double station_mass_kg() const { return station_mass_kg_; }
   const ReducedRotor& rotor() const { return rotor_; }
 
-  struct FreeLoads {
-    Vec2 station_N = Vec2::Zero();  ///< every force on the station but the contact's [N]
-    Eigen::VectorXd modal_acc;      ///< xi'' [sqrt(kg) m / s^2] (M = I there)
-  };
-  /// At the station's position u and velocity u_dot [m, m/s], the modal
-  /// coordinates xi, xi_dot (modal_size() each, else std::invalid_argument),
-  /// and the drive d. modal_acc is resized once. Not thread-safe: a work
-  /// space is kept in the model (one model per run, as the methods hold theirs).
-  void free_loads(const Vec2& u, const Vec2& u_dot, const Eigen::VectorXd& xi, const Eigen::VectorXd& xi_dot,
-                  const DriveState& d, FreeLoads& out) const;
+  /// Every force but the contact's at the station's position and velocity
+  /// u, u_dot [m, m/s] (the casing's frame) and the modal block modal =
+  /// [xi; xi'] (2 n), for the unbalance's direction unbalance_dir (cos, sin)
+  /// of the spin angle (the scene's unbalance_phase_rad added: it turns every
+  /// unbalance), the spin speed w and acceleration A: the station's [N],
+  /// returned, and the modal accelerations xi'' (n), written to xi_acc.
+  template <class Modal, class Out>
+  Vec2 free_loads(const Vec2& u, const Vec2& u_dot, const Eigen::MatrixBase<Modal>& modal, const Vec2& unbalance_dir,
+                  double w, double A, const Eigen::MatrixBase<Out>& xi_acc) const {
+    const int n = modal_size();
+    Reduced q(n + 2), q_dot(n + 2), f(n + 2);
+    q.head<2>() = u;
+    q.tail(n) = modal.head(n);
+    q_dot.head<2>() = u_dot;
+    q_dot.tail(n) = modal.tail(n);
+    const double c = unbalance_dir.x(), s = unbalance_dir.y();
+    f.noalias() = -k_ * q;
+    f.noalias() -= c_ * q_dot;
+    f.noalias() -= w * (g_ * q_dot);
+    f += (w * w * c + A * s) * a_ + (w * w * s - A * c) * b_;
+    const_cast<Eigen::MatrixBase<Out>&>(xi_acc) = f.tail(n);
+    return f.head<2>();
+  }
+
+  /// The time derivatives of the same along a motion under the prescribed
+  /// drive (A constant on a speed segment): with the station's velocity and
+  /// acceleration and rates = [xi'; xi''], the station force's rate [N/s]
+  /// (returned) and xi''' (written to xi_jerk):
+  ///   d/dt (-K q - (C + w G) q' + f) = -K q' - (C + w G) q'' - A G q'
+  ///     + 3 w A (a cos phi + b sin phi) + w^3 (b cos phi - a sin phi).
+  template <class Modal, class Out>
+  Vec2 free_load_rates(const Vec2& u_dot, const Vec2& u_acc, const Eigen::MatrixBase<Modal>& rates,
+                       const Vec2& unbalance_dir, double w, double A, const Eigen::MatrixBase<Out>& xi_jerk) const {
+    const int n = modal_size();
+    Reduced q_dot(n + 2), q_acc(n + 2), f(n + 2);
+    q_dot.head<2>() = u_dot;
+    q_dot.tail(n) = rates.head(n);
+    q_acc.head<2>() = u_acc;
+    q_acc.tail(n) = rates.tail(n);
+    const double c = unbalance_dir.x(), s = unbalance_dir.y();
+    f.noalias() = -k_ * q_dot;
+    f.noalias() -= c_ * q_acc;
+    f.noalias() -= w * (g_ * q_acc);
+    f.noalias() -= A * (g_ * q_dot);
+    f += (3.0 * w * A * c - w * w * w * s) * a_ + (3.0 * w * A * s + w * w * w * c) * b_;
+    const_cast<Eigen::MatrixBase<Out>&>(xi_jerk) = f.tail(n);
+    return f.head<2>();
+  }
 
  private:
+  using Reduced = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates + 2, 1>;
   ReducedRotor rotor_;
   double station_mass_kg_;
-  Eigen::MatrixXd k_;                      // K
-  Eigen::MatrixXd c_, g_;                  // C, G
-  Eigen::VectorXd a_, b_;                  // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
-  mutable Eigen::VectorXd q_, q_dot_, f_;  // work space: no allocation per call
+  Eigen::MatrixXd k_;      // K
+  Eigen::MatrixXd c_, g_;  // C, G
+  Eigen::VectorXd a_, b_;  // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
 };
 
 }  // namespace rotor_rub::core

@@ -60,6 +60,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
@@ -85,19 +86,71 @@ struct SpinLayout {
   static constexpr int kDriveIntegral = kBase + 2;  // z [rad]
 };
 
+// A flexible rotor (flexible_rotor_model.hpp) carries its modal
+// coordinates xi and their rates after a layout's fixed part: at most
+// kMaxModalCoordinates of each (20 planar modes, the station's and 19 of
+// the shaft's, in x/y pairs), in a state of dynamic size with that maximum
+// (storage inside the vector: no allocation per step).
+inline constexpr int kMaxPlanarModes = 20;
+inline constexpr int kMaxModalCoordinates = 2 * (kMaxPlanarModes - 1);
+/// [xi; xi'] of a flexible rotor [sqrt(kg) m, sqrt(kg) m/s] (empty: the Jeffcott).
+using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoordinates, 1>;
+
+// The state vector of a layout whose fixed part has kFixed entries: fixed
+// size for the Jeffcott, dynamic with the modal block's maximum for a
+// flexible rotor.
+template <int kFixed, bool kFlexible>
+using LayoutState =
+    std::conditional_t<kFlexible, Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kFixed + 2 * kMaxModalCoordinates, 1>,
+                       Eigen::Matrix<double, kFixed, 1>>;
+
 // Layout of the free (unconstrained) state vector. kStatorDof is 2 for an
-// elastic stator and 0 for a rigid one; kMotor adds the drive's states.
-template <int kStatorDof, bool kMotor = false>
+// elastic stator and 0 for a rigid one; kMotor adds the drive's states;
+// kFlexible the modal block (kModal: xi, then xi', n each, n =
+// modal_count()).
+template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
 struct FreeLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
+  static_assert(!(kMotor && kFlexible), "a flexible rotor runs under the prescribed drive");
   static constexpr int kDof = 2 + kStatorDof;
-  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
-  static constexpr int kRotorPos = 0;          // x_r, y_r [m]
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
+  static constexpr int kRotorPos = 0;          // x_r, y_r [m] (a flexible rotor's station)
   static constexpr int kStatorPos = 2;         // x_s, y_s [m] (elastic only)
   static constexpr int kRotorVel = kDof;       // x_r', y_r' [m/s]
   static constexpr int kStatorVel = kDof + 2;  // x_s', y_s' [m/s] (elastic only)
-  using State = Eigen::Matrix<double, kSize, 1>;
+  static constexpr bool kFlexibleRotor = kFlexible;
+  static constexpr int kModal = kSize;  // xi [sqrt(kg) m], then xi' (flexible only)
+  using State = LayoutState<kSize, kFlexible>;
 };
+
+// The modal coordinates in a state of layout L: how many (n), and the
+// block [xi; xi'] (2 n entries from L::kModal).
+template <class L, class State>
+int modal_count(const State& x) {
+  if constexpr (L::kFlexibleRotor) {
+    return static_cast<int>(x.size() - L::kSize) / 2;
+  } else {
+    return 0;
+  }
+}
+template <class L, class State>
+ModalState modal_of(const State& x) {
+  if constexpr (L::kFlexibleRotor) {
+    return x.tail(x.size() - L::kSize);
+  } else {
+    return ModalState();
+  }
+}
+// A state of layout L sized for a modal block (its fixed part unset).
+template <class L>
+typename L::State sized_state(const ModalState& modal) {
+  typename L::State x;
+  if constexpr (L::kFlexibleRotor) {
+    x.resize(L::kSize + modal.size());
+    x.tail(modal.size()) = modal;
+  }
+  return x;
+}
 
 // Positions and velocities of both bodies as plain 2-vectors (a rigid stator
 // is at rest at the origin), and a motor drive's states.
@@ -127,9 +180,10 @@ void write_spin(const SpinState& spin, State& x) {
   }
 }
 
-template <int kStatorDof, bool kMotor = false>
-Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor>::State& x) {
-  using L = FreeLayout<kStatorDof, kMotor>;
+// The modal block, if any, is not part of Kinematics (modal_of()).
+template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
+Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor, kFlexible>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   Kinematics k;
   k.rotor_pos = x.template segment<2>(L::kRotorPos);
   k.rotor_vel = x.template segment<2>(L::kRotorVel);
@@ -141,9 +195,10 @@ Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor>::State& x
   return k;
 }
 
-template <int kStatorDof, bool kMotor = false>
-void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof, kMotor>::State& x) {
-  using L = FreeLayout<kStatorDof, kMotor>;
+// x sized already (sized_state() for a flexible rotor).
+template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
+void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof, kMotor, kFlexible>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   x.template segment<2>(L::kRotorPos) = k.rotor_pos;
   x.template segment<2>(L::kRotorVel) = k.rotor_vel;
   if constexpr (kStatorDof == 2) {
