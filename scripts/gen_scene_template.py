@@ -12,6 +12,8 @@ runner, out = args[0], args[1]
 def yaml_number(text):
     """A float in a form YAML 1.1 (rosparam's PyYAML) reads as a float: it
     wants a dot in the mantissa and a signed exponent (1.0e+9, not 1e9)."""
+    if text == "":
+        return "''"  # an empty text (rotor_file): a string, not YAML's null
     try:
         v = float(text)
     except ValueError:

@@ -1,14 +1,19 @@
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "rotor_rub_sim/core/rotor_file.hpp"
+
 namespace rotor_rub::core {
 
-FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances)
+FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
+                                       double contact_radius_m)
     : rotor_(rotor),
       station_mass_kg_(rotor.station_mass_kg),
+      contact_radius_m_(contact_radius_m),
       k_(rotor.matrices.K),
       c_(rotor.matrices.C),
       g_(rotor.matrices.G) {
@@ -31,6 +36,32 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
   a_ = rotor.expansion.transpose() * a_full;
   b_ = rotor.expansion.transpose() * b_full;
+}
+
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {
+  const FeRotor rotor = load_rotor_file(settings.file);
+  if (rotor.rub_station_node < 0) {
+    throw std::invalid_argument("rotor file '" + settings.file +
+                                "': no rub_station; a run needs one ({node: N, contact_radius_m: R})");
+  }
+  const long most = std::min<long>(kMaxPlanarModes, max_planar_modes(rotor));
+  if (settings.planar_modes < 1 || settings.planar_modes > most) {
+    throw std::invalid_argument("rotor_planar_modes: value " + std::to_string(settings.planar_modes) +
+                                " is out of range; accepted for '" + settings.file + "': 1 to " + std::to_string(most));
+  }
+  const ReducedRotor reduced =
+      reduce_rotor(rotor, assemble(rotor), rotor.rub_station_node, static_cast<int>(settings.planar_modes));
+  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m);
+}
+
+ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor) {
+  ModelParameters p = scene;
+  p.rotor_mass_kg = rotor.station_mass_kg();
+  p.rotor_stiffness_N_per_m = 0.0;
+  p.rotor_damping_N_s_per_m = 0.0;
+  p.eccentricity_m = 0.0;
+  if (rotor.contact_radius_m() > 0.0) p.rotor_radius_m = rotor.contact_radius_m();
+  return p;
 }
 
 }  // namespace rotor_rub::core

@@ -1,5 +1,7 @@
 #include "rotor_rub_sim/core/scene_file.hpp"
 
+#include <filesystem>
+
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/yaml_values.hpp"
 
@@ -38,6 +40,10 @@ std::map<std::string, std::string> read_scene_values(const std::string& path) {
       throw SceneError(e.where + ": " + err.what());
     }
     values[e.key] = e.values.front();
+    // A rotor file is named relative to the scene file that names it.
+    if (e.key == "rotor_file" && !e.values.front().empty() && std::filesystem::path(e.values.front()).is_relative()) {
+      values[e.key] = (std::filesystem::path(path).parent_path() / e.values.front()).lexically_normal().string();
+    }
   }
   return values;
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::core {
@@ -97,6 +98,16 @@ KeyEntry integer(std::string key, long lo, long hi, std::string description, std
   return e;
 }
 
+// A text key (a file's path): any text; what it names is checked by
+// validate_scene.
+KeyEntry text(std::string key, std::string accepted, std::string description, std::function<std::string&(Scene&)> ref) {
+  Scene defaults;
+  KeyEntry e{key_info(key, accepted, std::move(description), ref(defaults)), nullptr,
+             [ref](Scene s) { return ref(s); }};
+  e.set = [ref](Scene& s, const std::string& value) { ref(s) = value; };
+  return e;
+}
+
 template <class Enum, std::size_t N, class Ref>
 KeyEntry choice(std::string key, const std::array<Enum, N>& all, std::string description, Ref ref_fn) {
   const std::function<Enum&(Scene&)> ref = ref_fn;
@@ -153,6 +164,8 @@ void mark_live(SceneKeyInfo& info) {
     info.live_refusal =
         "a mass, an inertia or the rotor's radius has no continuous path for the state (a blade "
         "loss is an unbalance change: eccentricity_m, unbalance_phase_rad)";
+  } else if (k == "rotor_file" || k == "rotor_planar_modes") {
+    info.live_refusal = "it sets the rotor (its state's size)";
   } else if (k == "gravity_m_per_s2") {
     info.live_refusal = "the machine's orientation is fixed";
   } else if (k.rfind("initial_", 0) == 0) {
@@ -210,6 +223,15 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.stator_offset_x_m; }));
     t.push_back(real("stator_offset_y_m", -1.0, false, 1.0, "stator rest position, y; |offset| < clearance_m [m]",
                      [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
+    // A flexible rotor (docs/rotors.md).
+    t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
+                     "a flexible rotor in place of the Jeffcott (the rotor keys then unused): shaft, disks, "
+                     "bearings, unbalances, rub station; switching method, prescribed drive, no gravity",
+                     [](Scene& s) -> std::string& { return s.rotor.file; }));
+    t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
+                        "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
+                        "modes per plane (rotor_rub_modal --study recommends)",
+                        [](Scene& s) -> long& { return s.rotor.planar_modes; }));
     // Drive.
     t.push_back(choice("drive_model", kAllDriveModels,
                        "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
@@ -300,6 +322,33 @@ const std::vector<KeyEntry>& entries() {
   return table;
 }
 
+// A flexible rotor: what runs it (the switching method under the prescribed
+// drive, without gravity: what FlexibleRotorModel models) and the file
+// itself, read and reduced as a run will.
+void validate_flexible_rotor(const Scene& s) {
+  const std::string why =
+      " (a flexible rotor, rotor_file, runs so far on the switching method under the "
+      "prescribed drive, without gravity)";
+  if (s.solver.method != Method::kSwitching) {
+    throw SceneError("scene key 'method': value '" + std::string(to_string(s.solver.method)) +
+                     "' is not accepted with rotor_file; accepted: switching" + why);
+  }
+  if (s.model.drive_model != DriveModel::kPrescribed) {
+    throw SceneError("scene key 'drive_model': value '" + std::string(to_string(s.model.drive_model)) +
+                     "' is not accepted with rotor_file; accepted: prescribed" + why);
+  }
+  if (s.model.gravity_m_per_s2 != 0.0) {
+    throw SceneError("scene key 'gravity_m_per_s2': value " + format_double(s.model.gravity_m_per_s2) +
+                     " is not accepted with rotor_file; accepted: 0" + why);
+  }
+  try {
+    load_flexible_rotor(s.rotor);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + e.what() +
+                     "; accepted: a rotor file with a rub_station (docs/rotors.md)");
+  }
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
@@ -378,6 +427,10 @@ std::string live_key_inert_reason(const std::string& key, const Scene& scene) {
   if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
     return "it applies to drive_model motor only";
   }
+  if (!scene.rotor.file.empty() &&
+      (key == "rotor_stiffness_N_per_m" || key == "rotor_damping_N_s_per_m" || key == "eccentricity_m")) {
+    return "the rotor is rotor_file's (its shaft, bearings and unbalances)";
+  }
   return "";
 }
 
@@ -430,6 +483,7 @@ void validate_scene(const Scene& s) {
                        format_double(bound) + " (below it friction could pull the contact shut: Painleve's paradox)");
     }
   }
+  if (!s.rotor.file.empty()) validate_flexible_rotor(s);
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
     throw SceneError(
         "scene key 'initial_speed_rad_per_s': value " + format_double(s.speed.initial_speed_rad_per_s) +

@@ -21,15 +21,19 @@
 namespace rotor_rub::core {
 namespace {
 
-template <int kStatorDof, bool kMotor>
+// Free flight; a flexible rotor's station and modal rows from
+// FlexibleRotorModel (the rotor the bare station mass of model).
+template <int kStatorDof, bool kMotor, bool kFlexible>
 struct FreeFlightSystem {
-  using L = FreeLayout<kStatorDof, kMotor>;
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using State = typename L::State;
   const JeffcottModel* model;
+  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
-  void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
+  void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     if constexpr (kMotor) {
       dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
       if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
@@ -42,7 +46,7 @@ struct FreeFlightSystem {
       spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
     } else {
       const DriveState d = segment.at(t);
-      derivative(k, d, unbalance_at(d.angle_rad), dxdt);
+      derivative(x, k, d, unbalance_at(d.angle_rad), dxdt);
     }
   }
   // The derivative and the state's second derivative at a step's end, from
@@ -51,17 +55,27 @@ struct FreeFlightSystem {
   // linear in the state (model.hpp), so x'' is the derivative's own linear
   // map applied to dxdt, plus the unbalance's rate.
   static constexpr bool kClosedFormSecondDerivative = !kMotor;
-  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
+  int end_derivatives(const State& x, double t, State& dxdt, State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState d = segment.at(t);
     const Vec2 unbalance_dir = unbalance_at(d.angle_rad);
-    derivative(k, d, unbalance_dir, dxdt);
+    derivative(x, k, d, unbalance_dir, dxdt);
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
-    ddx.template segment<2>(L::kRotorVel) =
-        model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, unbalance_dir) *
-        model->inv_rotor_mass();
+    if constexpr (kFlexible) {
+      const int n = modal_count<L>(x);
+      ddx.resize(x.size());
+      ddx.segment(L::kModal, n) = dxdt.tail(n);
+      ddx.template segment<2>(L::kRotorVel) =
+          flexible->free_load_rates(k.rotor_vel, dxdt.template segment<2>(L::kRotorVel), dxdt.tail(2 * n),
+                                    unbalance_dir, d.speed_rad_per_s, d.accel_rad_per_s2, ddx.tail(n)) *
+          model->inv_rotor_mass();
+    } else {
+      ddx.template segment<2>(L::kRotorVel) =
+          model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, unbalance_dir) *
+          model->inv_rotor_mass();
+    }
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
       ddx.template segment<2>(L::kStatorVel) =
@@ -73,20 +87,31 @@ struct FreeFlightSystem {
   Vec2 unbalance_at(double angle_rad) const { return model->unbalance_dir(angle_rad); }
 
  private:
-  void derivative(const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir, typename L::State& dxdt) const {
+  void derivative(const State& x, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
+                  State& dxdt) const {
+    Vec2 rotor_force;
+    if constexpr (kFlexible) {
+      const int n = modal_count<L>(x);
+      dxdt.resize(x.size());
+      dxdt.segment(L::kModal, n) = x.tail(n);
+      rotor_force = flexible->free_loads(k.rotor_pos + model->frame_shift(), k.rotor_vel, x.tail(2 * n), unbalance_dir,
+                                         d.speed_rad_per_s, d.accel_rad_per_s2, dxdt.tail(n));
+    } else {
+      rotor_force = model->rotor_free_force(k, d, unbalance_dir);
+    }
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
     if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-    dxdt.template segment<2>(L::kRotorVel) = model->rotor_free_force(k, d, unbalance_dir) * model->inv_rotor_mass();
+    dxdt.template segment<2>(L::kRotorVel) = rotor_force * model->inv_rotor_mass();
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
     }
   }
 };
 
-template <int kStatorDof, bool kMotor>
+template <int kStatorDof, bool kMotor, bool kFlexible>
 struct ContactSystem {
-  using L = ContactLayout<kStatorDof, kMotor>;
-  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor>;
+  using L = ContactLayout<kStatorDof, kMotor, kFlexible>;
+  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor, kFlexible>;
   using Result = typename Dynamics::Result;
   Dynamics dynamics;
   SpeedSegment segment;
@@ -124,19 +149,23 @@ struct EventValues {
 // kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
 // high-order pairs with Hermite dense output (dense_high_order.hpp):
 // Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
-template <int kStatorDof, bool kMotor, Integrator kScheme>
+// kFlexible: the rotor is a flexible rotor's rub station
+// (flexible_rotor_model.hpp), its modal block carried through every regime
+// and event unchanged (no impulse reaches it).
+template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
  public:
   static constexpr bool kHighOrder = kScheme != Integrator::kDopri5;
-  using FL = FreeLayout<kStatorDof, kMotor>;
-  using CL = ContactLayout<kStatorDof, kMotor>;
+  using FL = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using CL = ContactLayout<kStatorDof, kMotor, kFlexible>;
   template <class L>
   using Dense = std::conditional_t<
       kScheme == Integrator::kDop853, DenseDop853<L>,
       std::conditional_t<kScheme == Integrator::kRkf78, DenseRkf78<L>, DenseDopri5<typename L::State>>>;
 
   explicit SwitchingMethod(const Scene& scene)
-      : model_(scene.model),
+      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(scene.rotor)) : nullptr),
+        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         free_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         contact_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         initial_step_s_(scene.solver.initial_step_s),
@@ -144,6 +173,7 @@ class SwitchingMethod final : public ContactMethod {
         guard_(scene.solver.max_events_per_ms) {
     free_sys_.model = &model_;
     contact_sys_.dynamics.model = &model_;
+    free_sys_.flexible = contact_sys_.dynamics.flexible = flexible_.get();
     if (scene.solver.profile_cost) {
       free_sys_.rhs_time_s = contact_sys_.rhs_time_s = &stats_.rhs_time_s;
       event_time_s_ = &stats_.event_time_s;
@@ -156,6 +186,7 @@ class SwitchingMethod final : public ContactMethod {
     free_sys_.segment = contact_sys_.segment = segment;
     regime_ = Regime::kFree;
     pending_ = false;
+    if (kFlexible) next_modal_ = ModalState::Zero(2 * flexible_->modal_size());  // at rest
     enter_free(t_s, k, initial_step_s_);
   }
 
@@ -207,14 +238,16 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      k = kinematics_of<kStatorDof, kMotor>(x);
+      k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+      next_modal_ = modal_of<FL>(x);
     } else {
       typename CL::State x;
       contact_int_.state_at(t_s, x);
       k = contact_sys_.dynamics.kinematics(x);
+      next_modal_ = modal_of<CL>(x);
     }
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(p);
+    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
     k.rotor_pos += old_frame - model_.frame_shift();
     pending_ = true;
     pending_t_ = t_s;
@@ -224,7 +257,7 @@ class SwitchingMethod final : public ContactMethod {
       const DriveState d = free_sys_.segment.at(t_s);
       const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       if (g.penetration_m >= -penetration_tolerance_m_) {
-        typename CL::State x = contact_sys_.dynamics.reduce(k);
+        typename CL::State x = contact_sys_.dynamics.reduce(k, next_modal_);
         const auto c = contact_sys_.dynamics.evaluate(x, d);
         if (c.normal_force_N > 0.0) {
           next_regime_ = Regime::kContact;
@@ -287,7 +320,7 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
       const DriveState d = model_.drive_at(k, reference);
       return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), free_sys_.unbalance_at(d.angle_rad), 0.0,
                          0.0, false);
@@ -305,7 +338,7 @@ class SwitchingMethod final : public ContactMethod {
       // A friction transition at this instant: the sample reports the new
       // regime's forces (a stick force that jumped out of the cone at a drive
       // change is not applied, the slip force is).
-      ConstrainedDynamics<kStatorDof, kMotor> next = contact_sys_.dynamics;
+      ConstrainedDynamics<kStatorDof, kMotor, kFlexible> next = contact_sys_.dynamics;
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
       Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.unbalance_dir,
@@ -333,7 +366,7 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
       const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       v.value[kGap] = g.penetration_m;
       v.rate[kGap] = g.normal_velocity_m_per_s;
@@ -447,6 +480,7 @@ class SwitchingMethod final : public ContactMethod {
       if (k == kGap) {
         events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
         next_kin_ = contact_sys_.dynamics.kinematics(x);
+        next_modal_ = modal_of<CL>(x);
         next_regime_ = Regime::kFree;
         return;
       }
@@ -467,7 +501,8 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename FL::State x_at;
     free_int_.state_at(te, x_at);
-    Kinematics k_at = kinematics_of<kStatorDof, kMotor>(x_at);
+    Kinematics k_at = kinematics_of<kStatorDof, kMotor, kFlexible>(x_at);
+    next_modal_ = modal_of<FL>(x_at);
     const DriveState d_at = model_.drive_at(k_at, d);
     const ContactGeometry g = model_.contact_geometry(k_at, d_at);
     ContactEvent e;
@@ -483,7 +518,7 @@ class SwitchingMethod final : public ContactMethod {
     next_kin_ = k_at;
     bool sustained = false;
     if (settles) {
-      typename CL::State x = contact_sys_.dynamics.reduce(k_at);
+      typename CL::State x = contact_sys_.dynamics.reduce(k_at, next_modal_);
       const auto c = contact_sys_.dynamics.evaluate(x, d);
       sustained = c.normal_force_N > 0.0;
       if (sustained) {
@@ -519,9 +554,10 @@ class SwitchingMethod final : public ContactMethod {
     begin_regime(pending_t_);
   }
 
+  // From k and the modal block next_modal_.
   void enter_free(double t_s, const Kinematics& k, double dt) {
-    typename FL::State x;
-    store_kinematics<kStatorDof, kMotor>(k, x);
+    typename FL::State x = sized_state<FL>(next_modal_);
+    store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
     free_int_.initialize(free_sys_, x, t_s, dt, stats_);
     begin_regime(t_s);
   }
@@ -561,9 +597,10 @@ class SwitchingMethod final : public ContactMethod {
   // longer (up to ~3 rad of the spin at rtol 1e-3), so they keep the
   // quarter points.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
-  JeffcottModel model_;
-  FreeFlightSystem<kStatorDof, kMotor> free_sys_;
-  ContactSystem<kStatorDof, kMotor> contact_sys_;
+  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
+  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
+  FreeFlightSystem<kStatorDof, kMotor, kFlexible> free_sys_;
+  ContactSystem<kStatorDof, kMotor, kFlexible> contact_sys_;
   Dense<FL> free_int_;
   Dense<CL> contact_int_;
   double initial_step_s_;
@@ -580,6 +617,7 @@ class SwitchingMethod final : public ContactMethod {
   double pending_t_ = 0.0;
   Regime next_regime_ = Regime::kFree;
   Kinematics next_kin_;
+  ModalState next_modal_;  // with next_kin_: a flexible rotor's [xi; xi']
   FrictionMode next_mode_;
   typename CL::State next_contact_state_;
   RunStats stats_;
@@ -592,13 +630,20 @@ class SwitchingMethod final : public ContactMethod {
 template <Integrator kScheme>
 struct SwitchingOn {
   template <int kStatorDof, bool kMotor>
-  using Method = SwitchingMethod<kStatorDof, kMotor, kScheme>;
+  using Method = SwitchingMethod<kStatorDof, kMotor, false, kScheme>;
 };
 
 }  // namespace
 
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
+  if (!scene.rotor.file.empty()) {
+    // A flexible rotor: the prescribed drive only (validate_scene).
+    if (scene.model.stator_model == StatorModel::kRigid) {
+      return std::make_unique<SwitchingMethod<0, false, true, I>>(scene);
+    }
+    return std::make_unique<SwitchingMethod<2, false, true, I>>(scene);
+  }
   return make_for_scene<SwitchingOn<I>::template Method>(scene);
 }
 template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDopri5>(const Scene&);

@@ -20,33 +20,45 @@
 //   W_nn F_n - W_nt F_t = a_n0 + C psi'^2 =: b,   -W_nt F_n + W_tt F_t = -s0,
 //   slip:  F_n = b / (W_nn + f s W_nt), F_t = -f s F_n;
 //   stick: both equations, det = W_nn W_tt - W_nt^2 > 0.
+// A flexible rotor (kFlexible, flexible_rotor_model.hpp): the rotor is its
+// rub station, a point of mass m_r = m_st, and F_r the station's free force,
+// which takes the modal coordinates in; their rows, xi'' from the same
+// model, are the same in contact as in free flight (no contact force
+// reaches them: the reduced mass is block-diagonal).
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/angle_pair.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
 namespace rotor_rub::core {
 
-template <int kStatorDof, bool kMotor = false>
+template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
 struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
+  static_assert(!(kMotor && kFlexible), "a flexible rotor runs under the prescribed drive");
   static constexpr int kDof = 1 + kStatorDof;
-  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
-  static constexpr int kStatorPos = 0;                  // x_s, y_s [m] (elastic only)
-  static constexpr int kAngle = kStatorDof;             // psi [rad]
-  static constexpr int kStatorVel = kDof;               // x_s', y_s' [m/s] (elastic only)
-  static constexpr int kAngleRate = kDof + kStatorDof;  // psi' [rad/s]
-  using State = Eigen::Matrix<double, kSize, 1>;
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
+  static constexpr int kStatorPos = 0;                                       // x_s, y_s [m] (elastic only)
+  static constexpr int kAngle = kStatorDof;                                  // psi [rad]
+  static constexpr int kStatorVel = kDof;                                    // x_s', y_s' [m/s] (elastic only)
+  static constexpr int kAngleRate = kDof + kStatorDof;                       // psi' [rad/s]
+  static constexpr bool kFlexibleRotor = kFlexible;
+  static constexpr int kModal = kSize;  // xi, then xi' (flexible only: model.hpp's FreeLayout)
+  using State = LayoutState<kSize, kFlexible>;
 };
 
-template <int kStatorDof, bool kMotor = false>
+template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
 struct ConstrainedDynamics {
-  using L = ContactLayout<kStatorDof, kMotor>;
+  using L = ContactLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
+  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
   FrictionMode mode;
+  struct NoModal {};
 
   struct Result {
     Kinematics kin;
@@ -63,6 +75,7 @@ struct ConstrainedDynamics {
     Vec2 normal = Vec2::UnitX();         // n(psi) (prescribed drive: the jerk)
     Vec2 rotor_free_N = Vec2::Zero();    // F_r, F_s: the free forces (prescribed drive; the jerk)
     Vec2 stator_free_N = Vec2::Zero();
+    std::conditional_t<kFlexible, ModalVector, NoModal> modal_acc;  // xi'' (flexible)
   };
 
   Kinematics kinematics(const State& x) const {
@@ -88,9 +101,10 @@ struct ConstrainedDynamics {
 
   // Reduced coordinates of a state at the bore (the rotor is placed on the
   // bore along its current direction; its normal relative velocity dropped,
-  // which the plastic impact has already made zero).
-  State reduce(const Kinematics& k) const {
-    State x;
+  // which the plastic impact has already made zero); a flexible rotor's
+  // modal block [xi; xi'] carried over.
+  State reduce(const Kinematics& k, const ModalState& modal = ModalState()) const {
+    State x = sized_state<L>(modal);
     const Vec2 rel = k.rotor_pos - k.stator_pos;
     const double psi = std::atan2(rel.y(), rel.x());
     const Vec2 t(-std::sin(psi), std::cos(psi));
@@ -138,7 +152,13 @@ struct ConstrainedDynamics {
       r.unbalance_dir = unbalance_dir;
       r.normal = g.normal;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
-      const Vec2 fr = model->rotor_free_force(r.kin, d, unbalance_dir);
+      Vec2 fr;
+      if constexpr (kFlexible) {
+        fr = flexible->free_loads(r.kin.rotor_pos + model->frame_shift(), r.kin.rotor_vel, x.tail(x.size() - L::kSize),
+                                  unbalance_dir, d.speed_rad_per_s, d.accel_rad_per_s2, r.modal_acc);
+      } else {
+        fr = model->rotor_free_force(r.kin, d, unbalance_dir);
+      }
       const Vec2 fs = model->stator_free_force(r.kin);
       const ModelParameters& p = model->parameters();
       // Products with the model's reciprocals m = 1 / (1/m_r + 1/m_s) and
@@ -189,7 +209,19 @@ struct ConstrainedDynamics {
     const Vec2& n = r.normal;
     const Vec2 t(-n.y(), n.x());
     const Vec2 rotor_acc = r.stator_acc + c * acc * t - c * rate * rate * n;
-    const Vec2 fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
+    Vec2 fr_rate;
+    if constexpr (kFlexible) {
+      const int m = modal_count<L>(x);
+      ddx.resize(x.size());
+      ModalState rates(2 * m);
+      rates.head(m) = x.tail(m);
+      rates.tail(m) = r.modal_acc;
+      ddx.segment(L::kModal, m) = r.modal_acc;
+      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir, reference.speed_rad_per_s,
+                                          reference.accel_rad_per_s2, ddx.tail(m));
+    } else {
+      fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
+    }
     const Vec2 fs_rate = model->stator_free_force_derivative(r.kin, r.stator_acc);
     const Vec2 &fr = r.rotor_free_N, &fs = r.stator_free_N;
     const double fn_rate =
@@ -216,6 +248,12 @@ struct ConstrainedDynamics {
   }
   // The same from the state's evaluation r = evaluate(x, reference).
   void derivative(const State& x, const Result& r, const DriveState& reference, State& dxdt) const {
+    if constexpr (kFlexible) {
+      const int m = modal_count<L>(x);
+      dxdt.resize(x.size());
+      dxdt.segment(L::kModal, m) = x.tail(m);
+      dxdt.tail(m) = r.modal_acc;
+    }
     dxdt[L::kAngle] = x[L::kAngleRate];
     dxdt[L::kAngleRate] = r.angle_acc_rad_per_s2;
     if constexpr (kStatorDof == 2) {

@@ -26,6 +26,7 @@
 // at rtol 1e-10 missed by 2e-8 m/s with it).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <boost/numeric/odeint.hpp>
 #include <boost/numeric/odeint/external/eigen/eigen.hpp>
@@ -34,6 +35,7 @@
 #include <utility>
 
 #include "rotor_rub_sim/core/dop853.hpp"
+#include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 #include "rotor_rub_sim/core/step_ends.hpp"
 
@@ -41,15 +43,20 @@ namespace rotor_rub::core {
 
 // A state layout's (model.hpp, constrained_dynamics.hpp) second-order
 // pairs {q, v = q'}: its kDof positions, each followed kDof places later by
-// its velocity, and a motor drive's spin angle and speed.
+// its velocity, a motor drive's spin angle and speed, and a flexible
+// rotor's modal coordinates, each followed n places later by its rate.
 template <class Layout>
 struct SecondOrderPairs {
-  static constexpr int kCount = Layout::kDof + (Layout::kSpinSize > 0 ? 1 : 0);
-  static std::array<std::pair<int, int>, kCount> pairs() {
-    std::array<std::pair<int, int>, kCount> p{};
-    for (int i = 0; i < Layout::kDof; ++i) p[i] = {i, Layout::kDof + i};
-    if constexpr (Layout::kSpinSize > 0) p[Layout::kDof] = {Layout::kSpinAngle, Layout::kSpinSpeed};
-    return p;
+  static constexpr int kMaxCount =
+      Layout::kDof + (Layout::kSpinSize > 0 ? 1 : 0) + (Layout::kFlexibleRotor ? kMaxModalCoordinates : 0);
+  // Fills p for a state of `size` entries; returns the count.
+  static int pairs(int size, std::array<std::pair<int, int>, kMaxCount>& p) {
+    int count = 0;
+    for (int i = 0; i < Layout::kDof; ++i) p[count++] = {i, Layout::kDof + i};
+    if constexpr (Layout::kSpinSize > 0) p[count++] = {Layout::kSpinAngle, Layout::kSpinSpeed};
+    const int n = (size - Layout::kSize) / 2;
+    for (int i = 0; i < n; ++i) p[count++] = {Layout::kModal + i, Layout::kModal + n + i};
+    return count;
   }
 };
 
@@ -106,7 +113,9 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
 
  public:
   using State = typename Layout::State;
-  static_assert(2 * Layout::kDof + Layout::kSpinSize == State::RowsAtCompileTime, "positions, velocities, spin");
+  static_assert(2 * Layout::kDof + Layout::kSpinSize == Layout::kSize, "positions, velocities, spin");
+  static_assert(State::RowsAtCompileTime == (Layout::kFlexibleRotor ? Eigen::Dynamic : Layout::kSize),
+                "fixed size but a flexible rotor's modal block");
   static constexpr int kStagesPerAttempt = Engine::kStagesPerAttempt;
   // The central difference's step for the state's second derivative [s]
   // (where no closed form is known: under a motor drive):
@@ -117,13 +126,11 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   static constexpr double kJerkStep_s = 1e-6;
 
   DenseHighOrder(double atol, double rtol, double min_step_s, long max_steps)
-      : Ends(min_step_s, max_steps), engine_(atol, rtol), pairs_(SecondOrderPairs<Layout>::pairs()) {
-    first_order_.fill(true);
-    for (const auto& [q, v] : pairs_) first_order_[q] = first_order_[v] = false;
-  }
+      : Ends(min_step_s, max_steps), engine_(atol, rtol) {}
 
   template <class System>
   void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
+    if (x.size() != size_) set_pairs(static_cast<int>(x.size()));
     x_new_ = x_old_ = x;
     t_new_ = t_old_ = t_s;
     stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, dxdt_new_, ddx_new_);
@@ -187,9 +194,20 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   }
 
  private:
+  // The state's second-order pairs and first-order entries for its size.
+  void set_pairs(int size) {
+    size_ = size;
+    pair_count_ = SecondOrderPairs<Layout>::pairs(size, pairs_);
+    first_order_.fill(false);
+    std::fill(first_order_.begin(), first_order_.begin() + size, true);
+    for (int k = 0; k < pair_count_; ++k) first_order_[pairs_[k].first] = first_order_[pairs_[k].second] = false;
+  }
+
   Engine engine_;
-  std::array<std::pair<int, int>, SecondOrderPairs<Layout>::kCount> pairs_;
-  std::array<bool, State::RowsAtCompileTime> first_order_{};
+  int size_ = -1;
+  int pair_count_ = 0;
+  std::array<std::pair<int, int>, SecondOrderPairs<Layout>::kMaxCount> pairs_{};
+  std::array<bool, State::MaxRowsAtCompileTime> first_order_{};
   // The derivative dx/dt at a step's end and the state's second derivative
   // d(dx/dt)/dt along the solution: the central difference of the
   // derivative along (dx/dt, 1) (kJerkStep_s). A system that knows its
@@ -226,8 +244,9 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   static constexpr int kDegree = 7;
   void polynomial() {
     const double h = t_new_ - t_old_, hh = h * h, hhh = hh * h;
-    for (auto& c : coef_) c.setZero();
-    for (const auto& [q, v] : pairs_) {
+    for (auto& c : coef_) c.setZero(x_new_.size());
+    for (int k = 0; k < pair_count_; ++k) {
+      const auto [q, v] = pairs_[k];
       const double dq = x_new_[q] - x_old_[q];
       const double v0 = h * x_old_[v], a0 = hh * dxdt_old_[v], j0 = hhh * ddx_old_[v];
       const double v1 = h * x_new_[v], a1 = hh * dxdt_new_[v], j1 = hhh * ddx_new_[v];
@@ -244,7 +263,7 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
       // v(s) = (1 / h) sum_k k p_k s^(k-1) = v_old + sum_k (k + 1) p_(k+1) s^k / h.
       for (int k = 1; k < kDegree; ++k) coef_[k][v] = (k + 1) * p[k + 1] / h;
     }
-    for (int i = 0; i < static_cast<int>(first_order_.size()); ++i) {
+    for (int i = 0; i < size_; ++i) {
       if (!first_order_[i]) continue;
       const double dz = x_new_[i] - x_old_[i];
       const double z0 = h * dxdt_old_[i], zz0 = hh * ddx_old_[i], z1 = h * dxdt_new_[i], zz1 = hh * ddx_new_[i];

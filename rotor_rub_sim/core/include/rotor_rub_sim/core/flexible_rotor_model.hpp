@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
 
 namespace rotor_rub::core {
@@ -29,11 +30,14 @@ using ModalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordin
 class FlexibleRotorModel {
  public:
   /// Throws std::invalid_argument for an unbalance on no node or a rotor of
-  /// more than kMaxPlanarModes planar modes.
-  FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances);
+  /// more than kMaxPlanarModes planar modes. contact_radius_m: the rotating
+  /// surface's radius at the station (0: not given).
+  FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
+                     double contact_radius_m = 0.0);
 
   int modal_size() const { return static_cast<int>(k_.rows()) - 2; }  ///< n: xi's entries
   double station_mass_kg() const { return station_mass_kg_; }
+  double contact_radius_m() const { return contact_radius_m_; }
   const ReducedRotor& rotor() const { return rotor_; }
 
   /// Every force but the contact's at the station's position and velocity
@@ -89,9 +93,24 @@ class FlexibleRotorModel {
   using Reduced = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates + 2, 1>;
   ReducedRotor rotor_;
   double station_mass_kg_;
+  double contact_radius_m_;
   Eigen::MatrixXd k_;      // K
   Eigen::MatrixXd c_, g_;  // C, G
   Eigen::VectorXd a_, b_;  // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
 };
+
+/// Reads settings.file (rotor_file.hpp) and reduces it at its rub station to
+/// settings.planar_modes per plane, with the file's unbalances. Throws
+/// std::invalid_argument naming the file and what is wrong (an unreadable
+/// file, a bad item, no rub_station, a count out of range).
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings);
+
+/// What the contact methods' JeffcottModel holds for a flexible rotor: the
+/// station as a bare point of mass m_st (rotor_mass_kg), every other force
+/// on it the flexible model's (rotor_stiffness_N_per_m,
+/// rotor_damping_N_s_per_m and eccentricity_m are set to 0, so the
+/// JeffcottModel adds none), and the contact radius the rub station's
+/// (rotor_radius_m) where the file gives one. The rest is the scene's.
+ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor);
 
 }  // namespace rotor_rub::core

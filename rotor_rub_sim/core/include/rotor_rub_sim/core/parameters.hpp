@@ -142,8 +142,19 @@ struct ProbeParameters {
   double runout_phase_rad = 0.0;
 };
 
+// ---- A flexible rotor (docs/rotors.md) ---------------------------------------
+/// In place of the Jeffcott rotor of the model's rotor keys: a rotor file's
+/// shaft, disks and bearings (or its matrices), reduced at its rub station
+/// to planar_modes per plane (rotor_reduction.hpp). The contact keys apply
+/// at the station.
+struct RotorSettings {
+  std::string file;       ///< the rotor file; empty: the Jeffcott rotor
+  long planar_modes = 8;  ///< the station and planar_modes - 1 shaft modes, per plane
+};
+
 struct Scene {
   ModelParameters model;
+  RotorSettings rotor;
   SpeedProfileParameters speed;
   SolverSettings solver;
   ProbeParameters probes;

@@ -12,8 +12,9 @@
 namespace rotor_rub::core {
 
 /// key -> value text, each value already checked against its key's range (so a
-/// bad value is an error even where an override replaces it). Throws
-/// SceneError naming the file, line and column.
+/// bad value is an error even where an override replaces it). A relative
+/// rotor_file is the scene file's directory's. Throws SceneError naming the
+/// file, line and column.
 std::map<std::string, std::string> read_scene_values(const std::string& path);
 
 /// Defaults, then the file, then the overrides (key=value); validated.

@@ -1,0 +1,194 @@
+// The switching method on a flexible rotor (scene key rotor_file): the
+// seam (flexible_rotor_model.hpp, docs/rotors.md) against the Jeffcott it
+// must reduce to, the closed-form full annular rub of a multi-DOF rotor,
+// and the method's invariants and promises on the seal-rub example.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "rotor_rub_sim/core/invariants.hpp"
+#include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/rotor_steady_response.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "temp_dir.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+
+namespace {
+
+core::Scene jeffcott_file_scene(long planar_modes) {
+  core::Scene s = test::paper_scene();
+  s.rotor.file = test::source_path("test/data/rotors/jeffcott_matrices.yaml");
+  s.rotor.planar_modes = planar_modes;
+  return s;
+}
+
+std::string failure_of(const test::Run& r) { return r.result.failure ? r.result.failure->message : ""; }
+
+double max_position_difference(const test::Run& a, const test::Run& b) {
+  EXPECT_EQ(a.out.samples.size(), b.out.samples.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < std::min(a.out.samples.size(), b.out.samples.size()); ++i) {
+    worst = std::max(worst, (a.out.samples[i].kin.rotor_pos - b.out.samples[i].kin.rotor_pos).cwiseAbs().maxCoeff());
+    worst = std::max(worst, (a.out.samples[i].kin.stator_pos - b.out.samples[i].kin.stator_pos).cwiseAbs().maxCoeff());
+  }
+  return worst;
+}
+
+}  // namespace
+
+// The paper's run-up (4 s through the critical speed into rub) with the
+// Jeffcott given as a one-node rotor file: the station alone (1 planar
+// mode) is the same equations with the forces summed in another order
+// (-K q - C q' + f in matrix form), so the runs agree to rounding carried
+// through the rub's events: 1e-13 m (6.6e-15 m measured).
+TEST(FlexibleSwitching, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
+  const test::Run jeffcott = test::run(test::paper_scene());
+  const test::Run flexible = test::run(jeffcott_file_scene(1));
+  ASSERT_FALSE(jeffcott.result.failure) << failure_of(jeffcott);
+  ASSERT_FALSE(flexible.result.failure) << failure_of(flexible);
+  ASSERT_GE(jeffcott.out.events.size(), 5u);  // the rub: touchdowns, lift-offs
+  EXPECT_EQ(flexible.out.events.size(), jeffcott.out.events.size());
+  const double d = max_position_difference(jeffcott, flexible);
+  EXPECT_LT(d, 1e-13);
+}
+
+// With its tilts kept as modal coordinates (2 planar modes) the rotor is
+// still the Jeffcott (the tilts are uncoupled and unforced: they stay at 0),
+// but the state has 4 more entries, which dop853's RMS error norm counts:
+// the steps differ, so the runs agree to the tolerance's level, not to
+// rounding: rtol 1e-9 of the 2e-3 m orbit is 2e-12 m a step, 1e-9 m over
+// the run's ~1e5 steps at most (6.8e-11 m measured).
+TEST(FlexibleSwitching, UnforcedModesStayAtRestAndChangeNothingButTheSteps) {
+  core::Scene jeffcott_scene = test::paper_scene();
+  jeffcott_scene.solver.rtol = 1e-9;
+  jeffcott_scene.solver.atol = 1e-12;
+  core::Scene flexible_scene = jeffcott_file_scene(2);
+  flexible_scene.solver.rtol = 1e-9;
+  flexible_scene.solver.atol = 1e-12;
+  const test::Run jeffcott = test::run(jeffcott_scene);
+  const test::Run flexible = test::run(flexible_scene);
+  ASSERT_FALSE(flexible.result.failure) << failure_of(flexible);
+  EXPECT_EQ(flexible.out.events.size(), jeffcott.out.events.size());
+  const double d = max_position_difference(jeffcott, flexible);
+  EXPECT_LT(d, 1e-9);
+}
+
+namespace {
+
+// The isotropic seal rotor at a constant 300 rad/s against a rigid seal of
+// 20 um clearance (test/data/rotors/isotropic_seal.yaml), from rest.
+core::Scene isotropic_full_rub_scene(long planar_modes) {
+  core::Scene s;
+  s.rotor.file = test::source_path("test/data/rotors/isotropic_seal.yaml");
+  s.rotor.planar_modes = planar_modes;
+  s.model.stator_model = core::StatorModel::kRigid;
+  s.model.clearance_m = 20e-6;
+  s.model.friction_coefficient = 0.1;
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 300.0;
+  s.end_time_s = 2.0;
+  s.output_rate_hz = 100.0;
+  s.solver.rtol = 1e-9;
+  s.solver.atol = 1e-12;
+  return s;
+}
+
+}  // namespace
+
+// The synchronous full annular rub of a multi-DOF rotor: from rest the
+// rotor settles (in 2 s, ~100 of its slowest decay times) onto the forward
+// full rub whose normal force and station orbit the closed form gives
+// through the full FE model's receptance (rotor_steady_response.hpp). What
+// is left is the truncation of the reduced model: with 4 planar modes (of
+// 26) 9.2e-4 of N, with 8 1.1e-5 (measured). With 12 and more this full rub
+// is no longer the attractor at f = 0.1 (docs/rotors.md: a higher shaft mode
+// coupled by friction turns it into an intermittent rub), so 8 is the
+// test's model.
+TEST(FlexibleSwitching, SettlesOntoTheClosedFormFullAnnularRub) {
+  const core::FeRotor rotor = core::load_rotor_file(test::source_path("test/data/rotors/isotropic_seal.yaml"));
+  const double w = 300.0, f = 0.1, c = 20e-6;
+  const auto branches = core::synchronous_full_rub(core::assemble(rotor), rotor.rub_station_node, rotor.unbalances,
+                                                   core::StationStator{}, c, f, w);
+  ASSERT_FALSE(branches.empty());
+  const core::FlexibleFullRub& want = branches.front();
+  std::vector<double> force_error, station_error_m;
+  for (const long modes : {4L, 8L}) {
+    const test::Run r = test::run(isotropic_full_rub_scene(modes));
+    ASSERT_FALSE(r.result.failure) << failure_of(r);
+    const core::Sample& end = r.out.samples.back();
+    ASSERT_TRUE(end.in_contact) << modes;
+    EXPECT_NEAR(end.kin.rotor_pos.norm(), c, 1e-15) << modes;  // on the bore, by construction
+    const std::complex<double> z = want.station_m * std::exp(std::complex<double>(0.0, w * end.t_s));
+    force_error.push_back(std::abs(end.normal_force_N / want.normal_force_N - 1.0));
+    station_error_m.push_back(std::abs(std::complex<double>(end.kin.rotor_pos.x(), end.kin.rotor_pos.y()) - z));
+  }
+  EXPECT_LT(force_error[1], 3e-5);
+  EXPECT_LT(force_error[1], force_error[0] / 10.0);  // truncation: more modes, closer
+  EXPECT_LT(station_error_m[1], 1e-4 * c);
+}
+
+// The seal-rub example (config/seal_rub_runup.yaml): a run-up of the
+// flexible rotor through its first critical speed (237-241 rad/s) into rub
+// at the seal. The first contact comes near the critical speed, the rub is
+// sustained for a while, and the run keeps the method's promises: the same
+// events at any output rate, bit for bit, and the same run twice.
+TEST(FlexibleSwitching, SealRubRunUpKeepsTheMethodsPromises) {
+  core::Scene s = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
+  const test::Run a = test::run(s);
+  ASSERT_FALSE(a.result.failure) << failure_of(a);
+  ASSERT_FALSE(a.out.events.empty());
+  const double first_contact_speed = 150.0 + 70.0 * a.out.events.front().t_s;
+  EXPECT_GT(first_contact_speed, 200.0);
+  EXPECT_LT(first_contact_speed, 241.0);
+  EXPECT_TRUE(std::any_of(a.out.events.begin(), a.out.events.end(),
+                          [](const core::ContactEvent& e) { return e.kind == core::EventKind::kTouchdown; }));
+  const test::Run again = test::run(s);
+  s.output_rate_hz = 250.0;
+  const test::Run slower = test::run(s);
+  for (const test::Run* other : {&again, &slower}) {
+    ASSERT_EQ(other->out.events.size(), a.out.events.size());
+    for (std::size_t i = 0; i < a.out.events.size(); ++i) {
+      EXPECT_EQ(other->out.events[i].t_s, a.out.events[i].t_s) << i;
+      EXPECT_EQ(other->out.events[i].impulse_N_s, a.out.events[i].impulse_N_s) << i;
+    }
+  }
+  EXPECT_EQ(again.out.samples.back().kin.rotor_pos, a.out.samples.back().kin.rotor_pos);
+}
+
+// What runs a flexible rotor and what does not, each refusal naming the key.
+TEST(FlexibleSwitching, ScenesItCannotRunAreRefusedNamingTheKey) {
+  core::Scene s = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
+  EXPECT_NO_THROW(core::validate_scene(s));
+  auto refusal = [](core::Scene bad) -> std::string {
+    try {
+      core::validate_scene(bad);
+    } catch (const core::SceneError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  core::Scene penalty = s;
+  penalty.solver.method = core::Method::kPenalty;
+  penalty.solver.integrator = core::Integrator::kAuto;
+  EXPECT_NE(refusal(penalty).find("'method'"), std::string::npos) << refusal(penalty);
+  core::Scene motor = s;
+  motor.model.drive_model = core::DriveModel::kMotor;
+  EXPECT_NE(refusal(motor).find("'drive_model'"), std::string::npos) << refusal(motor);
+  core::Scene gravity = s;
+  gravity.model.gravity_m_per_s2 = 9.81;
+  EXPECT_NE(refusal(gravity).find("'gravity_m_per_s2'"), std::string::npos) << refusal(gravity);
+  core::Scene missing = s;
+  missing.rotor.file = "/nonexistent/rotor.yaml";
+  EXPECT_NE(refusal(missing).find("'rotor_file'"), std::string::npos) << refusal(missing);
+  core::Scene too_many = s;
+  too_many.rotor.planar_modes = 20;  // the seal rotor has 26; the jeffcott file 2
+  too_many.rotor.file = test::source_path("test/data/rotors/jeffcott_matrices.yaml");
+  EXPECT_NE(refusal(too_many).find("rotor_planar_modes"), std::string::npos) << refusal(too_many);
+  EXPECT_NE(refusal(too_many).find("1 to 2"), std::string::npos) << refusal(too_many);
+  // The key itself: out of range named by set_scene_value.
+  EXPECT_THROW(core::set_scene_value(s, "rotor_planar_modes", "21"), core::SceneError);
+}
