@@ -509,7 +509,15 @@ class SwitchingMethod final : public ContactMethod {
     e.t_s = te;
     bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const ImpactResult ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, k_at);
+      ImpactResult ir;
+      if constexpr (kFlexible) {
+        ModalVector modal_acc(flexible_->modal_size());
+        const JeffcottModel::FreeLoads free =
+            flexible_free_loads(model_, *flexible_, k_at, d_at, next_modal_, modal_acc);
+        ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
+      } else {
+        ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, k_at);
+      }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;

@@ -157,6 +157,12 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
                                     const ContactGeometry& g) {
   return JeffcottModel::distance_acceleration(k, g, m.accelerations(k, d, g, 0.0, 0.0));
 }
+// The same from the state's free loads (a flexible rotor's station force
+// holds its modal coordinates, which k does not).
+inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
+                                    const ContactGeometry& g, const JeffcottModel::FreeLoads& free) {
+  return JeffcottModel::distance_acceleration(k, g, m.accelerations(d, g, free, 0.0, 0.0));
+}
 
 // The impact law when the spin takes part (a motor drive): the tangential
 // impulse P_t acts on the spin through R_r and the normal one through the
@@ -228,14 +234,16 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
 // Applies the impact law to k (velocities change, positions do not). Call
 // only with a closing normal velocity (g.normal_velocity_m_per_s > 0).
 // settle_apex_m: a rebound whose flight apex would stay below it settles.
+// free: the state's free loads (model.hpp; a flexible rotor's from its
+// model), which decide whether a slow rebound settles.
 inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
-                                 double settle_apex_m, Kinematics& k) {
+                                 double settle_apex_m, const JeffcottModel::FreeLoads& free, Kinematics& k) {
   const ModelParameters& p = m.parameters();
   ImpactResult r;
   r.closing_velocity_m_per_s = g.normal_velocity_m_per_s;
   double e = p.restitution;
   const double rebound = e * g.normal_velocity_m_per_s;
-  const double a_press = pressing_acceleration(m, k, d, g);
+  const double a_press = pressing_acceleration(m, k, d, g, free);
   if (rebound < p.impact_settle_velocity_m_per_s ||
       (a_press > 0.0 && rebound * rebound <= 2.0 * a_press * settle_apex_m)) {
     e = 0.0;
@@ -257,6 +265,12 @@ inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& 
   k.rotor_vel += impulse_on_rotor * m.inv_rotor_mass();
   k.stator_vel -= impulse_on_rotor * m.inv_stator_mass();
   return r;
+}
+
+// The same for the Jeffcott, whose free loads follow from k.
+inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
+                                 double settle_apex_m, Kinematics& k) {
+  return apply_impact(m, g, d, settle_apex_m, m.free_loads(k, d), k);
 }
 
 // The friction regime of a sustained contact. slip_sign s is sgn(v_slide)

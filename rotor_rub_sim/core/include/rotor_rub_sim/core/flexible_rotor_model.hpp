@@ -99,6 +99,21 @@ class FlexibleRotorModel {
   Eigen::VectorXd a_, b_;  // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
 };
 
+/// The free loads of a flexible rotor's state as the contact's functions
+/// take the Jeffcott's (model.hpp's FreeLoads, prescribed drive): m the
+/// station's bare model (station_parameters), k the station and stator,
+/// modal its [xi; xi'], d the drive; xi'' written to modal_acc.
+template <class Modal, class Out>
+JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const FlexibleRotorModel& rotor,
+                                             const Kinematics& k, const DriveState& d,
+                                             const Eigen::MatrixBase<Modal>& modal,
+                                             const Eigen::MatrixBase<Out>& modal_acc) {
+  JeffcottModel::FreeLoads free = m.free_loads(k, d);
+  free.rotor_N = rotor.free_loads(k.rotor_pos + m.frame_shift(), k.rotor_vel, modal, free.unbalance_dir,
+                                  d.speed_rad_per_s, d.accel_rad_per_s2, modal_acc);
+  return free;
+}
+
 /// Reads settings.file (rotor_file.hpp) and reduces it at its rub station to
 /// settings.planar_modes per plane, with the file's unbalances. Throws
 /// std::invalid_argument naming the file and what is wrong (an unreadable
