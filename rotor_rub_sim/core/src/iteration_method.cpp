@@ -3,6 +3,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -13,6 +14,7 @@
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
@@ -161,13 +163,14 @@ class ContactForceSolver {
   ForceRoot normal_, tangential_;
 };
 
-template <int kStatorDof, bool kMotor>
+template <int kStatorDof, bool kMotor, bool kFlexible>
 struct IterationSystem {
-  using L = FreeLayout<kStatorDof, kMotor>;
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   // The jerk for the Hermite dense output: the central difference (the
   // contact force is a root, its rate no closed form).
   static constexpr bool kClosedFormSecondDerivative = false;
   const JeffcottModel* model = nullptr;
+  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
   const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;
   bool engaged = false;
@@ -185,11 +188,20 @@ struct IterationSystem {
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState reference = segment.at(t);
     const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
-    const JeffcottModel::FreeLoads free = model->free_loads(k, d);
+    JeffcottModel::FreeLoads free;
+    if constexpr (kFlexible) {
+      // The modal rows, and the station's force with the modal coordinates.
+      const int n = modal_count<L>(x);
+      dxdt.resize(x.size());
+      dxdt.segment(L::kModal, n) = x.tail(n);
+      free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
+    } else {
+      free = model->free_loads(k, d);
+    }
     const ContactForces f = forces(k, d, g, free, t);
     const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
     free_derivative<L>(*model, k, reference, a, dxdt);
@@ -197,22 +209,28 @@ struct IterationSystem {
 };
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5) or 8(5,3) with the
-// Hermite dense output (dop853, dense_high_order.hpp).
-template <int kStatorDof, bool kMotor, Integrator kScheme>
+// Hermite dense output (dop853, dense_high_order.hpp). kFlexible: the rotor
+// is a flexible rotor's rub station (flexible_rotor_model.hpp); its modal
+// block goes through projections, impacts and restarts unchanged (no
+// contact force or impulse reaches it), and every free load of the station
+// is the flexible model's (loads()).
+template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof, kMotor>;
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   using Dense = std::conditional_t<kScheme == Integrator::kDop853, DenseDop853<L>, DenseDopri5<State>>;
 
   explicit IterationMethod(const Scene& scene)
-      : model_(scene.model),
+      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(scene.rotor)) : nullptr),
+        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         initial_step_s_(scene.solver.initial_step_s),
         gap_tolerance_m_(scene.solver.atol),
         guard_(scene.solver.max_events_per_ms) {
     system_.model = &model_;
+    system_.flexible = flexible_.get();
     system_.solver = &solver_;
     system_.iterations = &stats_.root_iterations;
     if (scene.solver.profile_cost) {
@@ -227,7 +245,7 @@ class IterationMethod final : public ContactMethod {
     system_.segment = segment;
     system_.engaged = false;
     pending_.due = false;
-    restart_from(t_s, k, initial_step_s_);
+    restart_from(t_s, k, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState(), initial_step_s_);
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
@@ -245,7 +263,7 @@ class IterationMethod final : public ContactMethod {
     }
     State x;
     integrator_.state_at(t_s, x);
-    restart_from(t_s, kinematics_of<kStatorDof, kMotor>(x), integrator_.dt());
+    restart_from(t_s, kinematics_of<kStatorDof, kMotor, kFlexible>(x), modal_of<L>(x), integrator_.dt());
   }
 
   void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
@@ -259,25 +277,26 @@ class IterationMethod final : public ContactMethod {
     }
     State x;
     integrator_.state_at(t_s, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const ModalState modal = modal_of<L>(x);
     const bool was_stick = system_.engaged && system_.mode.stick;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(p);
+    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
     k.rotor_pos += old_frame - model_.frame_shift();
     if (system_.engaged) {
       const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
       const ContactGeometry g = model_.contact_geometry(k, d);
-      if (g.penetration_m >= -gap_tolerance_m_ && pressing_acceleration(model_, k, d, g) > 0.0) {
+      if (g.penetration_m >= -gap_tolerance_m_ && pressing_acceleration(model_, k, d, g, loads(k, modal, d)) > 0.0) {
         project_to_bore(k, g);
-        const FrictionMode mode = mode_at(k, d, was_stick || !model_.has_friction(), t_s);
+        const FrictionMode mode = mode_at(k, modal, d, was_stick || !model_.has_friction(), t_s);
         if (mode.stick != was_stick) ++stats_.friction_transitions;
-        apply(Pending{true, t_s, k, true, mode, true});
+        apply(Pending{true, t_s, k, modal, true, mode, true});
         return;
       }
       events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
       system_.engaged = false;
     }
-    restart_from(t_s, k, integrator_.dt());
+    restart_from(t_s, k, modal, integrator_.dt());
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
@@ -325,7 +344,8 @@ class IterationMethod final : public ContactMethod {
       return;
     }
     State x = integrator_.x_new();
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const ModalState modal = modal_of<L>(x);
     const DriveState reference = system_.segment.at(valid_end_);
     DriveState d = model_.drive_at(k, reference);
     ContactGeometry g = model_.contact_geometry(k, d);
@@ -335,25 +355,25 @@ class IterationMethod final : public ContactMethod {
     e.t_s = valid_end_;
     bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, k);
+      const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, loads(k, modal, d), k);
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
       e.impulse_N_s = ir.normal_impulse_N_s;
-    } else if (!(pressing_acceleration(model_, k, d, g) > 0.0)) {
+    } else if (!(pressing_acceleration(model_, k, d, g, loads(k, modal, d)) > 0.0)) {
       return;  // at the bore, but leaving and not pressed: nothing happens
     }
     d = model_.drive_at(k, reference);  // a motor's spin took part in the impact
     g = model_.contact_geometry(k, d);
-    const bool sustained = settles && pressing_acceleration(model_, k, d, g) > 0.0;
+    const bool sustained = settles && pressing_acceleration(model_, k, d, g, loads(k, modal, d)) > 0.0;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     guard_.record(valid_end_);
     events.push_back(e);
-    Pending next{true, valid_end_, k, sustained, {}, true};
+    Pending next{true, valid_end_, k, modal, sustained, {}, true};
     if (sustained) {
       project_to_bore(k, g);
       next.kin = k;
-      next.mode = mode_at(k, d, at_rest || !model_.has_friction(), valid_end_);
+      next.mode = mode_at(k, modal, d, at_rest || !model_.has_friction(), valid_end_);
     }
     defer(next);
   }
@@ -364,7 +384,7 @@ class IterationMethod final : public ContactMethod {
   Sample sample(double t_s) const override {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     // A copy of the solver: sampling must not move the warm start of the
@@ -376,7 +396,7 @@ class IterationMethod final : public ContactMethod {
     // (a stick force that jumped out of the cone at a drive change is not
     // applied there, the slip force is).
     const FrictionMode& mode = pending_.due && pending_.engaged && t_s >= pending_.t_s ? pending_.mode : system_.mode;
-    const JeffcottModel::FreeLoads free = model_.free_loads(k, d);
+    const JeffcottModel::FreeLoads free = loads(k, modal_of<L>(x), d);
     ContactForces f;
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
     Sample s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged);
@@ -392,15 +412,27 @@ class IterationMethod final : public ContactMethod {
     bool due = false;
     double t_s = 0.0;
     Kinematics kin;
+    ModalState modal;  // a flexible rotor's [xi; xi'] with kin
     bool engaged = false;
     FrictionMode mode;
     bool new_mode = false;  // a friction regime begins here (touchdown, transition)
   };
 
+  // The free loads of a state: the Jeffcott's from k, a flexible rotor's
+  // station force with its modal coordinates.
+  JeffcottModel::FreeLoads loads(const Kinematics& k, const ModalState& modal, const DriveState& d) const {
+    if constexpr (kFlexible) {
+      ModalVector modal_acc(flexible_->modal_size());
+      return flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc);
+    } else {
+      return model_.free_loads(k, d);
+    }
+  }
+
   ContactGeometry geometry_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
   }
 
@@ -430,11 +462,12 @@ class IterationMethod final : public ContactMethod {
   }
 
   // The friction regime at a state on the bore.
-  FrictionMode mode_at(const Kinematics& k, const DriveState& d, bool at_rest, double t_s) const {
+  FrictionMode mode_at(const Kinematics& k, const ModalState& modal, const DriveState& d, bool at_rest,
+                       double t_s) const {
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
     long unused = 0;
-    const ContactForces f = probe.solve(k, d, g, FrictionMode{}, true, t_s, unused);
+    const ContactForces f = probe.solve(k, d, g, loads(k, modal, d), FrictionMode{}, true, t_s, unused);
     return select_friction_mode(g.sliding_velocity_m_per_s, at_rest, f.stick_N,
                                 model_.parameters().friction_coefficient * f.normal_N);
   }
@@ -444,13 +477,13 @@ class IterationMethod final : public ContactMethod {
   double friction_event(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     if (!system_.mode.stick) return -system_.mode.slip_sign * g.sliding_velocity_m_per_s;
     const ContactForceSolver probe = solver_;
     long unused = 0;
-    const ContactForces f = probe.solve(k, d, g, system_.mode, true, t_s, unused);
+    const ContactForces f = probe.solve(k, d, g, loads(k, modal_of<L>(x), d), system_.mode, true, t_s, unused);
     return std::abs(f.stick_N) - model_.parameters().friction_coefficient * f.normal_N;
   }
 
@@ -505,10 +538,10 @@ class IterationMethod final : public ContactMethod {
   double pressing_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     project_to_bore(k, model_.contact_geometry(k, d));
-    return pressing_acceleration(model_, k, d, model_.contact_geometry(k, d));
+    return pressing_acceleration(model_, k, d, model_.contact_geometry(k, d), loads(k, modal_of<L>(x), d));
   }
 
   // Locates a lift-off inside the engaged step just taken, on its dense
@@ -544,11 +577,11 @@ class IterationMethod final : public ContactMethod {
     valid_end_ = te;
     State x;
     integrator_.state_at(te, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     project_to_bore(k, model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(te))));
     guard_.record(te);
     events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
-    defer({true, te, k, false, {}});
+    defer({true, te, k, modal_of<L>(x), false, {}});
   }
 
   // Ends the step at te and defers the restart in the next friction regime.
@@ -558,7 +591,8 @@ class IterationMethod final : public ContactMethod {
     guard_.record(te);
     State x;
     integrator_.state_at(te, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const ModalState modal = modal_of<L>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(te));
     const ContactGeometry g = model_.contact_geometry(k, d);
     project_to_bore(k, g);
@@ -566,12 +600,12 @@ class IterationMethod final : public ContactMethod {
     if (system_.mode.stick) {
       const ContactForceSolver probe = solver_;
       long unused = 0;
-      const ContactForces f = probe.solve(k, d, g, system_.mode, true, te, unused);
+      const ContactForces f = probe.solve(k, d, g, loads(k, modal, d), system_.mode, true, te, unused);
       next.slip_sign = f.stick_N > 0.0 ? -1.0 : 1.0;
     } else {
-      next = mode_at(k, d, true, te);
+      next = mode_at(k, modal, d, true, te);
     }
-    defer({true, te, k, true, next, true});
+    defer({true, te, k, modal, true, next, true});
     return true;
   }
 
@@ -579,31 +613,32 @@ class IterationMethod final : public ContactMethod {
   // a stick regime starts strictly inside the cone, never on its surface).
   double friction_event_rate(double t_s) const {
     if (system_.mode.stick) return 0.0;
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(integrator_.x_old());
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(integrator_.x_old());
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
     long unused = 0;
-    const JeffcottModel::FreeLoads free = model_.free_loads(k, d);
+    const JeffcottModel::FreeLoads free = loads(k, modal_of<L>(integrator_.x_old()), d);
     const ContactForces f = probe.solve(k, d, g, free, system_.mode, false, t_s, unused);
     return -system_.mode.slip_sign * solver_.sliding_acceleration(k, d, g, free, f.normal_N, f.tangential_N);
   }
 
   void end_engaged_step(std::vector<ContactEvent>& events) {
-    Kinematics k = kinematics_of<kStatorDof, kMotor>(integrator_.x_new());
+    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(integrator_.x_new());
+    const ModalState modal = modal_of<L>(integrator_.x_new());
     const DriveState d = model_.drive_at(k, system_.segment.at(valid_end_));
     const ContactGeometry g = model_.contact_geometry(k, d);
     Kinematics held = k;
     project_to_bore(held, g);
     const ContactGeometry gh = model_.contact_geometry(held, d);
-    if (pressing_acceleration(model_, held, d, gh) <= 0.0) {
+    if (pressing_acceleration(model_, held, d, gh, loads(held, modal, d)) <= 0.0) {
       // Lift-off at the step's end, a step that was not pressed at its
       // start (locate_liftoff finds those that were): F_n = 0 already
       // separates, and the end is kept as integrated, its separation
       // velocity with it (the rotor has flown free for the whole step).
       guard_.record(valid_end_);
       events.push_back({valid_end_, EventKind::kLiftoff, 0.0, 0.0});
-      defer({true, valid_end_, k, false, {}});
+      defer({true, valid_end_, k, modal, false, {}});
       return;
     }
     // Still held: the drift of this step is projected out.
@@ -611,7 +646,7 @@ class IterationMethod final : public ContactMethod {
     stats_.min_abs_sliding_velocity_m_per_s =
         std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(gh.sliding_velocity_m_per_s));
     if (system_.mode.stick) hold_rolling(held, model_.contact_geometry(held, d));
-    defer({true, valid_end_, held, true, system_.mode});
+    defer({true, valid_end_, held, modal, true, system_.mode});
   }
 
   // Moves both bodies along n so that delta = C, and removes the normal
@@ -641,12 +676,12 @@ class IterationMethod final : public ContactMethod {
     if (p.engaged && p.mode.stick) {
       hold_rolling(p.kin, model_.contact_geometry(p.kin, model_.drive_at(p.kin, system_.segment.at(p.t_s))));
     }
-    restart_from(p.t_s, p.kin, integrator_.dt());
+    restart_from(p.t_s, p.kin, p.modal, integrator_.dt());
   }
 
-  void restart_from(double t_s, const Kinematics& k, double dt) {
-    State x;
-    store_kinematics<kStatorDof, kMotor>(k, x);
+  void restart_from(double t_s, const Kinematics& k, const ModalState& modal, double dt) {
+    State x = sized_state<L>(modal);
+    store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
     integrator_.initialize(system_, x, t_s, dt, stats_);
     valid_begin_ = valid_end_ = t_s;
   }
@@ -658,10 +693,11 @@ class IterationMethod final : public ContactMethod {
   // As in the switching method: a function is on its surface when its value
   // is what its rate makes in this time.
   static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
-  double mode_start_s_ = -1.0;  // when the current friction regime began
-  JeffcottModel model_;
+  double mode_start_s_ = -1.0;                          // when the current friction regime began
+  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
+  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
   ContactForceSolver solver_;
-  IterationSystem<kStatorDof, kMotor> system_;
+  IterationSystem<kStatorDof, kMotor, kFlexible> system_;
   Dense integrator_;
   double initial_step_s_;
   double gap_tolerance_m_;
@@ -676,13 +712,20 @@ class IterationMethod final : public ContactMethod {
 template <Integrator kScheme>
 struct IterationOn {
   template <int kStatorDof, bool kMotor>
-  using Method = IterationMethod<kStatorDof, kMotor, kScheme>;
+  using Method = IterationMethod<kStatorDof, kMotor, false, kScheme>;
 };
 
 }  // namespace
 
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
+  if (!scene.rotor.file.empty()) {
+    // A flexible rotor: the prescribed drive only (validate_scene).
+    if (scene.model.stator_model == StatorModel::kRigid) {
+      return std::make_unique<IterationMethod<0, false, true, I>>(scene);
+    }
+    return std::make_unique<IterationMethod<2, false, true, I>>(scene);
+  }
   return make_for_scene<IterationOn<I>::template Method>(scene);
 }
 template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);
