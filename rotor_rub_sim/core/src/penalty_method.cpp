@@ -2,6 +2,9 @@
 
 #include <array>
 #include <limits>
+#include <memory>
+#include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
@@ -27,20 +30,25 @@ Integrator make_integrator(const SolverSettings& s) {
   }
 }
 
-template <int kStatorDof, bool kMotor, class Integrator>
+// kFlexible: the rotor is a flexible rotor's rub station (explicit
+// integrators), its modal block carried through every restart.
+template <int kStatorDof, bool kMotor, class Integrator, bool kFlexible = false>
 class PenaltyMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof, kMotor>;
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   static constexpr bool kModeLocked = is_implicit<Integrator>::value;
+  static_assert(!(kFlexible && kModeLocked), "a flexible rotor runs on the explicit integrators");
 
   explicit PenaltyMethod(const Scene& scene)
-      : model_(scene.model),
+      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(scene.rotor)) : nullptr),
+        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
+    system_.flexible = flexible_.get();
     system_.law = PenaltyLaw(model_);
-    polar_sys_.cartesian = &system_;
+    if constexpr (kModeLocked) polar_sys_.cartesian = &system_;
     if (scene.solver.profile_cost) {
       system_.rhs_time_s = &stats_.rhs_time_s;
       event_time_s_ = &stats_.event_time_s;
@@ -52,7 +60,7 @@ class PenaltyMethod final : public ContactMethod {
     system_.segment = segment;
     crossed_edge_ = -1;
     fallback_ = false;
-    restart(t_s, k, initial_step_s_);
+    restart(t_s, k, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState(), initial_step_s_);
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
@@ -62,7 +70,7 @@ class PenaltyMethod final : public ContactMethod {
     // A mode change due exactly here carries over; one later in the step is
     // found again after the restart.
     if (!(pending_ && valid_end_ == t_s)) crossed_edge_ = -1;
-    restart(t_s, k, integrator_.dt());
+    restart(t_s, k, modal_at(t_s), integrator_.dt());
     ++stats_.restarts;
   }
 
@@ -72,12 +80,12 @@ class PenaltyMethod final : public ContactMethod {
     Kinematics k = kinematics_at(t_s);
     const bool was_pressed = system_.law.edges(geometry_at(t_s))[kPressedEdge] > 0.0;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(p);
+    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
     system_.law = PenaltyLaw(model_);
     k.rotor_pos += old_frame - model_.frame_shift();
     crossed_edge_ = -1;
     fallback_ = false;
-    restart(t_s, k, integrator_.dt());
+    restart(t_s, k, modal_at(t_s), integrator_.dt());
     ++stats_.restarts;
     // The law's force jumps with the parameters: only a clearance or a bore
     // moved away can end a contact here (one that would press deeper is
@@ -92,7 +100,8 @@ class PenaltyMethod final : public ContactMethod {
       // fallback keeps the step that found its edge instead).
       ProfileScope scope(restart_time_s_);
       end_step_at(valid_end_);
-      restart(valid_end_, kinematics_at(valid_end_), fallback_ ? fallback_dt_s_ : integrator_.dt());
+      restart(valid_end_, kinematics_at(valid_end_), modal_at(valid_end_),
+              fallback_ ? fallback_dt_s_ : integrator_.dt());
       ++stats_.restarts;
     }
     with_system([this](auto& sys) { integrator_.do_step(sys, stats_); });
@@ -207,7 +216,17 @@ class PenaltyMethod final : public ContactMethod {
     if constexpr (kModeLocked) {
       if (polar_) return PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::kinematics(x);
     }
-    return kinematics_of<kStatorDof, kMotor>(x);
+    return kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+  }
+  // A flexible rotor's modal block [xi; xi'] at t_s (empty for the Jeffcott).
+  ModalState modal_at(double t_s) const {
+    if constexpr (kFlexible) {
+      State x;
+      integrator_.state_at(t_s, x);
+      return modal_of<L>(x);
+    } else {
+      return ModalState();
+    }
   }
 
   // Restarts at t_s from state k. After an edge (crossed_edge_ >= 0) the
@@ -217,7 +236,7 @@ class PenaltyMethod final : public ContactMethod {
   // deciding the mode from that state would find the same edge again at
   // once, a few times, and end in a fallback. The edge's value is taken as
   // on its new side, so only a crossing back is seen.
-  void restart(double t_s, const Kinematics& k, double dt_s) {
+  void restart(double t_s, const Kinematics& k, const ModalState& modal, double dt_s) {
     pending_ = false;
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     edges_end_ = system_.law.edges(model_.contact_geometry(k, d));
@@ -231,12 +250,11 @@ class PenaltyMethod final : public ContactMethod {
     // A pressed contact has delta > 0 (> C but for a rounding at a crossed
     // edge): its polar coordinates exist. A fallback step stays Cartesian.
     polar_ = kModeLocked && system_.mode.pressed && !system_.mode.clamped;
-    State x;
-    if (polar_) {
-      x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
-    } else {
-      store_kinematics<kStatorDof, kMotor>(k, x);
+    State x = sized_state<L>(modal);
+    if constexpr (kModeLocked) {
+      if (polar_) x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
     }
+    if (!polar_) store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
     with_system([&](auto& sys) { integrator_.initialize(sys, x, t_s, dt_s, stats_); });
     valid_end_ = t_s;
   }
@@ -330,9 +348,11 @@ class PenaltyMethod final : public ContactMethod {
   }
   PenaltyEdgeValues edges_at(double t_s) const { return system_.law.edges(geometry_at(t_s)); }
 
-  JeffcottModel model_;
-  PenaltySystem<kStatorDof, kMotor, kModeLocked> system_;
-  PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked> polar_sys_;
+  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
+  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
+  PenaltySystem<kStatorDof, kMotor, kModeLocked, kFlexible> system_;
+  struct NoPolar {};
+  std::conditional_t<kModeLocked, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;
   bool polar_ = false;  // the integrator's state is polar_sys_'s (the pressed mode, implicit integrator)
   Integrator integrator_;
   double initial_step_s_;
@@ -367,6 +387,19 @@ struct PenaltyOn {
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
   static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
+  if (!scene.rotor.file.empty()) {
+    // A flexible rotor: dopri5 under the prescribed drive only (validate_scene).
+    if constexpr (I == Integrator::kDopri5) {
+      using Stepper = DenseDopri5<typename FreeLayout<0, false, true>::State>;
+      using ElasticStepper = DenseDopri5<typename FreeLayout<2, false, true>::State>;
+      if (scene.model.stator_model == StatorModel::kRigid) {
+        return std::make_unique<PenaltyMethod<0, false, Stepper, true>>(scene);
+      }
+      return std::make_unique<PenaltyMethod<2, false, ElasticStepper, true>>(scene);
+    } else {
+      throw std::logic_error("make_penalty_method: a flexible rotor runs on dopri5 only (validate_scene)");
+    }
+  }
   return make_for_scene<PenaltyOn<I>::template Method>(scene);
 }
 template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRosenbrock4>(const Scene&);

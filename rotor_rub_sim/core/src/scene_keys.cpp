@@ -226,8 +226,7 @@ const std::vector<KeyEntry>& entries() {
     // A flexible rotor (docs/rotors.md).
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott (the rotor keys then unused): shaft, disks, "
-                     "bearings, unbalances, rub station; switching and iteration methods, prescribed drive, "
-                     "no gravity",
+                     "bearings, unbalances, rub station; prescribed drive, no gravity, penalty on dopri5",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
@@ -323,16 +322,20 @@ const std::vector<KeyEntry>& entries() {
   return table;
 }
 
-// A flexible rotor: what runs it (the switching and iteration methods under the prescribed
+// A flexible rotor: what runs it (every method, the penalty on dopri5, under the prescribed
 // drive, without gravity: what FlexibleRotorModel models) and the file
 // itself, read and reduced as a run will.
 void validate_flexible_rotor(const Scene& s) {
   const std::string why =
-      " (a flexible rotor, rotor_file, runs so far on the switching and iteration methods under the "
-      "prescribed drive, without gravity)";
-  if (s.solver.method == Method::kPenalty) {
-    throw SceneError("scene key 'method': value '" + std::string(to_string(s.solver.method)) +
-                     "' is not accepted with rotor_file; accepted: switching, iteration" + why);
+      " (a flexible rotor, rotor_file, runs so far under the prescribed drive, without gravity; the penalty "
+      "method on dopri5: rosenbrock4's closed-form Jacobian and rk4's stability bound are the Jeffcott's)";
+  const Integrator integrator = effective_integrator(s.solver);
+  if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {
+    const std::string named = s.solver.integrator == Integrator::kAuto
+                                  ? std::string("auto' (") + to_string(integrator) + ")"
+                                  : std::string(to_string(integrator)) + "'";
+    throw SceneError("scene key 'integrator': value '" + named +
+                     " is not accepted with rotor_file and method penalty; accepted: dopri5" + why);
   }
   if (s.model.drive_model != DriveModel::kPrescribed) {
     throw SceneError("scene key 'drive_model': value '" + std::string(to_string(s.model.drive_model)) +

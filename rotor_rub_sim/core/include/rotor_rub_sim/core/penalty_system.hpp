@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/penalty_law.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
@@ -25,11 +26,16 @@ namespace rotor_rub::core {
 // at loose tolerances the steps hop across those edges every few steps (at
 // rtol 1e-3 the position error allowed is about 400 times the penetration,
 // 3e-6 m against 8e-9 m): restarts there would multiply that noise.
-template <int kStatorDof, bool kMotor, bool kModeLocked>
+// kFlexible: the rotor is a flexible rotor's rub station (explicit
+// integrators only: the Jacobian below is the Jeffcott's); its free loads and
+// modal rows are FlexibleRotorModel's, the law acts on the station alone.
+template <int kStatorDof, bool kMotor, bool kModeLocked, bool kFlexible = false>
 struct PenaltySystem {
-  using L = FreeLayout<kStatorDof, kMotor>;
+  static_assert(!(kFlexible && kModeLocked), "a flexible rotor runs on the explicit integrators");
+  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
+  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
   PenaltyLaw law;
   PenaltyMode mode;  // the smooth piece being integrated (penalty_law.hpp)
   SpeedSegment segment;
@@ -43,6 +49,11 @@ struct PenaltySystem {
   // The same given the contact's geometry g at k (the polar coordinates
   // have it without the round trip through the positions).
   Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g) const {
+    return accelerations(d, g, model->free_loads(k, d));
+  }
+  // The same from the state's free loads (a flexible rotor's with its modes).
+  Accelerations accelerations(const DriveState& d, const ContactGeometry& g,
+                              const JeffcottModel::FreeLoads& free) const {
     double fn, ft;
     if constexpr (kModeLocked) {
       if (mode.clamped) {
@@ -58,14 +69,24 @@ struct PenaltySystem {
     } else {
       fn = ft = 0.0;
     }
-    return model->accelerations(k, d, g, fn, ft);
+    return model->accelerations(d, g, free, fn, ft);
   }
 
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState reference = segment.at(t);
-    const Accelerations a = accelerations(k, model->drive_at(k, reference));
+    Accelerations a;
+    if constexpr (kFlexible) {
+      const int n = modal_count<L>(x);
+      dxdt.resize(x.size());
+      dxdt.segment(L::kModal, n) = x.tail(n);
+      const JeffcottModel::FreeLoads free =
+          flexible_free_loads(*model, *flexible, k, reference, x.tail(2 * n), dxdt.tail(n));
+      a = accelerations(reference, model->contact_geometry(k, reference), free);
+    } else {
+      a = accelerations(k, model->drive_at(k, reference));
+    }
     free_derivative<L>(*model, k, reference, a, dxdt);
   }
   // The Jacobian df/dx and the partial df/dt in closed form (the integrator
