@@ -10,10 +10,11 @@
 namespace rotor_rub::core {
 
 FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
-                                       double contact_radius_m)
+                                       double contact_radius_m, int probe_node)
     : rotor_(rotor),
       station_mass_kg_(rotor.station_mass_kg),
       contact_radius_m_(contact_radius_m),
+      probe_node_(probe_node < 0 ? rotor.station_node : probe_node),
       k_(rotor.matrices.K),
       c_(rotor.matrices.C),
       g_(rotor.matrices.G) {
@@ -36,6 +37,13 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
   a_ = rotor.expansion.transpose() * a_full;
   b_ = rotor.expansion.transpose() * b_full;
+  if (4 * probe_node_ >= n) {
+    throw std::invalid_argument("probe node " + std::to_string(probe_node_) + " is out of range; accepted: 0 to " +
+                                std::to_string(n / 4 - 1));
+  }
+  probe_rows_.resize(2, rotor.size());
+  probe_rows_.row(0) = rotor.expansion.row(dof_index(probe_node_, kDofX));
+  probe_rows_.row(1) = rotor.expansion.row(dof_index(probe_node_, kDofY));
 }
 
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {
@@ -51,7 +59,15 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {
   }
   const ReducedRotor reduced =
       reduce_rotor(rotor, assemble(rotor), rotor.rub_station_node, static_cast<int>(settings.planar_modes));
-  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m);
+  if (settings.probe_node >= rotor.nodes()) {
+    throw std::invalid_argument("rotor_probe_node: value " + std::to_string(settings.probe_node) +
+                                " is out of range; accepted for '" + settings.file + "': -1 to " +
+                                std::to_string(rotor.nodes() - 1));
+  }
+  const int probe_node = settings.probe_node >= 0     ? static_cast<int>(settings.probe_node)
+                         : !rotor.probe_nodes.empty() ? rotor.probe_nodes.front()
+                                                      : rotor.rub_station_node;
+  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node);
 }
 
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor) {

@@ -401,6 +401,7 @@ class IterationMethod final : public ContactMethod {
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
     Sample s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged);
     s.sticking = system_.engaged && mode.stick;
+    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_of<L>(x));
     return s;
   }
 

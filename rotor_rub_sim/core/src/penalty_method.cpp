@@ -169,6 +169,7 @@ class PenaltyMethod final : public ContactMethod {
     const double ft = system_.law.tangential(g, fn);
     Sample s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
     s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
+    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_at(t_s));
     return s;
   }
 

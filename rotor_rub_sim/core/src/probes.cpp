@@ -8,7 +8,7 @@ ProbePair::ProbePair(const ProbeParameters& p) : p_(p), rng_(static_cast<std::ui
 
 ProbeReading ProbePair::read(const Sample& s) {
   const double phi = s.drive.angle_rad + p_.runout_phase_rad;
-  const Vec2 seen = s.kin.rotor_pos + p_.runout_m * Vec2(std::cos(phi), std::sin(phi));
+  const Vec2 seen = s.probe_displacement_m + p_.runout_m * Vec2(std::cos(phi), std::sin(phi));
   ProbeReading r;
   r.t_s = s.t_s;
   r.x_m = seen.dot(Vec2(std::cos(p_.x_angle_rad), std::sin(p_.x_angle_rad)));

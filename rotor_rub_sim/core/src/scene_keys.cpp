@@ -164,7 +164,7 @@ void mark_live(SceneKeyInfo& info) {
     info.live_refusal =
         "a mass, an inertia or the rotor's radius has no continuous path for the state (a blade "
         "loss is an unbalance change: eccentricity_m, unbalance_phase_rad)";
-  } else if (k == "rotor_file" || k == "rotor_planar_modes") {
+  } else if (k == "rotor_file" || k == "rotor_planar_modes" || k == "rotor_probe_node") {
     info.live_refusal = "it sets the rotor (its state's size)";
   } else if (k == "gravity_m_per_s2") {
     info.live_refusal = "the machine's orientation is fixed";
@@ -232,6 +232,10 @@ const std::vector<KeyEntry>& entries() {
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
                         "modes per plane (rotor_rub_modal --study recommends)",
                         [](Scene& s) -> long& { return s.rotor.planar_modes; }));
+    t.push_back(integer("rotor_probe_node", -1, 100000,
+                        "the node of a flexible rotor the X/Y probes read (probe_*); -1: the rotor file's first "
+                        "probe node, else the rub station",
+                        [](Scene& s) -> long& { return s.rotor.probe_node; }));
     // Drive.
     t.push_back(choice("drive_model", kAllDriveModels,
                        "prescribed: the speed profile is the spin; motor: a PI speed-controlled motor "
@@ -348,7 +352,14 @@ void validate_flexible_rotor(const Scene& s) {
   try {
     load_flexible_rotor(s.rotor);
   } catch (const std::invalid_argument& e) {
-    throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + e.what() +
+    // A count or a node out of the file's range names its own key.
+    const std::string what = e.what();
+    for (const char* key : {"rotor_planar_modes", "rotor_probe_node"}) {
+      if (what.rfind(std::string(key) + ": ", 0) == 0) {
+        throw SceneError("scene key '" + std::string(key) + "'" + what.substr(std::string(key).size()));
+      }
+    }
+    throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + what +
                      "; accepted: a rotor file with a rub_station (docs/rotors.md)");
   }
 }

@@ -315,7 +315,26 @@ class SwitchingMethod final : public ContactMethod {
   RunStats& mutable_stats() override { return stats_; }
 
  private:
+  // The sample at t_s; a flexible rotor's probes read their node.
   Sample compute_sample(double t_s) const {
+    Sample s = station_sample(t_s);
+    if constexpr (kFlexible) {
+      ModalState modal;
+      if (regime_ == Regime::kFree) {
+        typename FL::State x;
+        free_int_.state_at(t_s, x);
+        modal = modal_of<FL>(x);
+      } else {
+        typename CL::State x;
+        contact_int_.state_at(t_s, x);
+        modal = modal_of<CL>(x);
+      }
+      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
+    }
+    return s;
+  }
+
+  Sample station_sample(double t_s) const {
     const DriveState reference = free_sys_.segment.at(t_s);
     if (regime_ == Regime::kFree) {
       typename FL::State x;

@@ -81,6 +81,7 @@ core::Sample from_msg(const rotor_rub_msgs::RotorState& msg) {
   core::Sample s;
   s.t_s = msg.header.stamp.toSec();
   s.kin.rotor_pos = core::Vec2(msg.rotor_position.x, msg.rotor_position.y);
+  s.probe_displacement_m = s.kin.rotor_pos;  // the state topic holds the rotor (a flexible rotor's station)
   s.kin.rotor_vel = core::Vec2(msg.rotor_velocity.x, msg.rotor_velocity.y);
   s.kin.stator_pos = core::Vec2(msg.stator_position.x, msg.stator_position.y);
   s.kin.stator_vel = core::Vec2(msg.stator_velocity.x, msg.stator_velocity.y);

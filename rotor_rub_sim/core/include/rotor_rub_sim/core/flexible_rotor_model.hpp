@@ -30,14 +30,25 @@ using ModalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordin
 class FlexibleRotorModel {
  public:
   /// Throws std::invalid_argument for an unbalance on no node or a rotor of
-  /// more than kMaxPlanarModes planar modes. contact_radius_m: the rotating
-  /// surface's radius at the station (0: not given).
+  /// more than kMaxPlanarModes planar modes, or a probe node on no node.
+  /// contact_radius_m: the rotating surface's radius at the station (0: not
+  /// given); probe_node: the node the probes read (-1: the station).
   FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
-                     double contact_radius_m = 0.0);
+                     double contact_radius_m = 0.0, int probe_node = -1);
 
   int modal_size() const { return static_cast<int>(k_.rows()) - 2; }  ///< n: xi's entries
   double station_mass_kg() const { return station_mass_kg_; }
   double contact_radius_m() const { return contact_radius_m_; }
+  int probe_node() const { return probe_node_; }
+
+  /// The displacement of the probe node [m] (casing frame) for the station
+  /// at u [m] (casing frame) and the modal block modal = [xi; xi']: the
+  /// expansion's x and y rows there, times q = [u; xi].
+  template <class Modal>
+  Vec2 probe_displacement(const Vec2& u, const Eigen::MatrixBase<Modal>& modal) const {
+    const int n = modal_size();
+    return probe_rows_.leftCols<2>() * u + probe_rows_.rightCols(n) * modal.head(n);
+  }
   const ReducedRotor& rotor() const { return rotor_; }
 
   /// Every force but the contact's at the station's position and velocity
@@ -94,9 +105,11 @@ class FlexibleRotorModel {
   ReducedRotor rotor_;
   double station_mass_kg_;
   double contact_radius_m_;
-  Eigen::MatrixXd k_;      // K
-  Eigen::MatrixXd c_, g_;  // C, G
-  Eigen::VectorXd a_, b_;  // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
+  int probe_node_;
+  Eigen::Matrix<double, 2, Eigen::Dynamic> probe_rows_;  // the expansion's rows of the probe node's x and y
+  Eigen::MatrixXd k_;                                    // K
+  Eigen::MatrixXd c_, g_;                                // C, G
+  Eigen::VectorXd a_, b_;                                // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
 };
 
 /// The free loads of a flexible rotor's state as the contact's functions

@@ -150,6 +150,9 @@ struct ProbeParameters {
 struct RotorSettings {
   std::string file;       ///< the rotor file; empty: the Jeffcott rotor
   long planar_modes = 8;  ///< the station and planar_modes - 1 shaft modes, per plane
+  /// The node the X/Y proximity probes read (ProbeParameters); -1: the
+  /// rotor file's first probe node, else the rub station.
+  long probe_node = -1;
 };
 
 struct Scene {

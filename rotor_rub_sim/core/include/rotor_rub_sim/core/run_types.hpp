@@ -29,6 +29,10 @@ struct Sample {
   /// prescribed drive applies) and the rub's, R_r F_t [N m] (model.hpp).
   double drive_torque_N_m = 0.0;
   double friction_torque_N_m = 0.0;
+  /// What the proximity probes read, in the casing's frame [m]: the rotor's
+  /// centre, or a flexible rotor's displacement at its probe node
+  /// (RotorSettings::probe_node), which need not be the rub station.
+  Vec2 probe_displacement_m = Vec2::Zero();
 };
 
 enum class EventKind { kTouchdown, kLiftoff, kGraze };

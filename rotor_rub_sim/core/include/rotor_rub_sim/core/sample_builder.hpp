@@ -25,6 +25,7 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   s.kin = k;
   s.kin.rotor_pos += m.frame_shift();  // the casing's frame (a rigid stator's offset)
   s.kin.stator_pos += m.frame_shift();
+  s.probe_displacement_m = s.kin.rotor_pos;  // a flexible rotor's methods set their probe node's
   s.penetration_m = g.penetration_m;
   s.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;
   s.in_contact = in_contact;
