@@ -84,6 +84,9 @@ SETTINGS = collections.OrderedDict([
     ("revolutions", (4, "orbit_distorted and backward_whirl: revolutions per judged span")),
     ("distortion_raise", (0.1, "orbit_distorted: raised at (backward 1X, 2X, 3X) / forward 1X >= this")),
     ("distortion_clear", (0.05, "orbit_distorted: cleared below this")),
+    ("backward_1x_in_distortion", (1, "orbit_distorted: 1 counts the backward 1X as distortion; 0 leaves it out, "
+                                      "for supports stiffer one way than the other (an unbalance orbit is then "
+                                      "an ellipse: a backward 1X of its own)")),
     ("min_1x_ratio", (0.05, "orbit_distorted: judged only while the forward 1X >= this x C")),
     ("backward_raise", (0.6, "backward_whirl: raised at this share of the power in backward whirl")),
     ("backward_clear", (0.4, "backward_whirl: cleared below this share")),
@@ -192,6 +195,8 @@ def check_settings(settings, probe_rate_hz=None):
             raise ConfigError("setting %s = %g must be in [0, %s = %g) (hysteresis)" % (lo, s[lo], hi, s[hi]))
     if not 0.0 <= s["torque_clear_fraction"] < 1.0:
         raise ConfigError("setting torque_clear_fraction = %g must be in [0, 1)" % s["torque_clear_fraction"])
+    if s["backward_1x_in_distortion"] not in (0.0, 1.0):
+        raise ConfigError("setting backward_1x_in_distortion = %g must be 0 or 1" % s["backward_1x_in_distortion"])
     if s["revolutions"] != int(s["revolutions"]):
         raise ConfigError("setting revolutions = %g must be a whole number" % s["revolutions"])
     s["revolutions"] = int(s["revolutions"])
@@ -454,7 +459,8 @@ class MachineRubDetector(object):
         hann = 0.5 - 0.5 * np.cos(phi / M)
         H = synchronous(zs, phi, 2 * math.pi * M, (-3, -2, -1, 1, 2, 3), hann)
         fwd = abs(H[1])
-        other = math.sqrt(sum(abs(H[h]) ** 2 for h in (-3, -2, -1, 2, 3)))
+        orders = (-3, -2, -1, 2, 3) if self.s["backward_1x_in_distortion"] else (-3, -2, 2, 3)
+        other = math.sqrt(sum(abs(H[h]) ** 2 for h in orders))
         fpow, bpow, wf = full_spectrum(zs, float(np.median(np.diff(ts[sel]))))
         share = bpow / (fpow + bpow) if fpow + bpow > 0 else 0.0
         orbit = float(np.max(np.abs(zs))) / self.clearance_m

@@ -184,6 +184,20 @@ class NoFalseAlarm(unittest.TestCase):
                 self.assertEqual(changes, [], "noise %g V seed %d" % (noise, seed))
                 self.assertLess(det.last_revolution.distortion, 0.01)
 
+    def test_elliptical_orbit_of_anisotropic_supports(self):
+        # Supports stiffer one way: the unbalance orbit is an ellipse, a
+        # forward 1X with a backward 1X of a third of it (axes 1.33 : 0.67).
+        # Counted as distortion (the default) it raises with no rub; with
+        # backward_1x_in_distortion 0 it does not, and a truncated orbit
+        # (a rub) still raises from its 2X and 3X.
+        ellipse = lambda t, phi: 0.3 * C * np.exp(1j * phi) + 0.1 * C * np.exp(-1j * phi)
+        self.assertNotEqual(run(detector(), Drive(120.0), ellipse, 3.0), [])
+        self.assertEqual(run(detector(backward_1x_in_distortion=0), Drive(120.0), ellipse, 3.0), [])
+        flat = lambda t, phi: min(0.3 * C * math.cos(phi), 0.15 * C) + 1j * 0.3 * C * math.sin(phi)
+        det = detector(backward_1x_in_distortion=0)
+        run(det, Drive(120.0), flat, 3.0)
+        self.assertIn("orbit_distorted", det.reasons())
+
     def test_noise_alone_gives_no_verdict(self):
         # No orbit, noise only (a machine at slow roll): the distortion of noise
         # is not judged (the forward 1X is below min_1x_ratio C).

@@ -5,13 +5,38 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "cli_options.hpp"
+#include "package_paths.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/ros/conversions.hpp"
 #include "rotor_rub_sim/ros/sim_node.hpp"
+
+namespace {
+
+// A relative rotor_file that is not there from the node's directory names a
+// file of the package's config/: rosparam loads a shipped scene
+// (config/seal_rub_runup.yaml: rotors/seal_rub.yaml) without its directory,
+// which the headless runner resolves against.
+void resolve_rotor_file(std::map<std::string, std::string>& values) {
+  const auto it = values.find("rotor_file");
+  if (it == values.end() || it->second.empty() || std::filesystem::path(it->second).is_absolute() ||
+      std::filesystem::exists(it->second)) {
+    return;
+  }
+  try {
+    it->second = rotor_rub::tools::find_package_file("config/" + it->second);
+  } catch (const std::runtime_error&) {
+    // Left as given: the scene's check names the key and the file.
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   namespace cli = rotor_rub::tools::cli;
@@ -51,7 +76,9 @@ int main(int argc, char** argv) {
   ros::NodeHandle private_nh("~");
   rotor_rub::ros_node::NodeSetup setup;
   try {
-    setup = rotor_rub::ros_node::node_setup_from_values(rotor_rub::ros_node::private_params_as_text(private_nh));
+    std::map<std::string, std::string> values = rotor_rub::ros_node::private_params_as_text(private_nh);
+    resolve_rotor_file(values);
+    setup = rotor_rub::ros_node::node_setup_from_values(values);
   } catch (const rotor_rub::core::SceneError& e) {
     // Parameters outlive a node on the master: an unknown key may be a typo
     // in this launch's YAML or one left over from an earlier run.
