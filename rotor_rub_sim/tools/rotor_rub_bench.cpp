@@ -26,6 +26,7 @@
 #endif
 #include "package_paths.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
@@ -217,6 +218,11 @@ int main(int argc, char** argv) {
     std::cerr << "rotor_rub_bench: " << e.what() << "\n";
     return 2;
   }
+  if (!base.rotor.file.empty() && std::find(methods.begin(), methods.end(), "cvode") != methods.end()) {
+    std::cerr << "rotor_rub_bench: --methods: value 'cvode' is not accepted with a scene of rotor_file (the CVODE "
+                 "rows run the Jeffcott only: tools/cvode_switching.cpp); accepted: switching, iteration, penalty\n";
+    return 2;
+  }
 
   Scene ref_scene = with(base, {Method::kSwitching, 1e-12, 1e-15, Integrator::kDopri5});
   ref_scene.output_rate_hz = error_rate_hz;
@@ -246,7 +252,16 @@ int main(int argc, char** argv) {
     if (!wanted(to_string(m))) continue;
     for (const SolverEntry& e : solver_registry()) {
       if (e.method != m || e.integrator == Integrator::kRk4) continue;
-      for (const auto& [r, a] : tolerances) cases.push_back({m, r, a, e.integrator});
+      for (const auto& [r, a] : tolerances) {
+        // A pair the scene does not run (a flexible rotor's penalty on rosenbrock4) is named and left out.
+        try {
+          validate_scene(with(base, {m, r, a, e.integrator}));
+        } catch (const SceneError& err) {
+          std::printf("%s %s rtol %g: not run: %s\n", to_string(m), to_string(e.integrator), r, err.what());
+          continue;
+        }
+        cases.push_back({m, r, a, e.integrator});
+      }
     }
   }
 

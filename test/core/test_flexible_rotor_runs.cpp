@@ -71,7 +71,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
   for (const test::Solver& solver : flexible_solvers()) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const bool penalty = solver.method == core::Method::kPenalty;
-      if (penalty && i > 1) continue;  // dopri5 already; 0.5 s a run at k_c 1e9
+      if (penalty && i == 3) continue;  // dopri5 already
       core::Scene jeffcott_scene = scenes[i];
       jeffcott_scene.solver.method = solver.method;
       if (i != 3) jeffcott_scene.solver.integrator = solver.integrator;
@@ -98,12 +98,13 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
 }
 
 // With its tilts kept as modal coordinates (2 planar modes) the rotor is
-// still the Jeffcott (the tilts are uncoupled and unforced: they stay at 0),
+// still the Jeffcott (the tilts are uncoupled and unforced, so the station
+// moves as the Jeffcott's),
 // but the state has 4 more entries, which dop853's RMS error norm counts:
 // the steps differ, so the runs agree to the tolerance's level, not to
 // rounding: rtol 1e-9 of the 2e-3 m orbit is 2e-12 m a step, 1e-9 m over
 // the run's ~1e5 steps at most (6.8e-11 m measured).
-TEST(FlexibleRotorRuns, UnforcedModesStayAtRestAndChangeNothingButTheSteps) {
+TEST(FlexibleRotorRuns, UncoupledModesChangeNothingButTheSteps) {
   core::Scene jeffcott_scene = test::paper_scene();
   jeffcott_scene.solver.rtol = 1e-9;
   jeffcott_scene.solver.atol = 1e-12;

@@ -80,4 +80,10 @@ ModelParameters station_parameters(const ModelParameters& scene, const FlexibleR
   return p;
 }
 
+double contact_radius_of(const Scene& scene) {
+  if (scene.rotor.file.empty()) return scene.model.rotor_radius_m;
+  const double r = load_rotor_file(scene.rotor.file).rub_contact_radius_m;
+  return r > 0.0 ? r : scene.model.rotor_radius_m;
+}
+
 }  // namespace rotor_rub::core

@@ -225,8 +225,9 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.stator_offset_y_m; }));
     // A flexible rotor (docs/rotors.md).
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
-                     "a flexible rotor in place of the Jeffcott (the rotor keys then unused): shaft, disks, "
-                     "bearings, unbalances, rub station; prescribed drive, no gravity, penalty on dopri5",
+                     "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
+                     "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
+                     "rotor_radius_m are then the file's); prescribed drive, no gravity, penalty on dopri5",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "

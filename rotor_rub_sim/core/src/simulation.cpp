@@ -9,6 +9,7 @@
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 
@@ -44,7 +45,7 @@ Simulation::Simulation(const Scene& scene)
     : scene_(checked_scene(scene)),
       profile_(scene_.speed),
       method_(make_contact_method(scene_)),
-      limits_(InvariantLimits::for_scene(scene_)),
+      limits_(InvariantLimits::for_scene(scene_, contact_radius_of(scene_))),
       wall_budget_s_(scene_.solver.max_wall_time_s) {
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
@@ -154,7 +155,7 @@ void Simulation::change_parameters(const std::map<std::string, std::string>& cha
                      shown(next.model.clearance_m) + " m); accepted now: a clearance of at least the distance");
   }
   scene_.model = next.model;
-  limits_ = InvariantLimits::for_scene(scene_);
+  limits_ = InvariantLimits::for_scene(scene_, contact_radius_of(scene_));
   // Events found beyond time_s_ were found under the old parameters; the
   // method restarts here (a drive break it had reached stays due).
   std::vector<ContactEvent> kept;

@@ -62,10 +62,10 @@ struct FreeFlightSystem {
     const DriveState d = segment.at(t);
     const Vec2 unbalance_dir = unbalance_at(d.angle_rad);
     derivative(x, k, d, unbalance_dir, dxdt);
+    if constexpr (kFlexible) ddx.resize(x.size());  // before any entry is written
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
     if constexpr (kFlexible) {
       const int n = modal_count<L>(x);
-      ddx.resize(x.size());
       ddx.segment(L::kModal, n) = dxdt.tail(n);
       ddx.template segment<2>(L::kRotorVel) =
           flexible->free_load_rates(k.rotor_vel, dxdt.template segment<2>(L::kRotorVel), dxdt.tail(2 * n),

@@ -141,4 +141,9 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings);
 /// (rotor_radius_m) where the file gives one. The rest is the scene's.
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor);
 
+/// The radius the rotor slides at in a scene [m]: a flexible rotor's rub
+/// station's contact_radius_m where its file gives one, else the scene's
+/// rotor_radius_m (as station_parameters). Reads the rotor file.
+double contact_radius_of(const Scene& scene);
+
 }  // namespace rotor_rub::core

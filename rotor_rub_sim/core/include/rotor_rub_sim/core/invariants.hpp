@@ -37,12 +37,15 @@ struct InvariantLimits {
   double sliding_tolerance_m_per_s = 0.0;
   double friction_coefficient = 0.0;
 
-  static InvariantLimits for_scene(const Scene& scene) {
+  static InvariantLimits for_scene(const Scene& scene) { return for_scene(scene, scene.model.rotor_radius_m); }
+  // rotor_radius_m: the radius the rotor slides at (a flexible rotor's rub
+  // station's: contact_radius_of()).
+  static InvariantLimits for_scene(const Scene& scene, double rotor_radius_m) {
     InvariantLimits l;
     const double atol = scene.solver.atol, rtol = scene.solver.rtol;
     l.check_penetration = scene.solver.method != Method::kPenalty;
     l.penetration_tolerance_m = kPenetrationSafety * (atol + rtol * scene.model.clearance_m);
-    const double surface_speed = scene.speed.max_speed_rad_per_s * scene.model.rotor_radius_m;
+    const double surface_speed = scene.speed.max_speed_rad_per_s * rotor_radius_m;
     l.sliding_tolerance_m_per_s = kPenetrationSafety * (atol + rtol * surface_speed);
     if (scene.solver.method == Method::kPenalty) {
       // The penalty method's friction is regularised (a tangential damper
