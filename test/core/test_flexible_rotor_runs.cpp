@@ -214,7 +214,7 @@ TEST(FlexibleRotorRuns, PenaltySettlesOntoTheFullRubWithItsContactSpring) {
 }
 
 // The seal-rub example (config/seal_rub_runup.yaml): a run-up of the
-// flexible rotor through its first critical speed (237-241 rad/s) into rub
+// flexible rotor through its first critical speed (240.7 rad/s, forward whirl) into rub
 // at the seal. The first contact comes near the critical speed, the rub is
 // sustained for a while, and the run keeps the method's promises: the same
 // events at any output rate, bit for bit, and the same run twice.

@@ -360,8 +360,10 @@ void validate_flexible_rotor(const Scene& s) {
         throw SceneError("scene key '" + std::string(key) + "'" + what.substr(std::string(key).size()));
       }
     }
+    // The file's own error names the item and its accepted range where it has one.
+    const bool ranged = what.find("accepted") != std::string::npos;
     throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + what +
-                     "; accepted: a rotor file with a rub_station (docs/rotors.md)");
+                     (ranged ? "" : "; accepted: a rotor file with a rub_station (docs/rotors.md)"));
   }
 }
 
