@@ -10,6 +10,7 @@
 #include <boost/numeric/odeint/external/eigen/eigen.hpp>
 #include <cmath>
 #include <complex>
+#include <vector>
 
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
@@ -133,4 +134,32 @@ TEST(FlexibleRotorModel, RatesAreTheForcesTimeDerivatives) {
   const double scale = want.cwiseAbs().maxCoeff();
   EXPECT_LT((station_rate - want.head<2>()).cwiseAbs().maxCoeff(), 1e-7 * scale);
   EXPECT_LT((jerk - want.tail(n)).cwiseAbs().maxCoeff(), 1e-7 * scale);
+}
+
+// The shaft's nodes (the node's shaft topic): every node's displacement is
+// the expansion's x and y rows times q = [u; xi], the station's is u itself
+// (Craig-Bampton keeps it physical) and the probe node's is what the probes
+// read. Roundoff: 1e-12 of the largest displacement.
+TEST(FlexibleRotorModel, NodeDisplacementsAreTheExpansion) {
+  const SealRotor s;
+  const core::FlexibleRotorModel model(s.reduced, s.rotor.unbalances, 0.05, 12);
+  ASSERT_EQ(model.nodes(), 13);
+  ASSERT_EQ(s.reduced.node_z_m.size(), 13u);
+  EXPECT_NEAR(s.reduced.node_z_m.back(), 1.2, 1e-12);
+  const core::Vec2 u(3e-6, -2e-6);
+  core::ModalState modal(2 * model.modal_size());
+  for (int i = 0; i < modal.size(); ++i) modal(i) = 1e-6 * std::sin(1.0 + i);
+  std::vector<core::Vec2> nodes;
+  model.node_displacements(u, modal, nodes);
+  ASSERT_EQ(nodes.size(), 13u);
+  Eigen::VectorXd q(model.modal_size() + 2);
+  q << u, modal.head(model.modal_size());
+  const Eigen::VectorXd full = s.reduced.expansion * q;
+  const double scale = full.cwiseAbs().maxCoeff();
+  for (int node = 0; node < 13; ++node) {
+    const core::Vec2 want(full(core::dof_index(node, core::kDofX)), full(core::dof_index(node, core::kDofY)));
+    EXPECT_LT((nodes[node] - want).norm(), 1e-12 * scale) << node;
+  }
+  EXPECT_LT((nodes[6] - u).norm(), 1e-12 * scale);
+  EXPECT_EQ(nodes[12], model.probe_displacement(u, modal));
 }

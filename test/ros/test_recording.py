@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest: bags recorded through the launch files (recording.test)."""
 import csv
+import math
 import os
 import subprocess
 import sys
@@ -8,6 +9,7 @@ import time
 import unittest
 
 import rosbag
+import rospkg
 import rospy
 import rostest
 
@@ -23,6 +25,15 @@ LAUNCH_TIMEOUT_S = 300.0  # wall bound on one launch (it takes seconds)
 # compare_methods.launch gives them (measured: iteration 2.1e-6 m, penalty
 # 1.8e-6 m on dopri5, docs/benchmarks.md); the bound is the measured figure
 # rounded up to the next half decade, so a regression of the method fails.
+# The seal-rub example (config/seal_rub_runup.yaml, config/rotors/seal_rub.yaml).
+SEAL_SCENE = os.path.join(rospkg.RosPack().get_path(PKG), "config", "seal_rub_runup.yaml")
+SEAL_END_S = 3.0
+SEAL_RATE_HZ = 1000.0
+SEAL_NODE_Z_M = [0.1 * i for i in range(13)]  # 12 elements of 0.1 m
+SEAL_STATION_NODE = 6
+SHAFT_RATE_HZ = 50.0  # the node's default shaft_rate_hz
+
+
 METHOD_MAX_ROTOR_DIFF_M = {"iteration": 5e-6, "penalty": 5e-6, "switching": 0.0}
 
 
@@ -105,6 +116,42 @@ class RecordingTest(unittest.TestCase):
         self.assertIn("rotor_rub_sim/rotor_rub_sim: solver", names)  # the node's full name: ns/name
         self.assertEqual(stats[-1].status, SolverStats.FINISHED)
         self.assertEqual(stats[-1].states_published, N_STATES)
+        self.assertNotIn("/rotor_rub_sim/shaft", counts, "the Jeffcott has no shaft topic")
+
+    def test_flexible_rotor_shaft_in_the_bag(self):
+        # The seal-rub example through sim.launch (its rotor_file found in the
+        # package's config/): the deflected shaft at shaft_rate_hz (50) in
+        # simulated time, every node along the file's shaft, the rub station's
+        # node where the state puts the rotor, and its markers.
+        bag_path = temp_prefix("shaft") + ".bag"
+        launch("sim.launch", "params:=" + SEAL_SCENE, "record:=true", "bag:=" + bag_path, "real_time_factor:=0")
+        with rosbag.Bag(bag_path) as bag:
+            shafts = [m for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/shaft"])]
+            states = {m.sample_index: m for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/state"])}
+            markers = [mk for _, m, _ in bag.read_messages(topics=["/rotor_rub_sim/markers"]) for mk in m.markers
+                       if mk.ns == "shaft"]
+        self.assertEqual(len(shafts), int(SEAL_END_S * SHAFT_RATE_HZ))  # k / 50 s, k = 1 .. 150
+        self.assertEqual([m.time for m in shafts], [k / SHAFT_RATE_HZ for k in range(1, len(shafts) + 1)])
+        touched = 0.0
+        for m in shafts:
+            self.assertEqual(len(m.nodes), len(SEAL_NODE_Z_M))
+            for p, z in zip(m.nodes, SEAL_NODE_Z_M):
+                self.assertAlmostEqual(p.z, z, delta=1e-12)  # lengths summed element by element
+            self.assertEqual(m.station_node, SEAL_STATION_NODE)
+            state = states[int(round(m.time * SEAL_RATE_HZ))]
+            station = m.nodes[m.station_node]
+            # The same dense output at the same instant (k / 50 against
+            # 20 k / 1000: equal to the last bits of t), and the station's row
+            # of the expansion is the identity on u: rounding only.
+            self.assertAlmostEqual(station.x, state.rotor_position.x, delta=1e-15)
+            self.assertAlmostEqual(station.y, state.rotor_position.y, delta=1e-15)
+            touched = max(touched, max(math.hypot(p.x, p.y) for p in m.nodes))
+        # The run goes through its critical speed: the shaft bends by micrometres.
+        self.assertGreater(touched, 1e-6)
+        self.assertLess(touched, 1e-3)
+        self.assertEqual(len(markers), 2 * len(shafts))  # the centreline and the node spheres
+        for mk in markers:
+            self.assertEqual(len(mk.points), len(SEAL_NODE_Z_M))
 
     def test_compare_tool_reproduces_the_runner(self):
         rows = compare(self.sim_bag, "--runner", self.runner_prefix)

@@ -44,6 +44,11 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   probe_rows_.resize(2, rotor.size());
   probe_rows_.row(0) = rotor.expansion.row(dof_index(probe_node_, kDofX));
   probe_rows_.row(1) = rotor.expansion.row(dof_index(probe_node_, kDofY));
+  node_rows_.resize(2 * nodes(), rotor.size());
+  for (int node = 0; node < nodes(); ++node) {
+    node_rows_.row(2 * node) = rotor.expansion.row(dof_index(node, kDofX));
+    node_rows_.row(2 * node + 1) = rotor.expansion.row(dof_index(node, kDofY));
+  }
 }
 
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {

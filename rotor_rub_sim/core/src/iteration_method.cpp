@@ -405,6 +405,16 @@ class IterationMethod final : public ContactMethod {
     return s;
   }
 
+  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  ModalState modal_state(double t_s) const override {
+    if constexpr (kFlexible) {
+      State x;
+      integrator_.state_at(t_s, x);
+      return modal_of<L>(x);
+    }
+    return ModalState();
+  }
+
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 

@@ -173,6 +173,9 @@ class PenaltyMethod final : public ContactMethod {
     return s;
   }
 
+  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  ModalState modal_state(double t_s) const override { return kFlexible ? modal_at(t_s) : ModalState(); }
+
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 

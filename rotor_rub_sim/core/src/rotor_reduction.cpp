@@ -119,6 +119,7 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   ReducedRotor r;
   r.station_node = station_node;
   r.planar_modes = planar_modes;
+  for (int node = 0; node < nodes; ++node) r.node_z_m.push_back(rotor.node_z_m(node));
   r.expansion = psi * t;
   auto project = [&](const Eigen::MatrixXd& x) { return Eigen::MatrixXd(r.expansion.transpose() * x * r.expansion); };
   r.matrices.M = project(m.M);

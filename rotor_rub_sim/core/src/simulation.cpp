@@ -243,6 +243,38 @@ void Simulation::deliver_probes_before(double t_s, bool inclusive, SimulationObs
   }
 }
 
+void Simulation::deliver_shaft_before(double t_s, bool inclusive, SimulationObserver& observer) {
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  const double rate = observer.shaft_rate_hz();
+  if (rotor == nullptr || !(rate > 0.0)) return;
+  while (static_cast<double>(next_shaft_sample_) / rate <= time_s_ && time_s_ > 0.0) ++next_shaft_sample_;
+  for (;;) {
+    const double tk = static_cast<double>(next_shaft_sample_) / rate;
+    if (inclusive ? tk > t_s : tk >= t_s) return;
+    const Sample s = method_->sample(tk);
+    check_invariants(s, limits_);
+    shaft_.t_s = tk;
+    rotor->node_displacements(s.kin.rotor_pos, method_->modal_state(tk), shaft_.node_displacement_m);
+    for (const Vec2& u : shaft_.node_displacement_m) {
+      if (!u.allFinite()) {
+        throw MethodFailure(FailureClass::kInvariantViolated, tk, "invariant violated: non-finite node displacement");
+      }
+    }
+    observer.on_shaft_sample(shaft_);
+    ++next_shaft_sample_;
+  }
+}
+
+std::vector<double> Simulation::shaft_node_z_m() const {
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  return rotor == nullptr ? std::vector<double>() : rotor->rotor().node_z_m;
+}
+
+int Simulation::shaft_station_node() const {
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  return rotor == nullptr ? -1 : rotor->rotor().station_node;
+}
+
 void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
   const double rate = scene_.output_rate_hz;
   for (;;) {
@@ -250,6 +282,7 @@ void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
     if (tk > t_s) break;
     deliver_marks_before(tk, false, observer);
     deliver_probes_before(tk, false, observer);
+    deliver_shaft_before(tk, false, observer);
     for (auto it = step_events_.begin(); it != step_events_.end();) {
       if (it->t_s < tk) {
         count_and_deliver(*it, observer);
@@ -265,6 +298,7 @@ void Simulation::deliver_until(double t_s, SimulationObserver& observer) {
   }
   deliver_marks_before(t_s, true, observer);
   deliver_probes_before(t_s, true, observer);
+  deliver_shaft_before(t_s, true, observer);
   for (auto it = step_events_.begin(); it != step_events_.end();) {
     if (it->t_s <= t_s) {
       count_and_deliver(*it, observer);

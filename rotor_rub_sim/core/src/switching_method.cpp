@@ -311,6 +311,21 @@ class SwitchingMethod final : public ContactMethod {
     return compute_sample(t_s);
   }
 
+  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  ModalState modal_state(double t_s) const override {
+    if constexpr (kFlexible) {
+      if (regime_ == Regime::kFree) {
+        typename FL::State x;
+        free_int_.state_at(t_s, x);
+        return modal_of<FL>(x);
+      }
+      typename CL::State x;
+      contact_int_.state_at(t_s, x);
+      return modal_of<CL>(x);
+    }
+    return ModalState();
+  }
+
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 
@@ -318,19 +333,7 @@ class SwitchingMethod final : public ContactMethod {
   // The sample at t_s; a flexible rotor's probes read their node.
   Sample compute_sample(double t_s) const {
     Sample s = station_sample(t_s);
-    if constexpr (kFlexible) {
-      ModalState modal;
-      if (regime_ == Regime::kFree) {
-        typename FL::State x;
-        free_int_.state_at(t_s, x);
-        modal = modal_of<FL>(x);
-      } else {
-        typename CL::State x;
-        contact_int_.state_at(t_s, x);
-        modal = modal_of<CL>(x);
-      }
-      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
-    }
+    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_state(t_s));
     return s;
   }
 

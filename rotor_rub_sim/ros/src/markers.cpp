@@ -105,4 +105,32 @@ const visualization_msgs::MarkerArray& MarkerBuilder::build(const ros::Time& sta
   return array_;
 }
 
+visualization_msgs::MarkerArray shaft_markers(const core::ShaftSample& s, const std::vector<double>& node_z_m,
+                                              int station_node, const NodeConfig& config, const ros::Time& stamp) {
+  using visualization_msgs::Marker;
+  const double z0 = node_z_m.at(static_cast<std::size_t>(station_node));
+  const double length_m = node_z_m.back() - node_z_m.front();
+  visualization_msgs::MarkerArray array;
+  array.markers.push_back(make_marker(0, Marker::LINE_STRIP, config.frame_id, 0.3f, 0.3f, 0.9f));
+  array.markers.push_back(make_marker(1, Marker::SPHERE_LIST, config.frame_id, 0.9f, 0.9f, 0.9f));
+  Marker& line = array.markers[0];
+  Marker& nodes = array.markers[1];
+  line.scale.x = 0.005 * length_m;
+  nodes.scale.x = nodes.scale.y = nodes.scale.z = 0.02 * length_m;
+  for (std::size_t i = 0; i < s.node_displacement_m.size(); ++i) {
+    geometry_msgs::Point p = point(s.node_displacement_m[i], config.marker_scale);
+    p.z = node_z_m[i] - z0;
+    line.points.push_back(p);
+    nodes.points.push_back(p);
+    std_msgs::ColorRGBA c = nodes.color;
+    if (static_cast<int>(i) == station_node) c.g = c.b = 0.1f;
+    nodes.colors.push_back(c);
+  }
+  for (Marker& m : array.markers) {
+    m.ns = "shaft";
+    m.header.stamp = stamp;
+  }
+  return array;
+}
+
 }  // namespace rotor_rub::ros_node

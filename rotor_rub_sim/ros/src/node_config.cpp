@@ -119,6 +119,10 @@ const std::vector<Entry>& entries() {
                      "tf rate in simulated time [Hz]: frames <ns>/stator and <ns>/rotor (spinning with phi) in "
                      "frame_id; 0 = none",
                      [](NodeConfig& c) -> double& { return c.tf_rate_hz; }));
+    t.push_back(real("shaft_rate_hz", 0, false, 1e4,
+                     "a flexible rotor's deflected shaft (topic shaft and its markers) in simulated time [Hz]; 0 = "
+                     "none; nothing without a rotor_file",
+                     [](NodeConfig& c) -> double& { return c.shaft_rate_hz; }));
     t.push_back(real("marker_scale", 0, true, 1e6, "marker length per model length (1000: 1 mm is drawn as 1 m)",
                      [](NodeConfig& c) -> double& { return c.marker_scale; }));
     t.push_back(real("marker_force_scale_m_per_N", 0, true, 1e3,

@@ -53,6 +53,9 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   feedback_pub_ = nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
   keyphasor_pub_ = nh.advertise<rotor_rub_msgs::Keyphasor>("keyphasor", q);
   if (scene_.probes.rate_hz > 0.0) probes_pub_ = nh.advertise<rotor_rub_msgs::ProbeSignals>("probes", q);
+  if (!scene_.rotor.file.empty() && config_.shaft_rate_hz > 0.0) {
+    shaft_pub_ = nh.advertise<rotor_rub_msgs::ShaftDeflection>("shaft", q);
+  }
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", q);
   if (config_.marker_rate_hz > 0.0) {
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 10);
@@ -211,6 +214,11 @@ void SimNode::restart_simulation() {
     markers_->clear();
     markers_->set_model(scene_.model);
   }
+  shaft_node_z_m_ = sim_->shaft_node_z_m();
+  shaft_msg_.station_node = sim_->shaft_station_node();
+  shaft_msg_.header.frame_id = config_.frame_id;
+  shaft_msg_.nodes.resize(shaft_node_z_m_.size());
+  for (std::size_t i = 0; i < shaft_node_z_m_.size(); ++i) shaft_msg_.nodes[i].z = shaft_node_z_m_[i];
 }
 
 bool SimNode::wait_for_subscribers() {
@@ -581,6 +589,20 @@ void SimNode::on_probe_sample(const core::Sample& s) {
   msg.y_displacement = r.y_m;
   publish(probes_pub_, msg, r.t_s);
   probe_rate_->tick();
+}
+
+void SimNode::on_shaft_sample(const core::ShaftSample& s) {
+  shaft_msg_.header.stamp.fromSec(s.t_s);
+  shaft_msg_.time = s.t_s;
+  for (std::size_t i = 0; i < shaft_msg_.nodes.size(); ++i) {
+    shaft_msg_.nodes[i].x = s.node_displacement_m[i].x();
+    shaft_msg_.nodes[i].y = s.node_displacement_m[i].y();
+  }
+  publish(shaft_pub_, shaft_msg_, s.t_s);
+  if (markers_) {
+    publish(marker_pub_,
+            shaft_markers(s, shaft_node_z_m_, shaft_msg_.station_node, config_, shaft_msg_.header.stamp), s.t_s);
+  }
 }
 
 void SimNode::publish_tf(const core::Sample& s) {

@@ -14,6 +14,8 @@
 
 namespace rotor_rub::core {
 
+class FlexibleRotorModel;
+
 class ContactMethod {
  public:
   virtual ~ContactMethod() = default;
@@ -48,6 +50,12 @@ class ContactMethod {
 
   /// The physical state at t_s in [step_begin(), step_end()].
   virtual Sample sample(double t_s) const = 0;
+
+  /// A flexible rotor's model, or nullptr (the Jeffcott).
+  virtual const FlexibleRotorModel* flexible_rotor() const { return nullptr; }
+  /// A flexible rotor's modal block [xi; xi'] at t_s in [step_begin(),
+  /// step_end()]; empty for the Jeffcott.
+  virtual ModalState modal_state(double /*t_s*/) const { return ModalState(); }
 
   virtual const RunStats& stats() const = 0;
   virtual RunStats& mutable_stats() = 0;

@@ -50,6 +50,20 @@ class FlexibleRotorModel {
     return probe_rows_.leftCols<2>() * u + probe_rows_.rightCols(n) * modal.head(n);
   }
   const ReducedRotor& rotor() const { return rotor_; }
+  int nodes() const { return static_cast<int>(rotor_.expansion.rows()) / 4; }
+
+  /// The lateral displacement of every node [m] (casing frame; node order)
+  /// for the station at u and the modal block [xi; xi'], written to out
+  /// (resized to nodes(): no allocation once it has the capacity).
+  template <class Modal>
+  void node_displacements(const Vec2& u, const Eigen::MatrixBase<Modal>& modal, std::vector<Vec2>& out) const {
+    const int n = modal_size();
+    out.resize(static_cast<std::size_t>(nodes()));
+    for (int node = 0; node < nodes(); ++node) {
+      const auto rows = node_rows_.middleRows<2>(2 * node);
+      out[static_cast<std::size_t>(node)] = rows.leftCols<2>() * u + rows.rightCols(n) * modal.head(n);
+    }
+  }
 
   /// Every force but the contact's at the station's position and velocity
   /// u, u_dot [m, m/s] (the casing's frame) and the modal block modal =
@@ -107,6 +121,7 @@ class FlexibleRotorModel {
   double contact_radius_m_;
   int probe_node_;
   Eigen::Matrix<double, 2, Eigen::Dynamic> probe_rows_;  // the expansion's rows of the probe node's x and y
+  Eigen::MatrixXd node_rows_;                            // ... of every node's x and y (2 nodes() rows)
   Eigen::MatrixXd k_;                                    // K
   Eigen::MatrixXd c_, g_;                                // C, G
   Eigen::VectorXd a_, b_;                                // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]

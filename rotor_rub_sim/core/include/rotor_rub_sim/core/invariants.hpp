@@ -71,7 +71,7 @@ inline void check_invariants(const Sample& s, const InvariantLimits& l) {
                       s.kin.stator_vel.allFinite() && std::isfinite(s.normal_force_N) &&
                       std::isfinite(s.friction_force_N) && std::isfinite(s.drive.speed_rad_per_s) &&
                       std::isfinite(s.drive.angle_rad) && std::isfinite(s.drive_torque_N_m) &&
-                      std::isfinite(s.friction_torque_N_m);
+                      std::isfinite(s.friction_torque_N_m) && s.probe_displacement_m.allFinite();
   if (!finite) fail("non-finite state or force", std::numeric_limits<double>::quiet_NaN(), 0.0);
   if (l.check_penetration && s.penetration_m > l.penetration_tolerance_m) {
     fail("rotor beyond the clearance: delta - C [m]", s.penetration_m, l.penetration_tolerance_m);

@@ -33,6 +33,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <vector>
 
 #include "rotor_rub_sim/core/fe_rotor.hpp"
 
@@ -44,6 +45,7 @@ struct ReducedRotor {
   RotorMatrices matrices;        ///< M, K, C, G in q = [u_x, u_y, xi...] (size())
   Eigen::MatrixXd expansion;     ///< full FE DOFs = expansion * q (dofs() x size())
   double station_mass_kg = 0.0;  ///< m_st: M = diag(m_st, m_st, I)
+  std::vector<double> node_z_m;  ///< each node's position along the shaft [m] (FeRotor::node_z_m)
   int size() const { return 2 * planar_modes; }
   static constexpr int kStationX = 0;    ///< u_x [m]
   static constexpr int kStationY = 1;    ///< u_y [m]

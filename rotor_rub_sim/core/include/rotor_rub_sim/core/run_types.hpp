@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rotor_rub_sim/core/model.hpp"
 
@@ -33,6 +34,15 @@ struct Sample {
   /// centre, or a flexible rotor's displacement at its probe node
   /// (RotorSettings::probe_node), which need not be the rub station.
   Vec2 probe_displacement_m = Vec2::Zero();
+};
+
+/// A flexible rotor's deflected shaft at t_s: each node's lateral
+/// displacement [m] in the casing's frame, in node order (the rub station's
+/// is the state's rotor position; Simulation::shaft_node_z_m says where the
+/// nodes sit along the shaft).
+struct ShaftSample {
+  double t_s = 0.0;
+  std::vector<Vec2> node_displacement_m;
 };
 
 enum class EventKind { kTouchdown, kLiftoff, kGraze };

@@ -36,6 +36,11 @@ class SimulationObserver {
   /// rate is > 0; in time order with the samples (probes.hpp reads them).
   virtual bool wants_probes() const { return false; }
   virtual void on_probe_sample(const Sample& /*s*/) {}
+  /// A flexible rotor's deflected shaft (every node's lateral displacement)
+  /// at k / shaft_rate_hz() (k >= 1) from the dense output, called only for a
+  /// scene with a rotor_file and a rate > 0; in time order with the samples.
+  virtual double shaft_rate_hz() const { return 0.0; }
+  virtual void on_shaft_sample(const ShaftSample& /*s*/) {}
 };
 
 struct RunFailure {
@@ -86,6 +91,11 @@ class Simulation {
   /// The scene as run: integrator `auto` resolved to the registry's choice.
   const Scene& scene() const { return scene_; }
   const SpeedProfile& profile() const { return profile_; }
+  /// A flexible rotor's node positions along the shaft [m] (node order; the
+  /// nodes of ShaftSample); empty for the Jeffcott.
+  std::vector<double> shaft_node_z_m() const;
+  /// A flexible rotor's rub station node, or -1 (the Jeffcott).
+  int shaft_station_node() const;
   const RunStats& stats() const { return method_->stats(); }
   const std::optional<RunFailure>& failure() const { return failure_; }
 
@@ -93,6 +103,7 @@ class Simulation {
   void deliver_until(double t_s, SimulationObserver& observer);
   void deliver_marks_before(double t_s, bool inclusive, SimulationObserver& observer);
   void deliver_probes_before(double t_s, bool inclusive, SimulationObserver& observer);
+  void deliver_shaft_before(double t_s, bool inclusive, SimulationObserver& observer);
   /// The first time in [time(), t_s] at which a motor's spin angle reaches
   /// angle_rad, on the dense output; infinity if it does not get there.
   double spin_angle_time(double angle_rad, double t_s) const;
@@ -107,6 +118,8 @@ class Simulation {
   long next_sample_ = 0;
   double next_mark_angle_rad_ = 0.0;                ///< the next keyphasor angle (a multiple of 2 pi)
   long next_probe_sample_ = 1;                      ///< the probes' next sample index (k / probe rate)
+  long next_shaft_sample_ = 1;                      ///< the shaft's next sample index (k / its rate)
+  ShaftSample shaft_;                               ///< reused: no allocation per shaft sample
   static constexpr long kPassesPerClockRead = 256;  // the wall budget's clock reads (advance_to)
   long passes_since_clock_ = 0;
   double t_limit_s_ = 0.0;                 ///< the drive discontinuity the last step was bounded by

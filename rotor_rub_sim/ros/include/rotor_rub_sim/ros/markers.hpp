@@ -38,4 +38,11 @@ class MarkerBuilder {
   visualization_msgs::MarkerArray array_;
 };
 
+// A flexible rotor's deflected shaft (namespace "shaft"): its centreline
+// through the nodes and the nodes as spheres, the rub station red. The
+// lateral displacements are multiplied by marker_scale, the positions along
+// the shaft are not; the station sits at z = 0, where the orbit is drawn.
+visualization_msgs::MarkerArray shaft_markers(const core::ShaftSample& s, const std::vector<double>& node_z_m,
+                                              int station_node, const NodeConfig& config, const ros::Time& stamp);
+
 }  // namespace rotor_rub::ros_node

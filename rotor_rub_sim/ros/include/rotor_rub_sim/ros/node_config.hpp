@@ -36,6 +36,7 @@ struct NodeConfig {
   bool publish_clock = true;                 // one node per ROS graph should publish /clock
   double marker_rate_hz = 30.0;              // RViz markers, in simulated time; 0 = none
   double tf_rate_hz = 50.0;                  // tf frames stator and rotor, in simulated time; 0 = none
+  double shaft_rate_hz = 50.0;               // a flexible rotor's deflected shaft, in simulated time; 0 = none
   double marker_scale = 1000.0;              // drawn length per model length (1000: 1 mm shows as 1 m)
   double marker_force_scale_m_per_N = 0.01;  // force arrow length in RViz per newton (not scaled)
   int orbit_trail_samples = 500;             // state samples kept in the orbit trail marker

@@ -31,6 +31,7 @@
 #include "rotor_rub_msgs/ParameterChange.h"
 #include "rotor_rub_msgs/ProbeSignals.h"
 #include "rotor_rub_msgs/RotorState.h"
+#include "rotor_rub_msgs/ShaftDeflection.h"
 #include "rotor_rub_msgs/SolverStats.h"
 #include "rotor_rub_msgs/SpeedCommand.h"
 #include "rotor_rub_msgs/StepSimulation.h"
@@ -62,6 +63,9 @@ class SimNode : public core::SimulationObserver {
   void on_keyphasor(const core::Sample& s) override;
   bool wants_probes() const override { return probe_pair_.has_value(); }
   void on_probe_sample(const core::Sample& s) override;
+  // A flexible rotor's deflected shaft (topic "shaft" and its markers).
+  double shaft_rate_hz() const override { return shaft_pub_ ? config_.shaft_rate_hz : 0.0; }
+  void on_shaft_sample(const core::ShaftSample& s) override;
 
  private:
   enum class Status : uint8_t { kRunning, kPaused, kFinished, kFailed };
@@ -153,7 +157,9 @@ class SimNode : public core::SimulationObserver {
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
 
   ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
-  ros::Publisher keyphasor_pub_, probes_pub_, change_feedback_pub_, tf_pub_;
+  ros::Publisher keyphasor_pub_, probes_pub_, change_feedback_pub_, tf_pub_, shaft_pub_;
+  rotor_rub_msgs::ShaftDeflection shaft_msg_;  // its node positions set once (restart_simulation)
+  std::vector<double> shaft_node_z_m_;
   ros::Subscriber change_sub_, fault_sub_;
   ros::ServiceServer fault_srv_;
   std::optional<ReconfigureServer> reconfigure_;
