@@ -600,8 +600,8 @@ void SimNode::on_shaft_sample(const core::ShaftSample& s) {
   }
   publish(shaft_pub_, shaft_msg_, s.t_s);
   if (markers_) {
-    publish(marker_pub_,
-            shaft_markers(s, shaft_node_z_m_, shaft_msg_.station_node, config_, shaft_msg_.header.stamp), s.t_s);
+    publish(marker_pub_, shaft_markers(s, shaft_node_z_m_, shaft_msg_.station_node, config_, shaft_msg_.header.stamp),
+            s.t_s);
   }
 }
 
