@@ -569,8 +569,15 @@ class IterationMethod final : public ContactMethod {
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const double pressing_i = pressing_at(ti);
-      if (!(pressing_i > 0.0)) {
-        return locate_event([this](double t) { return -pressing_at(t); }, prev_t, -prev_p, ti, -pressing_i, stats_);
+      auto releasing = [this](double t) { return -pressing_at(t); };
+      if (!(pressing_i > 0.0)) return locate_event(releasing, prev_t, -prev_p, ti, -pressing_i, stats_);
+      if constexpr (kFlexible) {
+        // A flexible rotor's modes ring the pressing: a minimum that dips
+        // below zero and back between two points (the switching method's
+        // crossing() has the same).
+        const double te = locate_interior_crossing(releasing, prev_t, -prev_p, ti, -pressing_i,
+                                                   kInteriorRateStep * (ti - prev_t), stats_);
+        if (te < kNone) return te;
       }
       prev_t = ti;
       prev_p = pressing_i;
