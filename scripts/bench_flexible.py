@@ -41,16 +41,16 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
-    head = "%6s %5s %10s %10s %9s %11s %9s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
-                                                  "max_Fn_N", "last_end_s")
+    head = "%6s %5s %10s %10s %9s %11s %9s %11s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
+                                                       "max_Fn_N", "touchdowns", "last_end_s")
     lines = [head]
     for m in a.modes:
         runs = [run(a.runner, a.scene, m, a.method) for _ in range(a.repeats)]
         s = runs[0]
         wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
-        lines.append("%6d %5d %10d %10d %9.1f %11.6f %9.3f %14.6f" % (
+        lines.append("%6d %5d %10d %10d %9.1f %11.6f %9.3f %11d %14.6f" % (
             m, 2 * m, s["stats"]["steps"], s["stats"]["rhs_evals"], wall_ms, s["first_contact_s"],
-            s["max_normal_force_N"], s["last_contact_end_s"]))
+            s["max_normal_force_N"], s["stats"]["touchdowns"], s["last_contact_end_s"]))
         print(lines[-1] if len(lines) > 2 else "\n".join(lines), flush=True)
     if a.page:
         cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")),
