@@ -10,7 +10,7 @@
 namespace rotor_rub::core {
 
 FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
-                                       double contact_radius_m, int probe_node)
+                                       double contact_radius_m, int probe_node, double gravity_m_per_s2)
     : rotor_(rotor),
       station_mass_kg_(rotor.station_mass_kg),
       contact_radius_m_(contact_radius_m),
@@ -37,6 +37,8 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
   a_ = rotor.expansion.transpose() * a_full;
   b_ = rotor.expansion.transpose() * b_full;
+  weight_ = rotor.unit_weight_kg.size() == rotor.size() ? Eigen::VectorXd(-gravity_m_per_s2 * rotor.unit_weight_kg)
+                                                        : Eigen::VectorXd::Zero(rotor.size());
   if (4 * probe_node_ >= n) {
     throw std::invalid_argument("probe node " + std::to_string(probe_node_) + " is out of range; accepted: 0 to " +
                                 std::to_string(n / 4 - 1));
@@ -51,7 +53,7 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
 }
 
-FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2) {
   const FeRotor rotor = load_rotor_file(settings.file);
   if (rotor.rub_station_node < 0) {
     throw std::invalid_argument("rotor file '" + settings.file +
@@ -72,7 +74,7 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings) {
   const int probe_node = settings.probe_node >= 0     ? static_cast<int>(settings.probe_node)
                          : !rotor.probe_nodes.empty() ? rotor.probe_nodes.front()
                                                       : rotor.rub_station_node;
-  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node);
+  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node, gravity_m_per_s2);
 }
 
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor) {

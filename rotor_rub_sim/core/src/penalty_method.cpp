@@ -41,7 +41,9 @@ class PenaltyMethod final : public ContactMethod {
   static_assert(!(kFlexible && kModeLocked), "a flexible rotor runs on the explicit integrators");
 
   explicit PenaltyMethod(const Scene& scene)
-      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(scene.rotor)) : nullptr),
+      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(
+                                  load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
+                            : nullptr),
         model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {

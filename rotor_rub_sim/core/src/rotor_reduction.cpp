@@ -127,6 +127,9 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   r.matrices.C = project(m.C);
   r.matrices.G = project(m.G);
   r.station_mass_kg = r.matrices.M(ReducedRotor::kStationX, ReducedRotor::kStationX);
+  Eigen::VectorXd rigid_y = Eigen::VectorXd::Zero(m.M.rows());
+  for (int node = 0; node < nodes; ++node) rigid_y(dof_index(node, kDofY)) = 1.0;
+  r.unit_weight_kg = r.expansion.transpose() * (m.M * rigid_y);
   // The promised M = diag(m_st, m_st, I) holds when the two planes are twins
   // (an axisymmetric rotor in [x, y, alpha, beta] per node); matrices from
   // elsewhere (imported) may not be.

@@ -227,7 +227,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
-                     "rotor_radius_m are then the file's); prescribed drive, no gravity, penalty on dopri5",
+                     "rotor_radius_m are then the file's); prescribed drive, penalty on dopri5",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
@@ -328,11 +328,11 @@ const std::vector<KeyEntry>& entries() {
 }
 
 // A flexible rotor: what runs it (every method, the penalty on dopri5, under the prescribed
-// drive, without gravity: what FlexibleRotorModel models) and the file
+// drive: what FlexibleRotorModel models) and the file
 // itself, read and reduced as a run will.
 void validate_flexible_rotor(const Scene& s) {
   const std::string why =
-      " (a flexible rotor, rotor_file, runs so far under the prescribed drive, without gravity; the penalty "
+      " (a flexible rotor, rotor_file, runs so far under the prescribed drive; the penalty "
       "method on dopri5: rosenbrock4's closed-form Jacobian and rk4's stability bound are the Jeffcott's)";
   const Integrator integrator = effective_integrator(s.solver);
   if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {
@@ -345,10 +345,6 @@ void validate_flexible_rotor(const Scene& s) {
   if (s.model.drive_model != DriveModel::kPrescribed) {
     throw SceneError("scene key 'drive_model': value '" + std::string(to_string(s.model.drive_model)) +
                      "' is not accepted with rotor_file; accepted: prescribed" + why);
-  }
-  if (s.model.gravity_m_per_s2 != 0.0) {
-    throw SceneError("scene key 'gravity_m_per_s2': value " + format_double(s.model.gravity_m_per_s2) +
-                     " is not accepted with rotor_file; accepted: 0" + why);
   }
   try {
     load_flexible_rotor(s.rotor);

@@ -9,10 +9,12 @@
 ///   f = w^2 (a cos phi + b sin phi) + A (a sin phi - b cos phi),
 /// a and b the unbalances' forces (projected) at spin angle 0 and a quarter
 /// turn on, per unit w^2: each unbalance m e at angle beta pushes its node by
-/// m e (w^2 (cos, sin) + A (sin, -cos))(phi + beta), the Jeffcott's law.
-/// u is the station's displacement in the casing's frame, where the bearings
-/// sit. No gravity and no drive coupling (the unbalances' lever on the spin):
-/// a flexible rotor runs under the prescribed drive.
+/// m e (w^2 (cos, sin) + A (sin, -cos))(phi + beta), the Jeffcott's law;
+/// with gravity, f also holds the weight, -g E^T M t_y (ReducedRotor::
+/// unit_weight_kg), constant. u is the station's displacement in the
+/// casing's frame, where the bearings sit. No drive coupling (the
+/// unbalances' lever on the spin): a flexible rotor runs under the
+/// prescribed drive.
 #pragma once
 
 #include <Eigen/Dense>
@@ -32,9 +34,11 @@ class FlexibleRotorModel {
   /// Throws std::invalid_argument for an unbalance on no node or a rotor of
   /// more than kMaxPlanarModes planar modes, or a probe node on no node.
   /// contact_radius_m: the rotating surface's radius at the station (0: not
-  /// given); probe_node: the node the probes read (-1: the station).
+  /// given); probe_node: the node the probes read (-1: the station);
+  /// gravity_m_per_s2 along -y on every mass of the rotor (a horizontal
+  /// machine; ReducedRotor::unit_weight_kg).
   FlexibleRotorModel(const ReducedRotor& rotor, const std::vector<RotorUnbalance>& unbalances,
-                     double contact_radius_m = 0.0, int probe_node = -1);
+                     double contact_radius_m = 0.0, int probe_node = -1, double gravity_m_per_s2 = 0.0);
 
   int modal_size() const { return static_cast<int>(k_.rows()) - 2; }  ///< n: xi's entries
   double station_mass_kg() const { return station_mass_kg_; }
@@ -85,6 +89,7 @@ class FlexibleRotorModel {
     f.noalias() -= c_ * q_dot;
     f.noalias() -= w * (g_ * q_dot);
     f += (w * w * c + A * s) * a_ + (w * w * s - A * c) * b_;
+    f += weight_;
     const_cast<Eigen::MatrixBase<Out>&>(xi_acc) = f.tail(n);
     return f.head<2>();
   }
@@ -125,6 +130,7 @@ class FlexibleRotorModel {
   Eigen::MatrixXd k_;                                    // K
   Eigen::MatrixXd c_, g_;                                // C, G
   Eigen::VectorXd a_, b_;                                // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
+  Eigen::VectorXd weight_;                               // gravity's load on q [N] (constant: no rate)
 };
 
 /// The free loads of a flexible rotor's state as the contact's functions
@@ -143,10 +149,11 @@ JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const Flexi
 }
 
 /// Reads settings.file (rotor_file.hpp) and reduces it at its rub station to
-/// settings.planar_modes per plane, with the file's unbalances. Throws
+/// settings.planar_modes per plane, with the file's unbalances and gravity
+/// along -y (the scene's gravity_m_per_s2). Throws
 /// std::invalid_argument naming the file and what is wrong (an unreadable
 /// file, a bad item, no rub_station, a count out of range).
-FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings);
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2 = 0.0);
 
 /// What the contact methods' JeffcottModel holds for a flexible rotor: the
 /// station as a bare point of mass m_st (rotor_mass_kg), every other force

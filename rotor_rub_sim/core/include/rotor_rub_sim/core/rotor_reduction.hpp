@@ -46,6 +46,11 @@ struct ReducedRotor {
   Eigen::MatrixXd expansion;     ///< full FE DOFs = expansion * q (dofs() x size())
   double station_mass_kg = 0.0;  ///< m_st: M = diag(m_st, m_st, I)
   std::vector<double> node_z_m;  ///< each node's position along the shaft [m] (FeRotor::node_z_m)
+  /// The rotor's weight per unit gravity along -y, projected: E^T M t_y [kg],
+  /// t_y the rigid translation along y in the full DOFs (the consistent
+  /// load of the distributed mass: nodal forces and, at the ends of
+  /// elements, moments). Gravity g along -y loads q with -g unit_weight_kg.
+  Eigen::VectorXd unit_weight_kg;
   int size() const { return 2 * planar_modes; }
   static constexpr int kStationX = 0;    ///< u_x [m]
   static constexpr int kStationY = 1;    ///< u_y [m]
