@@ -76,7 +76,7 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   Json j;
   j["scene"] = in.scene_path;
   j["method"] = core::to_string(sc.solver.method);
-  j["integrator"] = core::to_string(core::effective_integrator(sc.solver));
+  j["integrator"] = core::to_string(core::effective_integrator(sc));
   j["rtol"] = sc.solver.rtol;
   j["atol"] = sc.solver.atol;
   // Every key of the scene that ran (defaults, file and overrides), as text

@@ -75,8 +75,8 @@ void write_sweep_row(std::ostream& os, const SweepResult& r) {
   const auto& st = r.stats;
   const auto& e = r.errors;
   os << r.id << ',' << r.runs_total << ',' << col("method", core::to_string(s.solver.method)) << ','
-     << col("integrator", core::to_string(core::effective_integrator(s.solver))) << ','
-     << col("rtol", setting(s.solver.rtol)) << ',' << col("atol", setting(s.solver.atol)) << ','
+     << col("integrator", core::to_string(core::effective_integrator(s))) << ',' << col("rtol", setting(s.solver.rtol))
+     << ',' << col("atol", setting(s.solver.atol)) << ','
      << col("contact_stiffness_N_per_m", setting(s.model.contact_stiffness_N_per_m)) << ','
      << col("restitution", setting(s.model.restitution)) << ','
      << col("friction_coefficient", setting(s.model.friction_coefficient)) << ','

@@ -268,9 +268,9 @@ const std::vector<KeyEntry>& entries() {
                        [](Scene& s) -> Method& { return s.solver.method; }));
     t.push_back(
         choice("integrator", kAllIntegrators,
-               "time integrator; auto: the fastest for the method at the rtol (penalty rosenbrock4; switching and "
-               "iteration dop853 up to rtol 1e-4, dopri5 above); each method's integrators: rotor_rub_run "
-               "--list-solvers",
+               "time integrator; auto: the fastest for the method at the rtol (penalty rosenbrock4, dopri5 with a "
+               "rotor_file; switching and iteration dop853 up to rtol 1e-4, dopri5 above); each method's "
+               "integrators: rotor_rub_run --list-solvers",
                [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
@@ -334,13 +334,10 @@ void validate_flexible_rotor(const Scene& s) {
   const std::string why =
       " (a flexible rotor, rotor_file, runs so far under the prescribed drive; the penalty "
       "method on dopri5: rosenbrock4's closed-form Jacobian and rk4's stability bound are the Jeffcott's)";
-  const Integrator integrator = effective_integrator(s.solver);
-  if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {
-    const std::string named = s.solver.integrator == Integrator::kAuto
-                                  ? std::string("auto' (") + to_string(integrator) + ")"
-                                  : std::string(to_string(integrator)) + "'";
-    throw SceneError("scene key 'integrator': value '" + named +
-                     " is not accepted with rotor_file and method penalty; accepted: dopri5" + why);
+  const Integrator integrator = effective_integrator(s);
+  if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {  // auto is dopri5 here
+    throw SceneError("scene key 'integrator': value '" + std::string(to_string(integrator)) +
+                     "' is not accepted with rotor_file and method penalty; accepted: dopri5, auto" + why);
   }
   if (s.model.drive_model != DriveModel::kPrescribed) {
     throw SceneError("scene key 'drive_model': value '" + std::string(to_string(s.model.drive_model)) +
@@ -450,7 +447,7 @@ std::string live_key_inert_reason(const std::string& key, const Scene& scene) {
 
 void validate_scene(const Scene& s) {
   // Which integrators each method runs on, and why: solver_registry.cpp.
-  const Integrator integrator = effective_integrator(s.solver);
+  const Integrator integrator = effective_integrator(s);
   if (find_solver(s.solver.method, integrator) == nullptr) {
     std::vector<std::string> with;
     for (const Method m : kAllMethods) {

@@ -16,7 +16,7 @@
 namespace rotor_rub::core {
 
 std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
-  const SolverEntry* entry = find_solver(scene.solver.method, effective_integrator(scene.solver));
+  const SolverEntry* entry = find_solver(scene.solver.method, effective_integrator(scene));
   if (entry == nullptr) {
     validate_scene(scene);  // throws SceneError naming the key and the accepted values
     throw std::logic_error("make_contact_method: the registry offers no such method and integrator");
@@ -35,7 +35,7 @@ Scene checked_scene(Scene scene) {
   // validate_scene; the scene itself is kept (it may hold what no key sets,
   // profile_cost).
   static_cast<void>(scene_from_values(scene_values(scene)));
-  scene.solver.integrator = effective_integrator(scene.solver);
+  scene.solver.integrator = effective_integrator(scene);
   return scene;
 }
 

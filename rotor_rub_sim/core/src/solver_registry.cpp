@@ -69,6 +69,14 @@ Integrator effective_integrator(const SolverSettings& solver) {
   return solver.integrator == Integrator::kAuto ? auto_integrator(solver.method, solver.rtol) : solver.integrator;
 }
 
+Integrator effective_integrator(const Scene& scene) {
+  if (scene.solver.integrator == Integrator::kAuto && scene.solver.method == Method::kPenalty &&
+      !scene.rotor.file.empty()) {
+    return Integrator::kDopri5;
+  }
+  return effective_integrator(scene.solver);
+}
+
 std::string integrators_of(Method method) {
   std::string names;
   for (const SolverEntry& e : solver_registry()) {

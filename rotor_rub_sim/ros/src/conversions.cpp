@@ -64,7 +64,7 @@ void to_msg(const core::ContactEvent& e, const std::string& frame_id, rotor_rub_
 
 void to_msg(const core::RunStats& st, const core::Scene& scene, rotor_rub_msgs::SolverStats& msg) {
   msg.method = core::to_string(scene.solver.method);
-  msg.integrator = core::to_string(core::effective_integrator(scene.solver));
+  msg.integrator = core::to_string(core::effective_integrator(scene));
   msg.steps = st.steps;
   msg.rejected_steps = st.rejected_steps;
   msg.rhs_evaluations = st.rhs_evals;

@@ -264,8 +264,8 @@ int SimNode::run() {
       "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
       config_.start_paused ? "paused at t = 0 s (call the resume or step service) before simulating" : "simulating",
-      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_.solver)),
-      scene_.solver.rtol, scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
+      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_)), scene_.solver.rtol,
+      scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
   set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
   // Chunks of 1 ms of simulated time, or of one output period when that is
@@ -896,7 +896,7 @@ void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat)
   }
   const auto& st = sim_->stats();
   stat.add("method", core::to_string(scene_.solver.method));
-  stat.add("integrator", core::to_string(core::effective_integrator(scene_.solver)));
+  stat.add("integrator", core::to_string(core::effective_integrator(scene_)));
   stat.add("simulated time [s]", sim_->time());
   stat.add("steps", st.steps);
   stat.add("rejected steps", st.rejected_steps);
