@@ -1,4 +1,5 @@
-// The energy balance of a flexible rotor in rub (issue 28): a rotor with
+// The energy and momentum balances of a flexible rotor in rub (issue 28).
+// Energy: a rotor with
 // nothing that gives or takes energy (test/data/rotors/undamped_seal.yaml: no
 // damping, no unbalance, symmetric stiffness) spinning at a constant speed
 // and set moving against the seal keeps its energy through every impact and
@@ -12,6 +13,11 @@
 // non-symmetric K from a wrong projection, a G that is not skew, a station
 // force counted twice) shows as a drift. With friction the energy falls at
 // every slide, the friction's work, which the test checks for its sign.
+// Momentum: at every impact of the rigid methods the contact impulse moves
+// the station alone (its momentum jumps by the impulse; the modal
+// coordinates and their velocities, which no contact force reaches, go on
+// unchanged), and on an elastic stator rotor and stator exchange it (their
+// sum is conserved).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -121,6 +127,73 @@ TEST(FlexibleRotorEnergy, ConservedThroughElasticFrictionlessRub) {
       const Energies e = run_energy(undamped_scene(solver, stator), core::Vec2(0.05, 0.02));
       EXPECT_GT(e.events, 40);
       EXPECT_LT(worst_drift(e), solver.method == core::Method::kPenalty ? 1e-7 : 1e-8);
+    }
+  }
+}
+
+// The rigid methods' impacts on the seal example's rotor (undamped here, so
+// the bounces go on), from the station moving at 0.05 m/s, bouncing
+// (restitution 0.5), on a rigid stator with friction (f = 0.3, spinning at
+// 300 rad/s: the impulse has a tangential part) and on an elastic one
+// without: at each impact event the state just before (the ending step's
+// dense output at the event) and just after (the next step's start). The
+// station's momentum jump along the contact normal is the event's normal
+// impulse (1e-9 of it: both are the same rounding of one closed form), its
+// tangential part lies in the friction cone, an elastic stator takes the opposite
+// (the sum to the rounding of the momenta), and the positions and the modal
+// block do not move (to 1e-12 of themselves: the ending step's interpolant
+// at its end against the state it restarts from).
+TEST(FlexibleRotorMomentum, ImpactsMoveTheStationAloneAndConserveMomentum) {
+  for (const test::Solver& solver : test::rigid_solvers()) {
+    for (const core::StatorModel stator : {core::StatorModel::kRigid, core::StatorModel::kElastic}) {
+      SCOPED_TRACE(solver.name() + (stator == core::StatorModel::kRigid ? " rigid, f 0.3" : " elastic, f 0"));
+      core::Scene s = undamped_scene(solver, stator);
+      s.model.restitution = 0.5;
+      s.model.friction_coefficient = stator == core::StatorModel::kRigid ? 0.3 : 0.0;
+      s.end_time_s = 0.05;
+      s.solver.rtol = 1e-8;  // an impact's balance is algebra at its instant: the integration's accuracy does not enter
+      s.solver.atol = 1e-12;
+      const core::FlexibleRotorModel rotor = core::load_flexible_rotor(s.rotor);
+      const double m_st = rotor.station_mass_kg(), m_s = s.model.stator_mass_kg;
+      const std::unique_ptr<core::ContactMethod> method = core::make_contact_method(s);
+      const core::SpeedProfile profile(s.speed);
+      core::Kinematics k = core::JeffcottModel(s.model).initial_kinematics(profile.at(0.0));
+      k.rotor_vel = core::Vec2(0.05, 0.02);
+      method->start(0.0, k, profile.segment_at(0.0));
+      std::vector<core::ContactEvent> events;
+      int impacts = 0;
+      while (method->step_end() < s.end_time_s && !HasFatalFailure()) {
+        const std::size_t before = events.size();
+        method->step(s.end_time_s, events);
+        if (events.size() == before || events.back().impulse_N_s <= 0.0) continue;
+        const core::ContactEvent e = events.back();
+        ASSERT_EQ(e.t_s, method->step_end());
+        const core::Sample pre = method->sample(e.t_s);
+        const core::ModalState modal_pre = method->modal_state(e.t_s);
+        method->step(s.end_time_s, events);
+        ASSERT_EQ(method->step_begin(), e.t_s);
+        const core::Sample post = method->sample(e.t_s);
+        const core::ModalState modal_post = method->modal_state(e.t_s);
+        ++impacts;
+        const core::Vec2 normal = (pre.kin.rotor_pos - pre.kin.stator_pos).normalized();  // stator to rotor
+        const core::Vec2 tangent(-normal.y(), normal.x());
+        const core::Vec2 rotor_jump = m_st * (post.kin.rotor_vel - pre.kin.rotor_vel);
+        const core::Vec2 stator_jump = m_s * (post.kin.stator_vel - pre.kin.stator_vel);
+        // Rounding: of the velocities and the impact's few dozen operations,
+        // 1e-13 of the momenta they carry.
+        const double rounding_N_s =
+            1e-13 * (m_st * pre.kin.rotor_vel.norm() + m_s * pre.kin.stator_vel.norm() + e.impulse_N_s);
+        EXPECT_NEAR(-rotor_jump.dot(normal), e.impulse_N_s, 1e-9 * e.impulse_N_s + rounding_N_s) << e.t_s;
+        EXPECT_LE(std::abs(rotor_jump.dot(tangent)), s.model.friction_coefficient * e.impulse_N_s + rounding_N_s)
+            << e.t_s;
+        if (stator == core::StatorModel::kElastic) {
+          EXPECT_LT((rotor_jump + stator_jump).norm(), rounding_N_s) << e.t_s;
+        }
+        // A touchdown places the station on the bore: within the gap's tolerance (atol).
+        EXPECT_LT((post.kin.rotor_pos - pre.kin.rotor_pos).norm(), 10.0 * s.solver.atol) << e.t_s;
+        EXPECT_LE((modal_post - modal_pre).cwiseAbs().maxCoeff(), 1e-12 * modal_pre.cwiseAbs().maxCoeff()) << e.t_s;
+      }
+      EXPECT_GT(impacts, 10);
     }
   }
 }

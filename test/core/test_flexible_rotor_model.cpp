@@ -161,5 +161,5 @@ TEST(FlexibleRotorModel, NodeDisplacementsAreTheExpansion) {
     EXPECT_LT((nodes[node] - want).norm(), 1e-12 * scale) << node;
   }
   EXPECT_LT((nodes[6] - u).norm(), 1e-12 * scale);
-  EXPECT_EQ(nodes[12], model.probe_displacement(u, modal));
+  EXPECT_LT((nodes[12] - model.probe_displacement(u, modal)).norm(), 1e-12 * scale);
 }

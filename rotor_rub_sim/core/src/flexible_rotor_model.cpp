@@ -37,8 +37,11 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
   a_ = rotor.expansion.transpose() * a_full;
   b_ = rotor.expansion.transpose() * b_full;
-  weight_ = rotor.unit_weight_kg.size() == rotor.size() ? Eigen::VectorXd(-gravity_m_per_s2 * rotor.unit_weight_kg)
-                                                        : Eigen::VectorXd::Zero(rotor.size());
+  if (gravity_m_per_s2 != 0.0 && rotor.unit_weight_kg.size() != rotor.size()) {
+    throw std::logic_error("flexible rotor: gravity without the reduced rotor's unit weight (reduce_rotor sets it)");
+  }
+  weight_ = gravity_m_per_s2 != 0.0 ? Eigen::VectorXd(-gravity_m_per_s2 * rotor.unit_weight_kg)
+                                    : Eigen::VectorXd::Zero(rotor.size());
   if (4 * probe_node_ >= n) {
     throw std::invalid_argument("probe node " + std::to_string(probe_node_) + " is out of range; accepted: 0 to " +
                                 std::to_string(n / 4 - 1));

@@ -1,5 +1,6 @@
 #include "rotor_rub_sim/core/iteration_method.hpp"
 
+#include <algorithm>
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <limits>
@@ -29,9 +30,12 @@ class ForceRoot {
   ForceRoot(double rtol, int max_iterations, const char* name)
       : rtol_(rtol), max_iterations_(max_iterations), name_(name) {}
 
-  // r must increase with F; finds F in [lo, inf) with r(F) = 0 given r(lo) < 0.
+  // r must increase with F; finds F in [lo, inf) with r(F) = 0 given r(lo) < 0,
+  // to rtol of max(|F|, scale_N): a root at zero's rounding (a stick force
+  // the state hardly needs) is found to rtol of its scale, not of itself,
+  // which no bracket from zero reaches.
   template <class R>
-  double solve(R&& r, double lo, double r_lo, double t_s, long& iterations) const {
+  double solve(R&& r, double lo, double r_lo, double t_s, long& iterations, double scale_N = 0.0) const {
     double step = std::max(std::abs(last_N_) * 2.0, 1e-3);
     double hi = std::max(lo, last_N_) + step;
     double r_hi = r(hi);
@@ -48,7 +52,9 @@ class ForceRoot {
     if (r_hi == 0.0) return last_N_ = hi;
     std::uintmax_t it = static_cast<std::uintmax_t>(max_iterations_);
     const double rtol = rtol_;
-    auto tol = [rtol](double a, double b) { return std::abs(b - a) <= rtol * std::max(std::abs(a), std::abs(b)); };
+    auto tol = [rtol, scale_N](double a, double b) {
+      return std::abs(b - a) <= rtol * std::max({std::abs(a), std::abs(b), scale_N});
+    };
     const auto br = boost::math::tools::toms748_solve(r, lo, hi, r_lo, r_hi, tol, it);
     iterations += static_cast<long>(it);
     if (static_cast<int>(it) >= max_iterations_ && !tol(br.first, br.second)) {
@@ -91,7 +97,8 @@ class ContactForceSolver {
     return model_->sliding_acceleration(k, g, model_->accelerations(d, g, free, fn, ft));
   }
 
-  // The F_t that makes v_slide' vanish at normal force fn.
+  // The F_t that makes v_slide' vanish at normal force fn, to rtol of the
+  // cone's scale fn where it is smaller (ForceRoot).
   double stick_force(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free, double fn,
                      double t_s, long& iterations) const {
     const double s0 = sliding_acceleration(k, d, g, free, fn, 0.0);
@@ -100,10 +107,10 @@ class ContactForceSolver {
     if (s0 == 0.0) return 0.0;
     if (s0 < 0.0) {
       return tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, free, fn, ft); }, 0.0, s0, t_s,
-                               iterations);
+                               iterations, fn);
     }
     return -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, free, fn, -ft); }, 0.0, -s0, t_s,
-                              iterations);
+                              iterations, fn);
   }
 
   // want_stick_force: compute stick_N even when sliding (to decide a

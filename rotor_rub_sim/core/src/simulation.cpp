@@ -368,6 +368,8 @@ RunResult run_scene(const Scene& scene, SimulationObserver& observer) {
     void on_keyphasor(const Sample& s) override { inner->on_keyphasor(s); }
     bool wants_probes() const override { return inner->wants_probes(); }
     void on_probe_sample(const Sample& s) override { inner->on_probe_sample(s); }
+    double shaft_rate_hz() const override { return inner->shaft_rate_hz(); }
+    void on_shaft_sample(const ShaftSample& s) override { inner->on_shaft_sample(s); }
   } recorder;
   recorder.inner = &observer;
   Simulation sim(scene);

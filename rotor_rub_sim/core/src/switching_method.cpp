@@ -412,7 +412,7 @@ class SwitchingMethod final : public ContactMethod {
   double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
   // The earliest event of [t0, t1], checked at the step's midpoint and end and
-  // located with TOMS 748 on the dense output. Three ways to a crossing:
+  // located with TOMS 748 on the dense output. Four ways to a crossing:
   // * a sign change between two points, of a function that has been seen
   //   strictly below zero since its regime began (armed);
   // * a function that starts its regime on its surface (a rebound, a slip
@@ -421,7 +421,9 @@ class SwitchingMethod final : public ContactMethod {
   //   right after it is bracketed, however short the flight;
   // * a graze between two points where the gap is negative at both: the gap's
   //   rate falls through zero in between (a maximum), located, and the gap at
-  //   the maximum decides.
+  //   the maximum decides;
+  // * on a flexible rotor, the same for the lift-off and the breakaway in
+  //   contact, with a difference quotient for the rate (crossing()).
   void scan(double t0, double t1, std::vector<ContactEvent>& events) {
     ProfileScope scope(event_time_s_);
     valid_begin_ = t0;
@@ -491,12 +493,14 @@ class SwitchingMethod final : public ContactMethod {
       if (gm >= 0.0) return locate_event(f, a, va.value[k], tm, gm, stats_);
     }
     if constexpr (kFlexible) {
-      // The same for a lift-off in a flexible rotor's contact: its modes ring
-      // the normal force, whose minima can dip below zero and back between
-      // two points (a grazing lift-off, shorter than a quarter step; seen at
-      // 16 planar modes on the seal example). The constrained dynamics give
-      // the force's rate in no closed form: a difference quotient.
-      if (k == kGap && regime_ == Regime::kContact && armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0) {
+      // The same in a flexible rotor's contact: its modes ring the normal
+      // force, whose minima can dip below zero and back between two scan
+      // points (a grazing lift-off; seen at 16 planar modes on the seal
+      // example), and with it the cone f F_n below a stick force (a
+      // breakaway and back). The event values carry no rate for these: a
+      // difference quotient on the dense output.
+      const bool dips_with_the_force = k == kGap || k == kBreakaway;
+      if (dips_with_the_force && regime_ == Regime::kContact && armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0) {
         return locate_interior_crossing(f, a, va.value[k], b, vb.value[k], kInteriorRateStep * (b - a), stats_);
       }
     }

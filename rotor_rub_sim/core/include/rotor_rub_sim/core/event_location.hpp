@@ -45,6 +45,9 @@ inline constexpr double kInteriorRateStep = 1e-4;
 template <class G>
 double locate_interior_crossing(G&& g, double a, double ga, double b, double gb, double h_s, RunStats& stats) {
   constexpr double kNone = std::numeric_limits<double>::infinity();
+  // A step below a few ulps of t differences rounding, not g: too short an
+  // interval to hold a graze of interest.
+  if (!(h_s > 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b)))) return kNone;
   const double rate_a = (g(a + h_s) - ga) / h_s;
   if (!(rate_a > 0.0)) return kNone;
   const double rate_b = (gb - g(b - h_s)) / h_s;

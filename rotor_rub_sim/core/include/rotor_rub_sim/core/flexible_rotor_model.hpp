@@ -157,10 +157,12 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
 
 /// What the contact methods' JeffcottModel holds for a flexible rotor: the
 /// station as a bare point of mass m_st (rotor_mass_kg), every other force
-/// on it the flexible model's (rotor_stiffness_N_per_m,
-/// rotor_damping_N_s_per_m and eccentricity_m are set to 0, so the
-/// JeffcottModel adds none), and the contact radius the rub station's
-/// (rotor_radius_m) where the file gives one. The rest is the scene's.
+/// on it the flexible model's: the methods replace the JeffcottModel's
+/// rotor force with FlexibleRotorModel::free_loads (flexible_free_loads),
+/// the station's share of the weight included; rotor_stiffness_N_per_m,
+/// rotor_damping_N_s_per_m and eccentricity_m are set to 0 besides. The
+/// contact radius is the rub station's (rotor_radius_m) where the file
+/// gives one. The rest is the scene's (the stator's weight among it).
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor);
 
 /// The radius the rotor slides at in a scene [m]: a flexible rotor's rub
