@@ -53,7 +53,8 @@ CLI::Validator key_value() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path, csv_path, summary_path, keyphasor_path, probes_path, method, integrator, rtol, atol, rate;
+  std::string scene_path, csv_path, summary_path, keyphasor_path, probes_path, shaft_path, method, integrator, rtol,
+      atol, rate;
   std::vector<std::string> sets;
   bool quiet = false, list_keys = false, list_solvers = false;
   CLI::App app(
@@ -91,6 +92,11 @@ int main(int argc, char** argv) {
   app.add_option("--probes", probes_path,
                  "write the X/Y proximity probes' signals (t, x_V, y_V, x_m, y_m at probe_rate_hz, which must be > 0) "
                  "to this CSV file")
+      ->type_name("FILE");
+  app.add_option("--shaft", shaft_path,
+                 "write a flexible rotor's deflected shaft (needs rotor_file; a row per node and sample, on the "
+                 "samples' grid: t, node, z_m, x_m, y_m, the node's position along the shaft and its lateral "
+                 "displacement [m]) to this CSV file")
       ->type_name("FILE");
   app.add_flag("--quiet", quiet, "no summary line on stdout");
   app.add_flag("--list-keys", list_keys, "print every scene key with its default, accepted range and meaning; exit");
@@ -133,8 +139,13 @@ int main(int argc, char** argv) {
   if (!probes_path.empty() && !(scene.probes.rate_hz > 0.0)) {
     bad_input("--probes needs probe_rate_hz > 0 (scene key probe_rate_hz is 0: no probe signals); accepted: (0, 1e7]");
   }
-  tools::RunRecorder recorder(!csv_path.empty(), !keyphasor_path.empty(),
-                              probes_path.empty() ? nullptr : &scene.probes);
+  if (!shaft_path.empty() && scene.rotor.file.empty()) {
+    bad_input(
+        "--shaft needs a flexible rotor (scene key rotor_file is empty: the Jeffcott has no shaft); accepted: "
+        "a scene with a rotor_file");
+  }
+  tools::RunRecorder recorder(!csv_path.empty(), !keyphasor_path.empty(), probes_path.empty() ? nullptr : &scene.probes,
+                              shaft_path.empty() ? 0.0 : scene.output_rate_hz);
   core::Simulation sim(scene);
   sim.advance_to(scene.end_time_s, recorder);
   const core::RunStats& st = sim.stats();
@@ -162,6 +173,8 @@ int main(int argc, char** argv) {
              [&](std::ostream& os) { tools::write_keyphasor_csv(os, recorder.marks); });
   write_file(probes_path, "probes CSV",
              [&](std::ostream& os) { tools::write_probes_csv(os, recorder.probe_readings); });
+  write_file(shaft_path, "shaft CSV",
+             [&](std::ostream& os) { tools::write_shaft_csv(os, recorder.shaft, sim.shaft_node_z_m()); });
   if (!summary_path.empty()) {
     std::ofstream os(summary_path);
     tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time()});

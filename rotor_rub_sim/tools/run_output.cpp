@@ -53,6 +53,19 @@ void write_probes_csv(std::ostream& os, const std::vector<core::ProbeReading>& r
   }
 }
 
+void write_shaft_csv(std::ostream& os, const std::vector<core::ShaftSample>& shaft,
+                     const std::vector<double>& node_z_m) {
+  os << "t,node,z_m,x_m,y_m\n";
+  char buf[160];
+  for (const auto& s : shaft) {
+    for (std::size_t i = 0; i < s.node_displacement_m.size() && i < node_z_m.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "%.17g,%zu,%.17g,%.17g,%.17g\n", s.t_s, i, node_z_m[i],
+                    s.node_displacement_m[i].x(), s.node_displacement_m[i].y());
+      os << buf;
+    }
+  }
+}
+
 double first_touchdown_s(const std::vector<core::ContactEvent>& events) {
   for (const auto& e : events) {
     if (e.kind == core::EventKind::kTouchdown) return e.t_s;

@@ -14,11 +14,13 @@
 namespace rotor_rub::tools {
 
 // Keeps the samples (when asked), running maxima, and (when asked) the
-// keyphasor marks and the probes' signals.
+// keyphasor marks, the probes' signals and a flexible rotor's shaft (at
+// shaft_rate_hz > 0).
 class RunRecorder : public core::SimulationObserver {
  public:
-  explicit RunRecorder(bool keep_samples, bool keep_marks = false, const core::ProbeParameters* probes = nullptr)
-      : keep_samples_(keep_samples), keep_marks_(keep_marks) {
+  explicit RunRecorder(bool keep_samples, bool keep_marks = false, const core::ProbeParameters* probes = nullptr,
+                       double shaft_rate_hz = 0.0)
+      : keep_samples_(keep_samples), keep_marks_(keep_marks), shaft_rate_hz_(shaft_rate_hz) {
     if (probes != nullptr) probe_pair_.emplace(*probes);
   }
   void on_sample(const core::Sample& s) override;
@@ -27,9 +29,12 @@ class RunRecorder : public core::SimulationObserver {
   void on_keyphasor(const core::Sample& s) override { marks.push_back(s); }
   bool wants_probes() const override { return probe_pair_.has_value(); }
   void on_probe_sample(const core::Sample& s) override { probe_readings.push_back(probe_pair_->read(s)); }
+  double shaft_rate_hz() const override { return shaft_rate_hz_; }
+  void on_shaft_sample(const core::ShaftSample& s) override { shaft.push_back(s); }
 
   std::vector<core::Sample> marks;                 // the keyphasor's states
   std::vector<core::ProbeReading> probe_readings;  // the probes' signals
+  std::vector<core::ShaftSample> shaft;            // a flexible rotor's nodes
 
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
@@ -40,6 +45,7 @@ class RunRecorder : public core::SimulationObserver {
 
  private:
   bool keep_samples_, keep_marks_;
+  double shaft_rate_hz_;
   std::optional<core::ProbePair> probe_pair_;
 };
 
@@ -47,6 +53,10 @@ class RunRecorder : public core::SimulationObserver {
 // probes' signals: t, x_V, y_V and what they measure without noise, x_m, y_m.
 void write_keyphasor_csv(std::ostream& os, const std::vector<core::Sample>& marks);
 void write_probes_csv(std::ostream& os, const std::vector<core::ProbeReading>& readings);
+// A flexible rotor's shaft, a row per node and sample: t, node, z_m (its
+// position along the shaft), x_m, y_m (its lateral displacement).
+void write_shaft_csv(std::ostream& os, const std::vector<core::ShaftSample>& shaft,
+                     const std::vector<double>& node_z_m);
 
 void write_csv(std::ostream& os, const std::vector<core::Sample>& samples);
 

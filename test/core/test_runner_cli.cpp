@@ -149,3 +149,34 @@ TEST(RunnerCli, KeyphasorAndProbeCsvs) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("probe_rate_hz"), std::string::npos) << r.err;
 }
+
+// A flexible rotor's shaft (--shaft): a row per node and sample after t = 0,
+// the nodes along the rotor file's shaft, the rub station's node where the
+// samples put the rotor (the same dense output at the same instant); the
+// Jeffcott has no shaft: bad input naming rotor_file.
+TEST(RunnerCli, ShaftCsvOfAFlexibleRotor) {
+  const std::string seal = std::string(ROTOR_RUB_SOURCE_DIR) + "/config/seal_rub_runup.yaml";
+  const std::string shaft_path = rotor_rub::test::tmp() + "rr_shaft.csv";
+  const std::string csv_path = rotor_rub::test::tmp() + "rr_seal.csv";
+  Result r = run("--scene " + seal + " --set end_time_s=1.3 --rate 200 --csv " + csv_path + " --shaft " + shaft_path +
+                 " --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = rotor_rub::test::read_rows(shaft_path);
+  const auto samples = rotor_rub::test::read_rows(csv_path);
+  ASSERT_EQ(samples.size(), 261u);     // 0 .. 1.3 s at 200 Hz
+  ASSERT_EQ(rows.size(), 13u * 260u);  // 13 nodes (12 elements of 0.1 m), samples after t = 0
+  EXPECT_EQ(read(shaft_path).rfind("t,node,z_m,x_m,y_m\n", 0), 0u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::size_t node = i % 13, k = i / 13 + 1;
+    ASSERT_EQ(std::stoul(rows[i].at("node")), node);
+    EXPECT_NEAR(std::stod(rows[i].at("z_m")), 0.1 * node, 1e-12);
+    EXPECT_EQ(std::stod(rows[i].at("t")), std::stod(samples[k].at("t")));
+    if (node == 6) {  // the rub station
+      EXPECT_NEAR(std::stod(rows[i].at("x_m")), std::stod(samples[k].at("x_r")), 1e-15) << k;
+      EXPECT_NEAR(std::stod(rows[i].at("y_m")), std::stod(samples[k].at("y_r")), 1e-15) << k;
+    }
+  }
+  r = run("--scene " + kScene + " --set end_time_s=0.1 --shaft " + shaft_path);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("rotor_file"), std::string::npos) << r.err;
+}
