@@ -110,6 +110,7 @@ std::string solver_table_text() {
     }
     os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 13) << pad(when, 15) << e.note << '\n';
   }
+  os << "  with a rotor_file (a flexible rotor): penalty on dopri5 only, which auto then picks\n";
   return os.str();
 }
 

@@ -260,12 +260,16 @@ bool SimNode::wait_for_subscribers() {
 
 int SimNode::run() {
   if (!wait_for_subscribers()) return 1;
+  const std::string rotor = scene_.rotor.file.empty()
+                                ? std::string("the Jeffcott rotor")
+                                : "the flexible rotor " + scene_.rotor.file + " (" +
+                                      std::to_string(scene_.rotor.planar_modes) + " planar modes)";
   ROS_INFO(
-      "%s the scene with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
+      "%s the scene (%s) with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",
       config_.start_paused ? "paused at t = 0 s (call the resume or step service) before simulating" : "simulating",
-      core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_)), scene_.solver.rtol,
-      scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
+      rotor.c_str(), core::to_string(scene_.solver.method), core::to_string(core::effective_integrator(scene_)),
+      scene_.solver.rtol, scene_.solver.atol, scene_.end_time_s, scene_.output_rate_hz, config_.real_time_factor,
       to_string(config_.end_action));
   set_status(config_.start_paused ? Status::kPaused : Status::kRunning);
   // Chunks of 1 ms of simulated time, or of one output period when that is
