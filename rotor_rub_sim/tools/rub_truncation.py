@@ -96,10 +96,11 @@ def mode_count(text):
         v = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError("value '%s' is not an integer; accepted: integers in [1, %d]"
-                                         % (text, MAX_MODES))
-    if not 1 <= v <= MAX_MODES:
-        raise argparse.ArgumentTypeError("value '%s' is out of range; accepted: integers in [1, %d] "
-                                         "(rotor_planar_modes)" % (text, MAX_MODES))
+                                         % (text, MAX_MODES - 1))
+    if not 1 <= v < MAX_MODES:
+        raise argparse.ArgumentTypeError("value '%s' is out of range; accepted: integers in [1, %d] (rotor_planar_modes "
+                                         "below the reference, which has at most %d; a smaller rotor allows fewer)"
+                                         % (text, MAX_MODES - 1, MAX_MODES))
     return v
 
 

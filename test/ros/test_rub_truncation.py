@@ -133,8 +133,8 @@ class BadInput(unittest.TestCase):
     def test_bad_arguments(self):
         self.one_line(tool("--scene", SEAL, "--tolerance", "2"), "--tolerance", "'2'", "(0, 1]")
         self.one_line(tool("--scene", SEAL, "--tolerance", "abc"), "--tolerance", "'abc'", "not a number")
-        self.one_line(tool("--scene", SEAL, "--modes", "21"), "--modes", "'21'", "[1, 20]")
-        self.one_line(tool("--scene", SEAL, "--modes", "20"), "--modes", "value 20", "[1, 19]")
+        self.one_line(tool("--scene", SEAL, "--modes", "21"), "--modes", "'21'", "[1, 19]")
+        self.one_line(tool("--scene", SEAL, "--modes", "20"), "--modes", "'20'", "[1, 19]")  # the same bound as 21
         self.one_line(tool("--scene", SEAL, "--quantities", "force"), "--quantities", "'force'", "max_force")
         self.one_line(tool("--scene", SEAL, "--set", "rotor_planar_modes=3"), "--set", "--modes")
         self.one_line(tool("--scene", PAPER), "--scene", "no rotor_file")
