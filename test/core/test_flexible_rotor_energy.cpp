@@ -103,13 +103,6 @@ double worst_drift(const Energies& e) {
   return worst;
 }
 
-// Every method and integrator that runs a flexible rotor.
-std::vector<test::Solver> flexible_solvers() {
-  std::vector<test::Solver> v = test::rigid_solvers();
-  v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
-  return v;
-}
-
 }  // namespace
 
 // The station set moving at 0.05 m/s: an orbit of tens of micrometres
@@ -121,7 +114,7 @@ std::vector<test::Solver> flexible_solvers() {
 // its energy, a G that did work or a station force counted twice is
 // orders of magnitude above either.
 TEST(FlexibleRotorEnergy, ConservedThroughElasticFrictionlessRub) {
-  for (const test::Solver& solver : flexible_solvers()) {
+  for (const test::Solver& solver : test::flexible_solvers()) {
     for (const core::StatorModel stator : {core::StatorModel::kRigid, core::StatorModel::kElastic}) {
       SCOPED_TRACE(solver.name() + (stator == core::StatorModel::kRigid ? " rigid" : " elastic"));
       const Energies e = run_energy(undamped_scene(solver, stator), core::Vec2(0.05, 0.02));
@@ -206,7 +199,7 @@ TEST(FlexibleRotorMomentum, ImpactsMoveTheStationAloneAndConserveMomentum) {
 // integrators' error (1e-6 of the start) and by the end has fallen by more
 // than a tenth.
 TEST(FlexibleRotorEnergy, PlasticImpactsAndFrictionWithoutSpinOnlyTakeEnergy) {
-  for (const test::Solver& solver : flexible_solvers()) {
+  for (const test::Solver& solver : test::flexible_solvers()) {
     for (const bool spinning : {true, false}) {
       SCOPED_TRACE(solver.name() + (spinning ? " plastic at 300 rad/s" : " friction at rest"));
       core::Scene s = undamped_scene(solver, core::StatorModel::kRigid);

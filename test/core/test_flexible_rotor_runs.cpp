@@ -25,13 +25,6 @@ using namespace rotor_rub;
 
 namespace {
 
-// Every method and integrator that runs a flexible rotor.
-std::vector<test::Solver> flexible_solvers() {
-  std::vector<test::Solver> v = test::rigid_solvers();
-  v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
-  return v;
-}
-
 core::Scene jeffcott_file_scene(long planar_modes) {
   core::Scene s = test::paper_scene();
   s.rotor.file = test::source_path("test/data/rotors/jeffcott_matrices.yaml");
@@ -70,7 +63,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
   scenes[2].model.stator_offset_x_m = 0.5e-3;
   scenes[2].model.restitution = 0.3;
   scenes[3].solver.integrator = core::Integrator::kDopri5;
-  for (const test::Solver& solver : flexible_solvers()) {
+  for (const test::Solver& solver : test::flexible_solvers()) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const bool penalty = solver.method == core::Method::kPenalty;
       if (penalty && i == 3) continue;  // dopri5 already
@@ -223,7 +216,7 @@ TEST(FlexibleRotorRuns, PenaltySettlesOntoTheFullRubWithItsContactSpring) {
 void seal_rub_promises(core::Scene s);  // below
 
 TEST(FlexibleRotorRuns, SealRubRunUpKeepsTheMethodsPromises) {
-  for (const test::Solver& solver : flexible_solvers()) {
+  for (const test::Solver& solver : test::flexible_solvers()) {
     SCOPED_TRACE(solver.name());
     core::Scene s = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
     s.solver.method = solver.method;

@@ -81,6 +81,13 @@ inline std::vector<Solver> rigid_solvers() {
 inline std::vector<Solver> all_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
 }
+// Every method and integrator that runs a flexible rotor (a rotor_file): the
+// rigid methods on theirs, the penalty method on dopri5.
+inline std::vector<Solver> flexible_solvers() {
+  std::vector<Solver> v = rigid_solvers();
+  v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
+  return v;
+}
 
 // A contact method driven alone, without Simulation (and so without
 // validate_scene), as a core user who builds one with make_contact_method
