@@ -151,10 +151,17 @@ for path in glob.glob(sys.argv[1] + "/**/*.xml", recursive=True):
         root = ET.parse(path).getroot()
     except ET.ParseError:
         f += 1
+        print("[FAILED] %s: unreadable results" % path, file=sys.stderr)
         continue
     for case in root.iter("testcase"):
-        if case.find("failure") is not None or case.find("error") is not None:
+        bad = case.find("failure")
+        bad = bad if bad is not None else case.find("error")
+        if bad is not None:
             f += 1
+            # Named, so a failure on a machine not at hand can be told apart.
+            why = " ".join((bad.get("message") or bad.text or "").split())[:300]
+            print("[FAILED] %s: %s.%s: %s" % (path.rsplit("/", 1)[-1], case.get("classname"), case.get("name"), why),
+                  file=sys.stderr)
         elif case.find("skipped") is None:
             p += 1
 print(p, f)

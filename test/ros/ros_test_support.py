@@ -76,3 +76,29 @@ class Collector(object):
 
 def temp_prefix(name):
     return os.path.join(tempfile.mkdtemp(prefix="rotor_rub_test_"), name)
+
+
+def launch_monitored(args, ns, listeners, before_resume=lambda: None):
+    """closed_loop.launch with start_paused, resumed only once every listener
+    (a Collector) has connected, so none misses the run's first messages (a
+    latched topic gives a late subscriber only its last one); before_resume()
+    runs while the node waits (faults injected there land at their stamps).
+    A launch that fails fails the caller."""
+    from rotor_rub_msgs.msg import SolverStats
+    from std_srvs.srv import Trigger
+    stats = Collector("/%s/solver_stats" % ns, SolverStats)
+    proc = subprocess.Popen([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
+                             "start_paused:=true", "ns:=" + ns] + list(args), stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    try:
+        stats.wait_for(lambda ms: any(m.status == SolverStats.PAUSED for m in ms), "the node paused at start")
+        for c in listeners:
+            c.wait_connected()
+        before_resume()
+        rospy.ServiceProxy("/%s/resume" % ns, Trigger)()
+        out, _ = proc.communicate(timeout=600)
+        assert proc.returncode == 0, out[-3000:]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        stats.sub.unregister()

@@ -14,7 +14,6 @@ an alarm already raised is seen to 50 ms) and the delays."""
 import math
 import os
 import re
-import subprocess
 import sys
 import unittest
 
@@ -22,12 +21,11 @@ import rosbag
 import rospkg
 import rospy
 import rostest
-from rotor_rub_msgs.msg import ContactEvent, Fault, RubAlarm, SolverStats  # noqa: E402
+from rotor_rub_msgs.msg import ContactEvent, Fault, RubAlarm  # noqa: E402
 from rotor_rub_msgs.srv import InjectFault
-from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ros_test_support import Collector, find_binary, temp_prefix  # noqa: E402
+from ros_test_support import Collector, launch_monitored, temp_prefix  # noqa: E402
 
 CONFIG = os.path.join(rospkg.RosPack().get_path("rotor_rub_sim"), "config")
 SPEED = 60.0
@@ -73,27 +71,20 @@ class FaultRun(object):
         ns = "fm_" + name
         self.bag = temp_prefix(name) + ".bag"
         alarms = Collector("/%s/rub_monitor/alarm" % ns, RubAlarm)
-        stats = Collector("/%s/solver_stats" % ns, SolverStats)
-        proc = subprocess.Popen([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
-                                 "controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag,
-                                 "start_paused:=true", "ns:=" + ns], stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True)
-        try:
-            stats.wait_for(lambda ms: any(m.status == SolverStats.PAUSED for m in ms), "the node paused at start")
+
+        def inject_faults():
             inject = rospy.ServiceProxy("/%s/inject_fault" % ns, InjectFault)
             for i, (t_s, fields) in enumerate(faults):
                 res = inject(Fault(header=rospy.Header(stamp=rospy.Time.from_sec(t_s)), fault_id=i + 1, **fields))
                 assert res.accepted, res.reason
-            rospy.ServiceProxy("/%s/resume" % ns, Trigger)()
-            out, _ = proc.communicate(timeout=600)
-            assert proc.returncode == 0, out[-3000:]
+
+        try:
+            launch_monitored(["controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag], ns,
+                             [alarms], inject_faults)
             self.alarms = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= END_S - 0.1,
                                           "the monitor's last verdict")
         finally:
-            if proc.poll() is None:
-                proc.kill()
             alarms.sub.unregister()
-            stats.sub.unregister()
         with rosbag.Bag(self.bag) as b:
             self.events = [m for _, m, _ in b.read_messages(topics=["/%s/contact_events" % ns])]
             self.applied = [m for _, m, _ in b.read_messages(topics=["/%s/parameter_change_feedback" % ns])

@@ -26,7 +26,7 @@ import rospy
 import rostest
 from rotor_rub_msgs.msg import ContactEvent, RubAlarm
 
-from ros_test_support import Collector, find_binary, temp_prefix
+from ros_test_support import Collector, find_binary, launch_monitored, temp_prefix
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
 import machine_rub_detector  # noqa: E402
@@ -92,13 +92,11 @@ class Run(object):
         self.bag = temp_prefix("monitored") + ".bag"
         alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
         try:
-            subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
-                            "controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
-                            "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
-                           check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600)
+            # Resumed once this subscriber has connected: it hears every verdict.
+            launch_monitored(["controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
+                              "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
+                             "rotor_rub_sim", [alarms])
             end = end_time(scene)
-            # The alarm is latched: whenever this subscriber connected, it holds
-            # the monitor's last verdict, which carries its first alarm's delay.
             self.alarms = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= end - 0.1,
                                           "the monitor's last verdict")
         finally:
