@@ -111,7 +111,7 @@ class RubMonitor(object):
         self.stream_gen = {s: 0 for s in STREAMS}
         self.stream_last = {s: None for s in STREAMS}
         self.new_run()
-        self.alarm_pub = rospy.Publisher("~alarm", RubAlarm, queue_size=100, latch=True)
+        self.alarm_pub = rospy.Publisher("~alarm", RubAlarm, queue_size=10000, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
         subs = [rospy.Subscriber("contact_events", ContactEvent, self.on_event, queue_size=None),
                 rospy.Subscriber("keyphasor", Keyphasor, self.on_keyphasor, queue_size=None),

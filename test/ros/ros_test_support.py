@@ -78,6 +78,13 @@ def temp_prefix(name):
     return os.path.join(tempfile.mkdtemp(prefix="rotor_rub_test_"), name)
 
 
+# The simulator's end stops closed_loop.launch, the rub monitor with it: on a
+# loaded machine the monitor's last verdict (the one the tests wait for) needs
+# more than the default second to come out. Not on the tests' wall time: they
+# run beside the sanitizer build (scripts/run_tests.sh).
+MONITOR_LINGER = "exit_linger_s:=5"
+
+
 def launch_monitored(args, ns, listeners, before_resume=lambda: None):
     """closed_loop.launch with start_paused, resumed only once every listener
     (a Collector) has connected, so none misses the run's first messages (a
@@ -88,7 +95,7 @@ def launch_monitored(args, ns, listeners, before_resume=lambda: None):
     from std_srvs.srv import Trigger
     stats = Collector("/%s/solver_stats" % ns, SolverStats)
     proc = subprocess.Popen([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
-                             "start_paused:=true", "ns:=" + ns] + list(args), stdout=subprocess.PIPE,
+                             "start_paused:=true", "ns:=" + ns, MONITOR_LINGER] + list(args), stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     try:
         stats.wait_for(lambda ms: any(m.status == SolverStats.PAUSED for m in ms), "the node paused at start")

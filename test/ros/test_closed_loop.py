@@ -16,7 +16,7 @@ import rospy
 import rostest
 from rotor_rub_msgs.msg import RubAlarm
 
-from ros_test_support import Collector, find_binary, temp_prefix
+from ros_test_support import MONITOR_LINGER, Collector, find_binary, temp_prefix
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
 from runup_controller import RunUpPolicy  # noqa: E402
@@ -35,7 +35,7 @@ def launch(bag, *args, ns="rotor_rub_sim"):
     # A namespace of its own keeps a run's topics apart from an earlier run's
     # nodes that are still shutting down (a latched alarm of theirs).
     subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch", "record:=true",
-                    "bag:=" + bag, "ns:=" + ns] + list(args), check=True, stdout=subprocess.DEVNULL,
+                    "bag:=" + bag, "ns:=" + ns, MONITOR_LINGER] + list(args), check=True, stdout=subprocess.DEVNULL,
                    stderr=subprocess.DEVNULL, timeout=600)
     with rosbag.Bag(bag) as b:
         return [m for _, m, _ in b.read_messages(topics=["/%s/state" % ns])]

@@ -237,9 +237,12 @@ class NodeServicesTest(NodeTestBase):
         # Resume, then pause: the statistics give the time reached.
         self.assertTrue(self.resume_srv().success)
         self.assertFalse(self.step_srv(0.1).success, "step needs a paused simulation")
-        self.assertTrue(self.pause_srv().success)
-        paused = self.stats.wait_for(lambda m: m and m[-1].status == SolverStats.PAUSED, "paused statistics")[-1]
-        t_paused = paused.sim_time
+        res = self.pause_srv()
+        self.assertTrue(res.success, res.message)
+        # The time reached from the reply ("paused at t = 0.412000 s"): the
+        # statistics' last PAUSED may still be the step's, if the resume's
+        # RUNNING has not arrived yet.
+        t_paused = float(res.message.split("t = ")[1].split()[0])
         k_paused = int(round(t_paused * RATE_HZ))
         states = self.states.wait_for(lambda m: m and m[-1].sample_index == k_paused, "the states up to the pause")
         # While paused nothing advances: the next step's first sample follows on.
