@@ -6,13 +6,17 @@ method and integrator's cheapest run within an error bound, CVODE's ratio)
 as rotor_rub_bench printed them. scripts/make_charts.sh calls it after the
 bench, so the page's headline figures are the last run's, never typed in.
 
-usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md"""
+With a fourth argument NAME, the block <!-- BEGIN GENERATED: NAME --> ...
+instead (the flexible rotor's CVODE comparison: flexible_cvode).
+
+usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md [NAME]"""
 import datetime
 import os
 import platform
 import sys
 
 bench_txt, command, page = sys.argv[1:4]
+name = sys.argv[4] if len(sys.argv) > 4 else "bench"
 lines = open(bench_txt).read().splitlines()
 start = next((i for i, l in enumerate(lines) if l.startswith("cheapest within")), None)
 if start is None:
@@ -20,11 +24,11 @@ if start is None:
 end = next((i for i, l in enumerate(lines) if l.startswith("paper (MATLAB")), len(lines))
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown CPU")
 machine = "%d cores (%s), %s %s" % (os.cpu_count(), cpu, platform.system(), platform.release())
-block = ["Written by `scripts/make_charts.sh` (`scripts/gen_bench_block.py`) on %s UTC, on %s:" %
-         (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine), "",
+block = ["Written by `scripts/gen_bench_block.py` on %s UTC, "
+         "on %s:" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine), "",
          "    " + command, ""] + ["    " + l if l else "" for l in lines[start:end]]
 text = open(page).read()
-begin, stop = "<!-- BEGIN GENERATED: bench -->", "<!-- END GENERATED: bench -->"
+begin, stop = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
 if begin not in text or stop not in text:
     sys.exit("gen_bench_block: %s has no '%s' ... '%s' block" % (page, begin, stop))
 head, rest = text.split(begin, 1)

@@ -18,11 +18,13 @@
 #include <memory>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "rotor_rub_sim/core/chatter_guard.hpp"
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
@@ -280,25 +282,34 @@ struct RootStart {
   bool gap_armed = true;
 };
 
-template <int kStatorDof>
+// kFlexible: the rotor is a flexible rotor's rub station (the core's
+// FlexibleRotorModel, as its switching method builds it), the modal block
+// [xi; xi'] after each regime's fixed part, carried unchanged through every
+// event (no contact force or impulse reaches it).
+template <int kStatorDof, bool kFlexible>
 class CvodeSwitching {
  public:
-  using FL = core::FreeLayout<kStatorDof>;
-  using CL = core::ContactLayout<kStatorDof>;
+  using FL = core::FreeLayout<kStatorDof, false, kFlexible>;
+  using CL = core::ContactLayout<kStatorDof, false, kFlexible>;
   using FreeState = typename FL::State;
   using ContactState = typename CL::State;
 
   CvodeSwitching(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, SUNContext ctx,
                  CvodeRun& out)
       : scene_(scene),
-        model_(scene.model),
+        flexible_(kFlexible ? std::make_shared<const core::FlexibleRotorModel>(
+                                  core::load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
+                            : nullptr),
+        modal_size_(kFlexible ? 2 * flexible_->modal_size() : 0),
+        model_(kFlexible ? core::station_parameters(scene.model, *flexible_) : scene.model),
         profile_(scene.speed),
         guard_(scene.solver.max_events_per_ms),
         sample_rate_hz_(sample_rate_hz),
         out_(out),
-        free_(ctx, FL::kSize, free_rhs, free_roots, this, scene, options, &cvode_error_),
-        contact_(ctx, CL::kSize, contact_rhs, contact_roots, this, scene, options, &cvode_error_) {
+        free_(ctx, FL::kSize + modal_size_, free_rhs, free_roots, this, scene, options, &cvode_error_),
+        contact_(ctx, CL::kSize + modal_size_, contact_rhs, contact_roots, this, scene, options, &cvode_error_) {
     dynamics_.model = &model_;
+    dynamics_.flexible = flexible_.get();
     if (sample_rate_hz_ > 0.0) {
       out_.samples.reserve(static_cast<std::size_t>(std::floor(scene.end_time_s * sample_rate_hz_)) + 1);
     }
@@ -307,7 +318,9 @@ class CvodeSwitching {
   void run() {
     next_segment(0.0);
     restart_step_s_ = 0.0;  // at rest, centred: CVODE's estimate is sound here
-    enter_free(0.0, model_.initial_kinematics(profile_.at(0.0)));
+    // As the core's Simulation starts: the scene's initial state, the modes at rest.
+    enter_free(0.0, core::JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)),
+               core::ModalState::Zero(modal_size_));
     double t_s = 0.0;
     long calls = 0;
     while (t_s < scene_.end_time_s) {
@@ -349,6 +362,13 @@ class CvodeSwitching {
         on_event(kGap, te, it.state_at(te));
         return te;
       }
+    } else if constexpr (kFlexible) {
+      const auto [k, te] = after_contact_step(t_ret);
+      if (te < kInf) {
+        emit_samples(te);
+        on_event(k, te, it.state_at(te));
+        return te;
+      }
     }
     emit_samples(t_ret);
     if (flag == CV_TSTOP_RETURN && t_ret < scene_.end_time_s) change_segment(t_ret);
@@ -360,12 +380,23 @@ class CvodeSwitching {
 
   static int free_rhs(double t_s, N_Vector y, N_Vector ydot, void* data) {
     const auto& self = *static_cast<const CvodeSwitching*>(data);
-    const FreeState x = Eigen::Map<const FreeState>(N_VGetArrayPointer(y));
-    Eigen::Map<FreeState> dxdt(N_VGetArrayPointer(ydot));
-    const Kinematics k = core::kinematics_of<kStatorDof>(x);
+    const FreeState x = self.free_state(N_VGetArrayPointer(y));
+    Eigen::Map<Eigen::VectorXd> dxdt(N_VGetArrayPointer(ydot), x.size());
+    const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
     const DriveState d = self.segment_.at(t_s);
     dxdt.template segment<2>(FL::kRotorPos) = k.rotor_vel;
-    dxdt.template segment<2>(FL::kRotorVel) = self.model_.rotor_free_force(k, d) * self.model_.inv_rotor_mass();
+    if constexpr (kFlexible) {
+      // The station's force and the modal rows (the core's FreeFlightSystem).
+      const int n = core::modal_count<FL>(x);
+      dxdt.segment(FL::kModal, n) = x.tail(n);
+      dxdt.template segment<2>(FL::kRotorVel) =
+          self.flexible_->free_loads(k.rotor_pos + self.model_.frame_shift(), k.rotor_vel, x.tail(2 * n),
+                                     self.model_.unbalance_dir(d.angle_rad), d.speed_rad_per_s, d.accel_rad_per_s2,
+                                     dxdt.tail(n)) *
+          self.model_.inv_rotor_mass();
+    } else {
+      dxdt.template segment<2>(FL::kRotorVel) = self.model_.rotor_free_force(k, d) * self.model_.inv_rotor_mass();
+    }
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(FL::kStatorPos) = k.stator_vel;
       dxdt.template segment<2>(FL::kStatorVel) = self.model_.stator_free_force(k) * self.model_.inv_stator_mass();
@@ -380,22 +411,22 @@ class CvodeSwitching {
   // accelerations of the full coordinates.
   static int contact_rhs(double t_s, N_Vector y, N_Vector ydot, void* data) {
     const auto& self = *static_cast<const CvodeSwitching*>(data);
-    const ContactState x = Eigen::Map<const ContactState>(N_VGetArrayPointer(y));
+    const ContactState x = self.contact_state(N_VGetArrayPointer(y));
     ContactState dxdt;
     self.dynamics_.derivative(x, self.segment_.at(t_s), dxdt);
-    Eigen::Map<ContactState>(N_VGetArrayPointer(ydot)) = dxdt;
+    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ydot), dxdt.size()) = dxdt;
     return 0;
   }
 
   static int free_roots(double t_s, N_Vector y, double* g, void* data) {
     const auto& self = *static_cast<const CvodeSwitching*>(data);
-    self.deflate(self.free_values(Eigen::Map<const FreeState>(N_VGetArrayPointer(y)), t_s), t_s, g);
+    self.deflate(self.free_values(self.free_state(N_VGetArrayPointer(y)), t_s), t_s, g);
     return 0;
   }
 
   static int contact_roots(double t_s, N_Vector y, double* g, void* data) {
     const auto& self = *static_cast<const CvodeSwitching*>(data);
-    self.deflate(self.contact_values(Eigen::Map<const ContactState>(N_VGetArrayPointer(y)), t_s), t_s, g);
+    self.deflate(self.contact_values(self.contact_state(N_VGetArrayPointer(y)), t_s), t_s, g);
     return 0;
   }
 
@@ -410,8 +441,19 @@ class CvodeSwitching {
     if (regime_ == Regime::kFree && !start_.gap_armed) g[kGap] = std::min(v.value[kGap], -start_.gap_noise_m);
   }
 
+  // A regime's state from CVODE's array (its size: the fixed part and the
+  // modal block; fixed-size storage either way, no allocation).
+  FreeState free_state(const double* y) const {
+    FreeState x = Eigen::Map<const Eigen::VectorXd>(y, FL::kSize + modal_size_);
+    return x;
+  }
+  ContactState contact_state(const double* y) const {
+    ContactState x = Eigen::Map<const Eigen::VectorXd>(y, CL::kSize + modal_size_);
+    return x;
+  }
+
   RootValues free_values(const FreeState& x, double t_s) const {
-    const Kinematics k = core::kinematics_of<kStatorDof>(x);
+    const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
     const core::ContactGeometry g = model_.contact_geometry(k, segment_.at(t_s));
     RootValues v;
     v.value[kGap] = g.penetration_m;
@@ -437,8 +479,8 @@ class CvodeSwitching {
   }
 
   RootValues values_at_state(const double* y, double t_s) const {
-    if (regime_ == Regime::kFree) return free_values(Eigen::Map<const FreeState>(y), t_s);
-    return contact_values(Eigen::Map<const ContactState>(y), t_s);
+    if (regime_ == Regime::kFree) return free_values(free_state(y), t_s);
+    return contact_values(contact_state(y), t_s);
   }
 
   // ---- Events (what follows each: SwitchingMethod::on_event) ----
@@ -448,9 +490,9 @@ class CvodeSwitching {
     ++out_.events;
     restart_step_s_ = kRestartStepFactor * active().next_step_s();
     if (regime_ == Regime::kFree) {
-      on_free_event(te, Eigen::Map<const FreeState>(y));
+      on_free_event(te, free_state(y));
     } else {
-      on_contact_event(k, te, Eigen::Map<const ContactState>(y));
+      on_contact_event(k, te, contact_state(y));
     }
   }
 
@@ -458,20 +500,28 @@ class CvodeSwitching {
   // settles and the constraint force presses.
   void on_free_event(double te, const FreeState& x) {
     const DriveState d = segment_.at(te);
-    Kinematics k = core::kinematics_of<kStatorDof>(x);
+    Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
+    const core::ModalState modal = core::modal_of<FL>(x);
     const core::ContactGeometry g = model_.contact_geometry(k, d);
     ContactEvent e;
     e.t_s = te;
     bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const core::ImpactResult ir = core::apply_impact(model_, g, d, scene_.solver.atol, k);
+      core::ImpactResult ir;
+      if constexpr (kFlexible) {
+        core::ModalVector modal_acc(flexible_->modal_size());
+        ir = core::apply_impact(model_, g, d, scene_.solver.atol,
+                                core::flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc), k);
+      } else {
+        ir = core::apply_impact(model_, g, d, scene_.solver.atol, k);
+      }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
       e.impulse_N_s = ir.normal_impulse_N_s;
     }
     if (settles) {
-      const ContactState xc = dynamics_.reduce(k);
+      const ContactState xc = dynamics_.reduce(k, modal);
       const auto c = dynamics_.evaluate(xc, d);
       if (c.normal_force_N > 0.0) {
         e.kind = EventKind::kTouchdown;
@@ -485,14 +535,14 @@ class CvodeSwitching {
     }
     e.kind = EventKind::kGraze;
     out_.events_found.push_back(e);
-    enter_free(te, k);
+    enter_free(te, k, modal);
   }
 
   // Lift-off, or a friction transition (the contact goes on).
   void on_contact_event(int k, double te, const ContactState& x) {
     if (k == kLiftoff) {
       out_.events_found.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
-      enter_free(te, dynamics_.kinematics(x));
+      enter_free(te, dynamics_.kinematics(x), core::modal_of<CL>(x));
       return;
     }
     const auto c = dynamics_.evaluate(x, segment_.at(te));
@@ -506,11 +556,11 @@ class CvodeSwitching {
     enter_contact(te, x, next);
   }
 
-  void enter_free(double t_s, const Kinematics& k) {
+  void enter_free(double t_s, const Kinematics& k, const core::ModalState& modal) {
     regime_ = Regime::kFree;
-    FreeState x;
-    core::store_kinematics<kStatorDof>(k, x);
-    Eigen::Map<FreeState>(free_.state()) = x;
+    FreeState x = core::sized_state<FL>(modal);
+    core::store_kinematics<kStatorDof, false, kFlexible>(k, x);
+    Eigen::Map<Eigen::VectorXd>(free_.state(), x.size()) = x;
     restart(free_, t_s);
     begin_regime(t_s, free_.state());
   }
@@ -523,7 +573,7 @@ class CvodeSwitching {
       const core::ModelParameters& p = model_.parameters();
       x[CL::kAngleRate] = -segment_.at(t_s).speed_rad_per_s * p.rotor_radius_m / p.clearance_m;
     }
-    Eigen::Map<ContactState>(contact_.state()) = x;
+    Eigen::Map<Eigen::VectorXd>(contact_.state(), x.size()) = x;
     restart(contact_, t_s);
     begin_regime(t_s, contact_.state());
   }
@@ -547,9 +597,10 @@ class CvodeSwitching {
   void begin_regime(double t_s, const double* y) {
     start_ = RootStart{};
     start_.t_s = t_s;
+    contact_step_begin_s_ = t_s;
     if (regime_ == Regime::kFree) {
-      const FreeState x = Eigen::Map<const FreeState>(y);
-      const Kinematics k = core::kinematics_of<kStatorDof>(x);
+      const FreeState x = free_state(y);
+      const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
       const RootValues free = free_values(x, t_s);
       start_.forced_gap_threshold_m = scene_.solver.atol + std::max(0.0, free.value[kGap]);
       start_.gap_noise_m = kGapNoiseEps * std::numeric_limits<double>::epsilon() *
@@ -577,7 +628,7 @@ class CvodeSwitching {
   // (a maximum); located on the dense output, and the gap there decides.
   // Returns the touchdown time, or infinity.
   double after_free_step(double t1, const double* y1) {
-    const RootValues v1 = free_values(Eigen::Map<const FreeState>(y1), t1);
+    const RootValues v1 = free_values(free_state(y1), t1);
     const GapAt begin = step_begin_;
     step_begin_ = {t1, v1.value[kGap], v1.rate[kGap]};
     const bool armed_at_begin = start_.gap_armed;
@@ -586,7 +637,7 @@ class CvodeSwitching {
       return kInf;
     }
     core::RunStats located;
-    auto values = [this](double t) { return free_values(Eigen::Map<const FreeState>(free_.state_at(t)), t); };
+    auto values = [this](double t) { return free_values(free_state(free_.state_at(t)), t); };
     auto falling_rate = [&values](double t) { return -values(t).rate[kGap]; };
     const double tm = core::locate_event(falling_rate, begin.t_s, -begin.rate, t1, -v1.rate[kGap], located);
     const double gm = values(tm).value[kGap];
@@ -597,6 +648,34 @@ class CvodeSwitching {
     }
     out_.root_evals += located.root_iterations;
     return te;
+  }
+
+  // A flexible rotor's modes ring the normal force: between two step ends
+  // where -F_n (sticking: |F_t| - f F_n too) is below zero it can rise
+  // through zero and back (a grazing lift-off), a sign change CVODE's root
+  // finding cannot see. Checked as the core checks between its scan points,
+  // on the step's two halves (core::locate_interior_crossing). Returns the
+  // earliest such event's root and time (infinity: none).
+  std::pair<int, double> after_contact_step(double t1) {
+    const double t0 = contact_step_begin_s_;
+    contact_step_begin_s_ = t1;
+    core::RunStats located;
+    auto value = [this](int k, double t) { return contact_values(contact_state(contact_.state_at(t)), t).value[k]; };
+    const double tm = 0.5 * (t0 + t1);
+    std::pair<int, double> first{kLiftoff, kInf};
+    for (const auto& [a, b] : {std::pair{t0, tm}, std::pair{tm, t1}}) {
+      for (const int k : {kLiftoff, kFriction}) {
+        if (k == kFriction && !dynamics_.mode.stick) continue;
+        const double va = value(k, a), vb = value(k, b);
+        if (!(va < 0.0 && vb < 0.0)) continue;
+        auto g = [&value, k](double t) { return value(k, t); };
+        const double te = core::locate_interior_crossing(g, a, va, b, vb, core::kInteriorRateStep * (b - a), located);
+        if (te < first.second) first = {k, te};
+      }
+      if (first.second < kInf) break;
+    }
+    out_.root_evals += located.root_iterations;
+    return first;
   }
 
   // A drive segment ends at t_s (CVODE stopped there): the forces' m e A and
@@ -615,6 +694,7 @@ class CvodeSwitching {
       }
     }
     it.reinit(t_s, stop_s_, kRestartStepFactor * it.next_step_s(), out_);
+    contact_step_begin_s_ = t_s;
   }
 
   // ---- Samples (error runs only) ----
@@ -632,13 +712,21 @@ class CvodeSwitching {
   core::Sample sample_at(double t_s) {
     const DriveState d = segment_.at(t_s);
     const double* y = active().state_at(t_s);
+    core::Sample s;
+    core::ModalState modal;
     if (regime_ == Regime::kFree) {
-      const Kinematics k = core::kinematics_of<kStatorDof>(FreeState(Eigen::Map<const FreeState>(y)));
-      return core::make_sample(model_, t_s, k, d, 0.0, 0.0, false);
+      const FreeState x = free_state(y);
+      s = core::make_sample(model_, t_s, core::kinematics_of<kStatorDof, false, kFlexible>(x), d, 0.0, 0.0, false);
+      modal = core::modal_of<FL>(x);
+    } else {
+      const ContactState x = contact_state(y);
+      const auto c = dynamics_.evaluate(x, d);
+      s = core::make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
+      s.sticking = dynamics_.mode.stick;
+      modal = core::modal_of<CL>(x);
     }
-    const auto c = dynamics_.evaluate(Eigen::Map<const ContactState>(y), d);
-    core::Sample s = core::make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
-    s.sticking = dynamics_.mode.stick;
+    // A flexible rotor's probes read their node (the core's samples).
+    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
     return s;
   }
 
@@ -647,9 +735,11 @@ class CvodeSwitching {
   };
 
   const core::Scene& scene_;
+  std::shared_ptr<const core::FlexibleRotorModel> flexible_;  // kFlexible only
+  int modal_size_;                                            // [xi; xi']'s entries (0: the Jeffcott)
   core::JeffcottModel model_;
   core::SpeedProfile profile_;
-  core::ConstrainedDynamics<kStatorDof> dynamics_;
+  core::ConstrainedDynamics<kStatorDof, false, kFlexible> dynamics_;
   core::ChatterGuard guard_;
   double sample_rate_hz_;
   CvodeRun& out_;
@@ -660,16 +750,17 @@ class CvodeSwitching {
   double restart_step_s_ = 0.0;  // the first step to try after the next restart
   Regime regime_ = Regime::kFree;
   RootStart start_;
-  GapAt step_begin_;  // the gap and its rate where the current step began
+  GapAt step_begin_;                   // the gap and its rate where the current step began
+  double contact_step_begin_s_ = 0.0;  // where the current contact step began (flexible rotors)
   long next_sample_ = 0;
 };
 
-template <int kStatorDof>
+template <int kStatorDof, bool kFlexible>
 void run_with(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, CvodeRun& out) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     const ContextOwner context;
-    CvodeSwitching<kStatorDof> method(scene, sample_rate_hz, options, context.ctx, out);
+    CvodeSwitching<kStatorDof, kFlexible> method(scene, sample_rate_hz, options, context.ctx, out);
     method.run();
   } catch (const CvodeError& e) {
     out.failure = e.what();
@@ -689,10 +780,13 @@ CvodeRun run_cvode_switching(const core::Scene& scene, double sample_rate_hz, co
     out.failure = "cvode contender: prescribed drive only";
     return out;
   }
-  if (scene.model.stator_model == core::StatorModel::kRigid) {
-    run_with<0>(scene, sample_rate_hz, options, out);
+  const bool rigid = scene.model.stator_model == core::StatorModel::kRigid;
+  if (scene.rotor.file.empty()) {
+    rigid ? run_with<0, false>(scene, sample_rate_hz, options, out)
+          : run_with<2, false>(scene, sample_rate_hz, options, out);
   } else {
-    run_with<2>(scene, sample_rate_hz, options, out);
+    rigid ? run_with<0, true>(scene, sample_rate_hz, options, out)
+          : run_with<2, true>(scene, sample_rate_hz, options, out);
   }
   return out;
 }

@@ -14,7 +14,12 @@
 // * Events: apply_impact and select_friction_mode (contact_law.hpp), with
 //   what follows each event as in the core's SwitchingMethod::on_event().
 // * Tolerances: the scene's rtol and scalar atol (CVodeSStolerances).
-// Only the prescribed drive; elastic and rigid stators.
+// * A flexible rotor (a scene's rotor_file): the core's reduced model
+//   (FlexibleRotorModel), the station in the contact, the modal block in
+//   both regimes' states, and the core's search for a lift-off between the
+//   step's ends (the modes ring the normal force).
+// Only the prescribed drive; elastic and rigid stators; the Jeffcott and
+// flexible rotors.
 #pragma once
 
 #include <optional>

@@ -218,11 +218,6 @@ int main(int argc, char** argv) {
     std::cerr << "rotor_rub_bench: " << e.what() << "\n";
     return 2;
   }
-  if (!base.rotor.file.empty() && std::find(methods.begin(), methods.end(), "cvode") != methods.end()) {
-    std::cerr << "rotor_rub_bench: --methods: value 'cvode' is not accepted with a scene of rotor_file (the CVODE "
-                 "rows run the Jeffcott only: tools/cvode_switching.cpp); accepted: switching, iteration, penalty\n";
-    return 2;
-  }
 
   Scene ref_scene = with(base, {Method::kSwitching, 1e-12, 1e-15, Integrator::kDopri5});
   ref_scene.output_rate_hz = error_rate_hz;
