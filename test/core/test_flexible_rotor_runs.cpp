@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -42,6 +43,26 @@ double max_position_difference(const test::Run& a, const test::Run& b) {
     worst = std::max(worst, (a.out.samples[i].kin.stator_pos - b.out.samples[i].kin.stator_pos).cwiseAbs().maxCoeff());
   }
   return worst;
+}
+
+// TheJeffcottAsARotorFileRunsTheJeffcottsMotorRun: the two sum the forces
+// and the spin's lever in another order (1e-16 of them; the runs agree to
+// 1e-22 m before the first contact), and the 7 to 19 events amplify that
+// tenfold at each of several (measured on the run's samples). Switching:
+// up to 1.2e-10 m and 1.7e-8 rad/s (rkf78, the rolling scene). Iteration:
+// its force roots converge to their tolerance, not to rounding, so the runs
+// part at the first contact (2.5e-12 m in one step) and end up to 3.6e-8 m
+// and 2.9e-4 rad/s apart. Penalty: its stiff contact spring amplifies more
+// (7.2e-7 m, 1.7e-4 rad/s, rigid stator). Set 3 to 4 times above; rolling
+// on under the motor amplifies tenfold every few ms, so the scenes end
+// before long rolling.
+struct MotorAgreement {
+  double position_m, speed_rad_per_s;
+};
+MotorAgreement motor_agreement(core::Method m) {
+  if (m == core::Method::kSwitching) return {5e-10, 5e-8};
+  if (m == core::Method::kIteration) return {1e-7, 1e-3};
+  return {2e-6, 1e-3};
 }
 
 }  // namespace
@@ -88,6 +109,59 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
           solver.method == core::Method::kIteration && solver.integrator == core::Integrator::kDop853;
       EXPECT_LT(max_position_difference(jeffcott, flexible), differenced_jerk ? 1e-9 : 1e-13)
           << solver.name() << " " << i;
+    }
+  }
+}
+
+// The same under a motor drive (the spin a state, the unbalance's lever
+// coupling it to the station, docs/rotors.md): the file's train inertia is
+// the Jeffcott's about its mass centre plus m e^2, so that J_eff = J - (m
+// e)^2 / m_st is the Jeffcott's J_G. At constant reference speed: the
+// motor's feed-forward J A_ref would otherwise differ by m e^2 A_ref (the
+// two scenes' inertias), a real difference of 3e-5 rad/s on the run-up.
+// Far above the critical speed (600 rad/s, 4.6 times it): grazes, impacts
+// and rolling (friction 0.3, as test_cvode_switching's rolling scene);
+// impacts with spin that rebound (restitution 0.5, friction 0.5: the
+// incremental impact law); a rigid stator with rebounds. The runs agree to
+// the forces' rounding carried through the rub's events. (The modes' share
+// of the spin: test_flexible_rotor_energy.cpp.)
+TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsMotorRun) {
+  std::vector<core::Scene> scenes(3, test::paper_scene());
+  scenes[0].model.friction_coefficient = 0.3;
+  scenes[1].model.restitution = 0.5;
+  scenes[1].model.friction_coefficient = 0.5;
+  scenes[2].model.stator_model = core::StatorModel::kRigid;
+  scenes[2].model.restitution = 0.3;
+  for (core::Scene& s : scenes) {
+    s.model.drive_model = core::DriveModel::kMotor;
+    s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 600.0;
+    s.end_time_s = 0.15;
+  }
+  scenes[1].end_time_s = 0.07;
+  for (const test::Solver& solver : test::flexible_solvers()) {
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      core::Scene jeffcott_scene = scenes[i];
+      jeffcott_scene.solver.method = solver.method;
+      jeffcott_scene.solver.integrator = solver.integrator;
+      core::Scene file = jeffcott_scene;
+      file.rotor = jeffcott_file_scene(1).rotor;
+      const double me = file.model.rotor_mass_kg * file.model.eccentricity_m;
+      file.model.rotor_polar_inertia_kg_m2 += me * file.model.eccentricity_m;
+      const test::Run jeffcott = test::run(jeffcott_scene);
+      const test::Run flexible = test::run(file);
+      ASSERT_FALSE(jeffcott.result.failure) << failure_of(jeffcott);
+      ASSERT_FALSE(flexible.result.failure) << solver.name() << " " << i << ": " << failure_of(flexible);
+      ASSERT_GE(jeffcott.out.events.size(), 7u) << i;
+      EXPECT_EQ(flexible.out.events.size(), jeffcott.out.events.size()) << solver.name() << " " << i;
+      double speed = 0.0;
+      for (std::size_t k = 0; k < std::min(jeffcott.out.samples.size(), flexible.out.samples.size()); ++k) {
+        speed = std::max(speed, std::abs(jeffcott.out.samples[k].drive.speed_rad_per_s -
+                                         flexible.out.samples[k].drive.speed_rad_per_s));
+      }
+      const double d = max_position_difference(jeffcott, flexible);
+      std::printf("%s scene %zu: positions %.3g m, speed %.3g rad/s\n", solver.name().c_str(), i, d, speed);
+      EXPECT_LT(d, motor_agreement(solver.method).position_m) << solver.name() << " " << i;
+      EXPECT_LT(speed, motor_agreement(solver.method).speed_rad_per_s) << solver.name() << " " << i;
     }
   }
 }
@@ -352,7 +426,21 @@ TEST(FlexibleRotorRuns, ScenesItCannotRunAreRefusedNamingTheKey) {
   EXPECT_NE(refusal(penalty).find("'integrator'"), std::string::npos) << refusal(penalty);
   core::Scene motor = s;
   motor.model.drive_model = core::DriveModel::kMotor;
-  EXPECT_NE(refusal(motor).find("'drive_model'"), std::string::npos) << refusal(motor);
+  EXPECT_NO_THROW(core::validate_scene(motor));
+  // The spin's inertia against the unbalances' lever (validate_flexible_spin):
+  // on the Jeffcott's file (one unbalance m e at the station, 1 planar mode)
+  // max h^T M^-1 h = m e^2 and the lever l = e, so the bound is the
+  // Jeffcott's J_G bound f e (R_r + e) m plus m e^2.
+  core::Scene jeffcott_motor = jeffcott_file_scene(1);
+  jeffcott_motor.model.drive_model = core::DriveModel::kMotor;
+  jeffcott_motor.model.friction_coefficient = 0.3;
+  const double m = 0.418, e = 0.4e-3, r = 0.010;
+  const double bound = m * e * e + 0.3 * e * (r + e) * m;
+  jeffcott_motor.model.rotor_polar_inertia_kg_m2 = bound * (1.0 + 1e-9);
+  EXPECT_NO_THROW(core::validate_scene(jeffcott_motor));
+  jeffcott_motor.model.rotor_polar_inertia_kg_m2 = bound * (1.0 - 1e-9);
+  EXPECT_NE(refusal(jeffcott_motor).find("'rotor_polar_inertia_kg_m2'"), std::string::npos) << refusal(jeffcott_motor);
+  EXPECT_NE(refusal(jeffcott_motor).find("max h^T M^-1 h"), std::string::npos) << refusal(jeffcott_motor);
   core::Scene gravity = s;
   gravity.model.gravity_m_per_s2 = 9.81;
   EXPECT_NO_THROW(core::validate_scene(gravity));

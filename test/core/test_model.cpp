@@ -130,14 +130,15 @@ TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
         before.rotor = (m.rotor_free_force(k, d) + on_rotor) * m.inv_rotor_mass();
         before.spin_rad_per_s2 = d.accel_rad_per_s2;
       } else {
+        // The spin coupling's form (model.hpp's SpinCoupling): lever e u,
+        // u = (sin, -cos), 1 / J_G, the bias e w^2 (cos, sin) - g y.
         const Vec2 at_centre = m.shaft_force(k) + on_rotor;
-        before.spin_rad_per_s2 =
-            (d.motor_torque_N_m + p.rotor_radius_m * ft + p.eccentricity_m * (at_centre.x() * s - at_centre.y() * c)) *
-            (1.0 / p.rotor_polar_inertia_kg_m2);
-        const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
-        before.rotor = at_centre * m.inv_rotor_mass() + p.eccentricity_m * Vec2(w2 * c + before.spin_rad_per_s2 * s,
-                                                                                w2 * s - before.spin_rad_per_s2 * c);
-        before.rotor.y() -= p.gravity_m_per_s2;
+        const double e = p.eccentricity_m, w2 = d.speed_rad_per_s * d.speed_rad_per_s;
+        const Vec2 lever(e * s, -e * c);
+        before.spin_rad_per_s2 = (d.motor_torque_N_m + p.rotor_radius_m * ft + 0.0 + lever.dot(at_centre)) *
+                                 (1.0 / p.rotor_polar_inertia_kg_m2);
+        before.rotor = at_centre * m.inv_rotor_mass() + before.spin_rad_per_s2 * lever +
+                       Vec2(e * w2 * c, e * w2 * s - p.gravity_m_per_s2);
       }
       before.stator = (m.stator_free_force(k) - on_rotor) * m.inv_stator_mass();
       const Accelerations a = m.accelerations(k, d, g, fn, ft);

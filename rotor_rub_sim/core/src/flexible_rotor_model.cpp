@@ -56,6 +56,18 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
 }
 
+double FlexibleRotorModel::max_spin_lever_kg_m2() const {
+  // h = a sin phi - b cos phi: h^T M^-1 h is the quadratic form of
+  // [[A, -X], [-X, B]] in (sin, cos), A = a^T M^-1 a, B = b^T M^-1 b,
+  // X = a^T M^-1 b; its maximum on the unit circle the larger eigenvalue.
+  const auto inner = [this](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    const Eigen::Index n = x.size() - 2;
+    return x.head<2>().dot(y.head<2>()) / station_mass_kg_ + x.tail(n).dot(y.tail(n));
+  };
+  const double a = inner(a_, a_), b = inner(b_, b_), x = inner(a_, b_);
+  return 0.5 * (a + b) + std::sqrt(0.25 * (a - b) * (a - b) + x * x);
+}
+
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2) {
   const FeRotor rotor = load_rotor_file(settings.file);
   if (rotor.rub_station_node < 0) {

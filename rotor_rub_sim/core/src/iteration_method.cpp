@@ -211,6 +211,10 @@ struct IterationSystem {
     }
     const ContactForces f = forces(k, d, g, free, t);
     const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
+    // A motor's spin: the modes take their share of its acceleration.
+    if constexpr (kFlexible && kMotor) {
+      flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
+    }
     free_derivative<L>(*model, k, reference, a, dxdt);
   }
 };
@@ -354,7 +358,7 @@ class IterationMethod final : public ContactMethod {
     }
     State x = integrator_.x_new();
     Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
-    const ModalState modal = modal_of<L>(x);
+    ModalState modal = modal_of<L>(x);
     const DriveState reference = system_.segment.at(valid_end_);
     DriveState d = model_.drive_at(k, reference);
     ContactGeometry g = model_.contact_geometry(k, d);
@@ -364,7 +368,12 @@ class IterationMethod final : public ContactMethod {
     e.t_s = valid_end_;
     bool settles = true, at_rest = false;
     if (g.normal_velocity_m_per_s > 0.0) {
-      const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, loads(k, modal, d), k);
+      const JeffcottModel::FreeLoads free = loads(k, modal, d);
+      const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, free, k);
+      // A motor's spin jumps with the impact, and the modes with it (dxi' = h_xi dw).
+      if constexpr (kFlexible && kMotor) {
+        flexible_->add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, modal.tail(flexible_->modal_size()));
+      }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
@@ -408,7 +417,8 @@ class IterationMethod final : public ContactMethod {
     const JeffcottModel::FreeLoads free = loads(k, modal_of<L>(x), d);
     ContactForces f;
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
-    Sample s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged);
+    Sample s =
+        make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged, &free);
     s.sticking = system_.engaged && mode.stick;
     if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_of<L>(x));
     return s;
@@ -747,10 +757,12 @@ struct IterationOn {
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
   if (!scene.rotor.file.empty()) {
-    // A flexible rotor: the prescribed drive only (validate_scene).
-    if (scene.model.stator_model == StatorModel::kRigid) {
-      return std::make_unique<IterationMethod<0, false, true, I>>(scene);
+    const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+    if (scene.model.drive_model == DriveModel::kMotor) {
+      if (rigid) return std::make_unique<IterationMethod<0, true, true, I>>(scene);
+      return std::make_unique<IterationMethod<2, true, true, I>>(scene);
     }
+    if (rigid) return std::make_unique<IterationMethod<0, false, true, I>>(scene);
     return std::make_unique<IterationMethod<2, false, true, I>>(scene);
   }
   return make_for_scene<IterationOn<I>::template Method>(scene);

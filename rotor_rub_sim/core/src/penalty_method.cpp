@@ -169,7 +169,15 @@ class PenaltyMethod final : public ContactMethod {
     // the mode's edge), and it never reports a pulling force.
     const double fn = system_.law.normal(g);
     const double ft = system_.law.tangential(g, fn);
-    Sample s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
+    Sample s;
+    if constexpr (kFlexible && kMotor) {
+      // The spin's acceleration with the modes' coupling (flexible_rotor_model.hpp).
+      ModalVector modal_acc(flexible_->modal_size());
+      const JeffcottModel::FreeLoads free = flexible_free_loads(model_, *flexible_, k, d, modal_at(t_s), modal_acc);
+      s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, fn, ft, fn > 0.0, &free);
+    } else {
+      s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
+    }
     s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
     if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_at(t_s));
     return s;
@@ -394,14 +402,17 @@ template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
   static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
   if (!scene.rotor.file.empty()) {
-    // A flexible rotor: dopri5 under the prescribed drive only (validate_scene).
+    // A flexible rotor: dopri5 only (validate_scene).
     if constexpr (I == Integrator::kDopri5) {
-      using Stepper = DenseDopri5<typename FreeLayout<0, false, true>::State>;
-      using ElasticStepper = DenseDopri5<typename FreeLayout<2, false, true>::State>;
-      if (scene.model.stator_model == StatorModel::kRigid) {
-        return std::make_unique<PenaltyMethod<0, false, Stepper, true>>(scene);
+      const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+      if (scene.model.drive_model == DriveModel::kMotor) {
+        if (rigid)
+          return std::make_unique<PenaltyMethod<0, true, DenseDopri5<FreeLayout<0, true, true>::State>, true>>(scene);
+        return std::make_unique<PenaltyMethod<2, true, DenseDopri5<FreeLayout<2, true, true>::State>, true>>(scene);
       }
-      return std::make_unique<PenaltyMethod<2, false, ElasticStepper, true>>(scene);
+      if (rigid)
+        return std::make_unique<PenaltyMethod<0, false, DenseDopri5<FreeLayout<0, false, true>::State>, true>>(scene);
+      return std::make_unique<PenaltyMethod<2, false, DenseDopri5<FreeLayout<2, false, true>::State>, true>>(scene);
     } else {
       throw std::logic_error("make_penalty_method: a flexible rotor runs on dopri5 only (validate_scene)");
     }

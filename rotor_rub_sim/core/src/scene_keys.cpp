@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -327,24 +328,41 @@ const std::vector<KeyEntry>& entries() {
   return table;
 }
 
-// A flexible rotor: what runs it (every method, the penalty on dopri5, under the prescribed
-// drive: what FlexibleRotorModel models) and the file
-// itself, read and reduced as a run will.
+// Under a motor drive, the flexible rotor's counterpart of the Jeffcott's
+// Painleve bound (contact_law.hpp): with L = max_phi h^T M^-1 h the spin's
+// effective inertia is at least J - L, the station's lever at most l =
+// sqrt(L / m_st), and sliding friction cannot pull the contact shut while
+// J - L > f l (R_r + l) m_st.
+void validate_flexible_spin(const Scene& s, const FlexibleRotorModel& rotor) {
+  const double lever_kg_m2 = rotor.max_spin_lever_kg_m2(), m_st = rotor.station_mass_kg();
+  const double l = std::sqrt(lever_kg_m2 / m_st);
+  const double bound =
+      lever_kg_m2 + s.model.friction_coefficient * l * (station_parameters(s.model, rotor).rotor_radius_m + l) * m_st;
+  if (!(s.model.rotor_polar_inertia_kg_m2 > bound)) {
+    throw SceneError("scene key 'rotor_polar_inertia_kg_m2': value " +
+                     format_double(s.model.rotor_polar_inertia_kg_m2) +
+                     " is out of range; accepted with drive_model motor and a rotor_file: above max h^T M^-1 h + f l "
+                     "(R_r + l) m_st = " +
+                     format_double(bound) +
+                     " (the unbalances' lever on the spin, docs/rotors.md; below it the spin's inertia could vanish "
+                     "or friction pull the contact shut)");
+  }
+}
+
+// A flexible rotor: what runs it (every method, the penalty on dopri5: what
+// FlexibleRotorModel models) and the file itself, read and reduced as a run will.
 void validate_flexible_rotor(const Scene& s) {
   const std::string why =
-      " (a flexible rotor, rotor_file, runs so far under the prescribed drive; the penalty "
-      "method on dopri5: rosenbrock4's closed-form Jacobian and rk4's stability bound are the Jeffcott's)";
+      " (a flexible rotor, rotor_file, runs the penalty method on dopri5: rosenbrock4's closed-form Jacobian and "
+      "rk4's stability bound are the Jeffcott's)";
   const Integrator integrator = effective_integrator(s);
   if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {  // auto is dopri5 here
     throw SceneError("scene key 'integrator': value '" + std::string(to_string(integrator)) +
                      "' is not accepted with rotor_file and method penalty; accepted: dopri5, auto" + why);
   }
-  if (s.model.drive_model != DriveModel::kPrescribed) {
-    throw SceneError("scene key 'drive_model': value '" + std::string(to_string(s.model.drive_model)) +
-                     "' is not accepted with rotor_file; accepted: prescribed" + why);
-  }
+  std::optional<FlexibleRotorModel> rotor;
   try {
-    load_flexible_rotor(s.rotor);
+    rotor.emplace(load_flexible_rotor(s.rotor));
   } catch (const std::invalid_argument& e) {
     // A count or a node out of the file's range names its own key.
     const std::string what = e.what();
@@ -358,6 +376,7 @@ void validate_flexible_rotor(const Scene& s) {
     throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + what +
                      (ranged ? "" : "; accepted: a rotor file with a rub_station (docs/rotors.md)"));
   }
+  if (s.model.drive_model == DriveModel::kMotor) validate_flexible_spin(s, *rotor);
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -481,7 +500,7 @@ void validate_scene(const Scene& s) {
                        " m (the rotor starts centred, inside the bore)");
     }
   }
-  if (s.model.drive_model == DriveModel::kMotor) {
+  if (s.model.drive_model == DriveModel::kMotor && s.rotor.file.empty()) {
     // Painleve's paradox (contact_law.hpp): with the spin in the contact's
     // compliance, sliding friction must never pull the bodies together.
     const double bound = s.model.friction_coefficient * s.model.eccentricity_m *

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -35,12 +36,24 @@ struct FreeFlightSystem {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     if constexpr (kMotor) {
+      if constexpr (kFlexible) dxdt.resize(x.size());  // before any entry is written
       dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
       if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
       // The spin's acceleration and the rotor's depend on each other (model.hpp).
       const DriveState reference = segment.at(t);
       const DriveState d = model->drive_at(k, reference);
-      const Accelerations a = model->accelerations(k, d, model->contact_geometry(k, d), 0.0, 0.0);
+      Accelerations a;
+      if constexpr (kFlexible) {
+        // The station's and the modes' loads with the spin coupling; the
+        // modes take their share of the spin's acceleration.
+        const int n = modal_count<L>(x);
+        dxdt.segment(L::kModal, n) = x.tail(n);
+        const JeffcottModel::FreeLoads free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
+        a = model->accelerations(d, ContactGeometry(), free, 0.0, 0.0);
+        flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(n));
+      } else {
+        a = model->accelerations(k, d, model->contact_geometry(k, d), 0.0, 0.0);
+      }
       dxdt.template segment<2>(L::kRotorVel) = a.rotor;
       if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorVel) = a.stator;
       spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
@@ -346,17 +359,20 @@ class SwitchingMethod final : public ContactMethod {
       free_int_.state_at(t_s, x);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
       const DriveState d = model_.drive_at(k, reference);
+      const auto loads = motor_loads(k, d, modal_of<FL>(x));
       return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), free_sys_.unbalance_at(d.angle_rad), 0.0,
-                         0.0, false);
+                         0.0, false, loads ? &*loads : nullptr);
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
     const auto c = contact_sys_.dynamics.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
+    const auto loads = motor_loads(c.kin, d, modal_of<CL>(x));
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
-      return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, 0.0, 0.0, true);
+      return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, 0.0, 0.0, true,
+                         loads ? &*loads : nullptr);
     }
     if (pending_ && t_s >= pending_t_) {
       // A friction transition at this instant: the sample reports the new
@@ -366,14 +382,26 @@ class SwitchingMethod final : public ContactMethod {
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
       Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.unbalance_dir,
-                             cn.normal_force_N, cn.tangential_force_N, true);
+                             cn.normal_force_N, cn.tangential_force_N, true, loads ? &*loads : nullptr);
       s.sticking = next_mode_.stick;
       return s;
     }
     Sample s = make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, c.normal_force_N,
-                           c.tangential_force_N, true);
+                           c.tangential_force_N, true, loads ? &*loads : nullptr);
     s.sticking = contact_sys_.dynamics.mode.stick;
     return s;
+  }
+
+  // A flexible rotor's free loads under a motor drive (a sample's spin
+  // acceleration takes its modes' coupling in); none for the rest.
+  std::optional<JeffcottModel::FreeLoads> motor_loads(const Kinematics& k, const DriveState& d,
+                                                      const ModalState& modal) const {
+    if constexpr (kFlexible && kMotor) {
+      ModalVector modal_acc(flexible_->modal_size());
+      return flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc);
+    } else {
+      return std::nullopt;
+    }
   }
 
   static constexpr double kUnused = -std::numeric_limits<double>::infinity();
@@ -553,6 +581,10 @@ class SwitchingMethod final : public ContactMethod {
         const JeffcottModel::FreeLoads free =
             flexible_free_loads(model_, *flexible_, k_at, d_at, next_modal_, modal_acc);
         ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
+        // A motor's spin jumps with the impact, and the modes with it (dxi' = h_xi dw).
+        const int n = flexible_->modal_size();
+        if constexpr (kMotor)
+          flexible_->add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, next_modal_.tail(n));
       } else {
         ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, k_at);
       }
@@ -684,10 +716,12 @@ struct SwitchingOn {
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
   if (!scene.rotor.file.empty()) {
-    // A flexible rotor: the prescribed drive only (validate_scene).
-    if (scene.model.stator_model == StatorModel::kRigid) {
-      return std::make_unique<SwitchingMethod<0, false, true, I>>(scene);
+    const bool rigid = scene.model.stator_model == StatorModel::kRigid;
+    if (scene.model.drive_model == DriveModel::kMotor) {
+      if (rigid) return std::make_unique<SwitchingMethod<0, true, true, I>>(scene);
+      return std::make_unique<SwitchingMethod<2, true, true, I>>(scene);
     }
+    if (rigid) return std::make_unique<SwitchingMethod<0, false, true, I>>(scene);
     return std::make_unique<SwitchingMethod<2, false, true, I>>(scene);
   }
   return make_for_scene<SwitchingOn<I>::template Method>(scene);

@@ -24,7 +24,9 @@
 // rub station, a point of mass m_r = m_st, and F_r the station's free force,
 // which takes the modal coordinates in; their rows, xi'' from the same
 // model, are the same in contact as in free flight (no contact force
-// reaches them: the reduced mass is block-diagonal).
+// reaches them: the reduced mass is block-diagonal), but for a motor's
+// spin, whose acceleration they share (A h_xi; the spin coupling's lever,
+// inertia and torque then stand in the compliance W above).
 #pragma once
 
 #include <cmath>
@@ -39,7 +41,6 @@ namespace rotor_rub::core {
 
 template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
 struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
-  static_assert(!(kMotor && kFlexible), "a flexible rotor runs under the prescribed drive");
   static constexpr int kDof = 1 + kStatorDof;
   static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
   static constexpr int kStatorPos = 0;                                       // x_s, y_s [m] (elastic only)
@@ -272,11 +273,19 @@ struct ConstrainedDynamics {
     const double rate = x[L::kAngleRate];
     DriveState d = model->drive_at(r.kin, reference);
     const ContactGeometry g = model->contact_geometry(r.kin, d);
-    // The free loads once for both accelerations below (model.hpp).
-    const JeffcottModel::FreeLoads loads = model->free_loads(r.kin, d);
+    // The free loads once for both accelerations below (model.hpp); a
+    // flexible rotor's with the spin coupling of its unbalances.
+    JeffcottModel::FreeLoads loads;
+    if constexpr (kFlexible) {
+      const int n = modal_count<L>(x);
+      r.modal_acc.resize(n);
+      loads = flexible_free_loads(*model, *flexible, r.kin, d, x.tail(2 * n), r.modal_acc);
+    } else {
+      loads = model->free_loads(r.kin, d);
+    }
     r.unbalance_dir = loads.unbalance_dir;
     const Accelerations free = model->accelerations(d, g, loads, 0.0, 0.0);
-    const ContactCompliance w = model->contact_compliance(g, d);
+    const ContactCompliance w = model->contact_compliance(g, loads.spin);
     const double b = g.normal.dot(free.rotor - free.stator) + c * rate * rate;
     const double s0 = g.tangent.dot(free.rotor - free.stator) + free.spin_rad_per_s2 * p.rotor_radius_m;
     const double det = w.nn * w.tt - w.nt * w.nt;
@@ -292,6 +301,7 @@ struct ConstrainedDynamics {
       r.tangential_force_N = -f * mode.slip_sign * r.normal_force_N;
     }
     const Accelerations a = model->accelerations(d, g, loads, r.normal_force_N, r.tangential_force_N);
+    if constexpr (kFlexible) flexible->add_spin_share(loads.unbalance_dir, a.spin_rad_per_s2, r.modal_acc);
     d.accel_rad_per_s2 = a.spin_rad_per_s2;
     r.drive = d;
     r.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;

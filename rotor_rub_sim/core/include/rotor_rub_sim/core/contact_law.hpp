@@ -149,6 +149,7 @@ struct ImpactResult {
   double closing_velocity_m_per_s = 0.0;  // v_n before the impact
   bool settles = false;                   // plastic: sustained contact follows if pressed
   bool sliding_stopped = false;           // the tangential impulse stopped the sliding
+  double spin_jump_rad_per_s = 0.0;       // a motor's spin speed change (a flexible rotor's modes take a share)
 };
 
 // The normal acceleration of delta without contact force [m/s^2]: > 0 when
@@ -183,10 +184,11 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 // the bodies together faster than the normal impulse parts them) cannot
 // occur for either s while J_G > f e (R_r + e) m_r, which validate_scene()
 // demands; the check below is the guard behind it.
-inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
+// sc: the state's spin coupling (FreeLoads::spin).
+inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const SpinCoupling& sc,
                                            double e, ImpactResult r, Kinematics& k) {
   const ModelParameters& p = m.parameters();
-  const ContactCompliance w = m.contact_compliance(g, d);
+  const ContactCompliance w = m.contact_compliance(g, sc);
   const double f = m.has_friction() ? p.friction_coefficient : 0.0;
   const double target_vn = -e * g.normal_velocity_m_per_s;
   double vn = g.normal_velocity_m_per_s, vs = g.sliding_velocity_m_per_s;
@@ -227,7 +229,7 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
   }
   r.sliding_stopped = f > 0.0 && vs == 0.0;
   r.normal_impulse_N_s = pn;
-  m.apply_impulse(g, pn, pt, k);
+  r.spin_jump_rad_per_s = m.apply_impulse(g, pn, pt, sc, k);
   return r;
 }
 
@@ -249,7 +251,7 @@ inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& 
     e = 0.0;
     r.settles = true;
   }
-  if (m.motor()) return apply_impact_with_spin(m, g, d, e, r, k);
+  if (m.motor()) return apply_impact_with_spin(m, g, free.spin, e, r, k);
   const double inv_m_sum = m.inv_rotor_mass() + m.inv_stator_mass();
   r.normal_impulse_N_s = (1.0 + e) * g.normal_velocity_m_per_s / inv_m_sum;
   Vec2 impulse_on_rotor = -r.normal_impulse_N_s * g.normal;

@@ -12,12 +12,23 @@
 /// m e (w^2 (cos, sin) + A (sin, -cos))(phi + beta), the Jeffcott's law;
 /// with gravity, f also holds the weight, -g E^T M t_y (ReducedRotor::
 /// unit_weight_kg), constant. u is the station's displacement in the
-/// casing's frame, where the bearings sit. No drive coupling (the
-/// unbalances' lever on the spin): a flexible rotor runs under the
-/// prescribed drive.
+/// casing's frame, where the bearings sit.
+///
+/// Under a motor drive the spin is a state and the unbalances' lever
+/// couples it to the shaft (Lagrange's equations with each unbalance a point
+/// mass m e off its node, as the Jeffcott's, model.hpp):
+///   M q'' = -K q - (C + w G) q' + w^2 (a cos phi + b sin phi) + A h + F_c,
+///   J A   = T_m + R_r F_t + h^T q'',   h = a sin phi - b cos phi,
+/// J the rotating train's polar inertia about the shaft axis (the scene's
+/// rotor_polar_inertia_kg_m2). Eliminating xi'' = F_xi + A h_xi (no contact
+/// force reaches the modes) leaves the Jeffcott's form at the station
+/// (model.hpp's SpinCoupling): lever h_u / m_st, J_eff = J - h^T M^-1 h,
+/// extra torque h_xi . F_xi; the modes then take A h_xi (add_spin_share),
+/// and at an impact the spin's jump dw, dxi' = h_xi dw.
 #pragma once
 
 #include <Eigen/Dense>
+#include <stdexcept>
 #include <vector>
 
 #include "rotor_rub_sim/core/model.hpp"
@@ -94,6 +105,44 @@ class FlexibleRotorModel {
     return f.head<2>();
   }
 
+  /// Under a motor drive: the spin coupling (model.hpp) at the unbalance's
+  /// direction, given xi'' without the spin's share (free_loads with A = 0,
+  /// F_xi) and the train's polar inertia J [kg m^2]. Throws
+  /// std::logic_error when J_eff = J - h^T M^-1 h is not positive (the
+  /// scene's validation keeps it well above: flexible_spin_inertia_bound).
+  template <class Modal>
+  SpinCoupling spin_coupling(const Vec2& unbalance_dir, const Eigen::MatrixBase<Modal>& free_xi_acc,
+                             double polar_inertia_kg_m2) const {
+    const int n = modal_size();
+    Reduced h(n + 2);
+    lever(unbalance_dir, h);
+    SpinCoupling sc;
+    sc.lever_m = h.head<2>() / station_mass_kg_;
+    const double j_eff = polar_inertia_kg_m2 - h.head<2>().squaredNorm() / station_mass_kg_ - h.tail(n).squaredNorm();
+    if (!(j_eff > 0.0)) throw std::logic_error("flexible rotor: the spin's effective inertia is not positive");
+    sc.inv_inertia_per_kg_m2 = 1.0 / j_eff;
+    sc.extra_torque_N_m = h.tail(n).dot(free_xi_acc.head(n));
+    return sc;
+  }
+  /// The modes' share of the spin's acceleration A (xi'' += A h_xi) or of
+  /// its jump at an impact (xi' += dw h_xi), added to modal_rows (n).
+  template <class Out>
+  void add_spin_share(const Vec2& unbalance_dir, double amount, const Eigen::MatrixBase<Out>& modal_rows) const {
+    const int n = modal_size();
+    Reduced h(n + 2);
+    lever(unbalance_dir, h);
+    const_cast<Eigen::MatrixBase<Out>&>(modal_rows) += amount * h.tail(n);
+  }
+  /// max over phi of h^T M^-1 h [kg m^2]: J_eff >= J minus this.
+  double max_spin_lever_kg_m2() const;
+  /// h at the unbalance's direction (n + 2 entries) [kg m]: the spin's
+  /// energy terms (a balance's kinetic energy holds -w h^T q').
+  Eigen::VectorXd spin_lever(const Vec2& unbalance_dir) const {
+    Reduced h(modal_size() + 2);
+    lever(unbalance_dir, h);
+    return h;
+  }
+
   /// The time derivatives of the same along a motion under the prescribed
   /// drive (A constant on a speed segment): with the station's velocity and
   /// acceleration and rates = [xi'; xi''], the station force's rate [N/s]
@@ -121,6 +170,11 @@ class FlexibleRotorModel {
 
  private:
   using Reduced = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates + 2, 1>;
+  // h = a sin phi - b cos phi at the unbalance's direction (cos, sin).
+  void lever(const Vec2& unbalance_dir, Reduced& h) const {
+    h.noalias() = unbalance_dir.y() * a_;
+    h.noalias() -= unbalance_dir.x() * b_;
+  }
   ReducedRotor rotor_;
   double station_mass_kg_;
   double contact_radius_m_;
@@ -134,17 +188,23 @@ class FlexibleRotorModel {
 };
 
 /// The free loads of a flexible rotor's state as the contact's functions
-/// take the Jeffcott's (model.hpp's FreeLoads, prescribed drive): m the
-/// station's bare model (station_parameters), k the station and stator,
-/// modal its [xi; xi'], d the drive; xi'' written to modal_acc.
+/// take the Jeffcott's (model.hpp's FreeLoads): m the station's bare model
+/// (station_parameters), k the station and stator, modal its [xi; xi'], d
+/// the drive (drive_at); xi'' written to modal_acc. Under a motor drive
+/// without the spin's share, which the caller adds once the spin's
+/// acceleration is known (FlexibleRotorModel::add_spin_share); free.spin
+/// then holds the coupling.
 template <class Modal, class Out>
 JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const FlexibleRotorModel& rotor,
                                              const Kinematics& k, const DriveState& d,
                                              const Eigen::MatrixBase<Modal>& modal,
                                              const Eigen::MatrixBase<Out>& modal_acc) {
   JeffcottModel::FreeLoads free = m.free_loads(k, d);
+  const double accel = m.motor() ? 0.0 : d.accel_rad_per_s2;  // a motor's enters through free.spin
   free.rotor_N = rotor.free_loads(k.rotor_pos + m.frame_shift(), k.rotor_vel, modal, free.unbalance_dir,
-                                  d.speed_rad_per_s, d.accel_rad_per_s2, modal_acc);
+                                  d.speed_rad_per_s, accel, modal_acc);
+  if (m.motor())
+    free.spin = rotor.spin_coupling(free.unbalance_dir, modal_acc, m.parameters().rotor_polar_inertia_kg_m2);
   return free;
 }
 

@@ -111,7 +111,6 @@ using LayoutState =
 template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
 struct FreeLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
-  static_assert(!(kMotor && kFlexible), "a flexible rotor runs under the prescribed drive");
   static constexpr int kDof = 2 + kStatorDof;
   static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
   static constexpr int kRotorPos = 0;          // x_r, y_r [m] (a flexible rotor's station)
@@ -213,6 +212,23 @@ struct Accelerations {
   Vec2 rotor = Vec2::Zero();
   Vec2 stator = Vec2::Zero();
   double spin_rad_per_s2 = 0.0;
+};
+
+// How the spin and the rotor's translation drive each other under a motor
+// drive (the unbalances' lever), in one form for the Jeffcott and a flexible
+// rotor's station (flexible_rotor_model.hpp), F the rotor's forces at its
+// centre (free and contact):
+//   A   = (T_m + R_r F_t + extra_torque + lever . F) / J_eff,
+//   a_r = F / m_r + A lever + bias_acc.
+// The Jeffcott: lever = e u, J_eff = J_G, extra 0, bias e w^2 (cos, sin) - g y
+// (the header comment). A flexible rotor: lever = h_u / m_st, J_eff = J -
+// h^T M^-1 h, extra = h_xi . F_xi, bias 0, with h the unbalances' lever on
+// the reduced coordinates (FlexibleRotorModel::spin_coupling).
+struct SpinCoupling {
+  Vec2 lever_m = Vec2::Zero();
+  double inv_inertia_per_kg_m2 = 0.0;  // 1 / J_eff
+  double extra_torque_N_m = 0.0;
+  Vec2 bias_acc_m_per_s2 = Vec2::Zero();
 };
 
 // How the relative velocity at the contact (normal v_n = delta', sliding
@@ -456,6 +472,7 @@ class JeffcottModel {
     Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of d.angle_rad
     Vec2 rotor_N = Vec2::Zero();         // prescribed: rotor_free_force; motor: shaft_force
     Vec2 stator_N = Vec2::Zero();        // stator_free_force
+    SpinCoupling spin;                   // motor only: spin_coupling()
   };
   FreeLoads free_loads(const Kinematics& k, const DriveState& d) const {
     return free_loads(k, d, unbalance_dir(d.angle_rad));
@@ -466,7 +483,17 @@ class JeffcottModel {
     f.unbalance_dir = unbalance_dir;
     f.rotor_N = motor_ ? shaft_force(k) : rotor_free_force(k, d, unbalance_dir);
     f.stator_N = stator_free_force(k);
+    if (motor_) f.spin = spin_coupling(unbalance_dir, d.speed_rad_per_s);
     return f;
+  }
+  // The Jeffcott's SpinCoupling at the unbalance's direction and spin speed w.
+  SpinCoupling spin_coupling(const Vec2& unbalance_dir, double w) const {
+    const double c = unbalance_dir.x(), s = unbalance_dir.y(), e = p_.eccentricity_m;
+    SpinCoupling sc;
+    sc.lever_m = Vec2(e * s, -e * c);
+    sc.inv_inertia_per_kg_m2 = inv_polar_inertia_;
+    sc.bias_acc_m_per_s2 = Vec2(e * w * w * c, e * w * w * s - p_.gravity_m_per_s2);
+    return sc;
   }
 
   // Accelerations of rotor, stator and spin under given contact forces, for
@@ -484,51 +511,63 @@ class JeffcottModel {
       a.rotor = (free.rotor_N + on_rotor) * inv_rotor_mass_;
       a.spin_rad_per_s2 = d.accel_rad_per_s2;
     } else {
-      // The spin equation first (header comment), then the rotor's with it.
-      const double c = free.unbalance_dir.x(), s = free.unbalance_dir.y();
+      // The spin equation first (SpinCoupling), then the rotor's with it.
+      const SpinCoupling& sc = free.spin;
       const Vec2 at_centre = free.rotor_N + on_rotor;
-      a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N +
-                           p_.eccentricity_m * (at_centre.x() * s - at_centre.y() * c)) *
-                          inv_polar_inertia_;
-      const double w2 = d.speed_rad_per_s * d.speed_rad_per_s;
-      const double e = p_.eccentricity_m;
-      a.rotor = at_centre * inv_rotor_mass_ + e * Vec2(w2 * c + a.spin_rad_per_s2 * s, w2 * s - a.spin_rad_per_s2 * c);
-      a.rotor.y() -= p_.gravity_m_per_s2;
+      a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N + sc.extra_torque_N_m +
+                           sc.lever_m.dot(at_centre)) *
+                          sc.inv_inertia_per_kg_m2;
+      a.rotor = at_centre * inv_rotor_mass_ + a.spin_rad_per_s2 * sc.lever_m + sc.bias_acc_m_per_s2;
     }
     a.stator = (free.stator_N - on_rotor) * inv_stator_mass_;
     return a;
   }
 
   // The compliance W of the contact (ContactCompliance) at g under drive d.
+  // The Jeffcott's, whose spin coupling follows from d.
   ContactCompliance contact_compliance(const ContactGeometry& g, const DriveState& d) const {
+    return contact_compliance(g,
+                              motor_ ? spin_coupling(unbalance_dir(d.angle_rad), d.speed_rad_per_s) : SpinCoupling());
+  }
+  // The same given the state's spin coupling (a motor's; FreeLoads::spin):
+  // with h = (n . lever, R_r + t . lever), W = I / m_eff + h h^T / J_eff.
+  ContactCompliance contact_compliance(const ContactGeometry& g, const SpinCoupling& sc) const {
     ContactCompliance w;
     const double im = inv_rotor_mass_ + inv_stator_mass_;
     w.nn = w.tt = im;
     if (motor_) {
-      const Vec2 ud = unbalance_dir(d.angle_rad), u(ud.y(), -ud.x());
-      const double hn = p_.eccentricity_m * g.normal.dot(u);
-      const double ht = p_.rotor_radius_m + p_.eccentricity_m * g.tangent.dot(u);
-      w.nn += hn * hn * inv_polar_inertia_;
-      w.nt = hn * ht * inv_polar_inertia_;
-      w.tt += ht * ht * inv_polar_inertia_;
+      const double hn = g.normal.dot(sc.lever_m);
+      const double ht = p_.rotor_radius_m + g.tangent.dot(sc.lever_m);
+      w.nn += hn * hn * sc.inv_inertia_per_kg_m2;
+      w.nt = hn * ht * sc.inv_inertia_per_kg_m2;
+      w.tt += ht * ht * sc.inv_inertia_per_kg_m2;
     }
     return w;
   }
 
   // Applies an impulse on the rotor P (-P_n n + P_t t at the contact; the
-  // stator gets the opposite) to the velocities, the spin's included.
-  void apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
-                     Kinematics& k) const {
+  // stator gets the opposite) to the velocities, the spin's included (the
+  // state's spin coupling sc, a motor's). Returns the spin speed's jump
+  // [rad/s] (0 under the prescribed drive): a flexible rotor's modes take
+  // their share of it (FlexibleRotorModel::add_spin_share).
+  double apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
+                       const SpinCoupling& sc, Kinematics& k) const {
     const Vec2 on_rotor = contact_force_on_rotor(g, normal_impulse_N_s, tangential_impulse_N_s);
     k.rotor_vel += on_rotor * inv_rotor_mass_;
     k.stator_vel -= on_rotor * inv_stator_mass_;
-    if (motor_) {
-      const Vec2 ud = unbalance_dir(k.spin.angle_rad), u(ud.y(), -ud.x());
-      const double dw =
-          (p_.rotor_radius_m * tangential_impulse_N_s + p_.eccentricity_m * on_rotor.dot(u)) * inv_polar_inertia_;
-      k.spin.speed_rad_per_s += dw;
-      k.rotor_vel += p_.eccentricity_m * dw * u;
-    }
+    if (!motor_) return 0.0;
+    const double dw =
+        (p_.rotor_radius_m * tangential_impulse_N_s + sc.lever_m.dot(on_rotor)) * sc.inv_inertia_per_kg_m2;
+    k.spin.speed_rad_per_s += dw;
+    k.rotor_vel += dw * sc.lever_m;
+    return dw;
+  }
+  // The Jeffcott's, whose spin coupling follows from k.
+  double apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
+                       Kinematics& k) const {
+    const SpinCoupling sc =
+        motor_ ? spin_coupling(unbalance_dir(k.spin.angle_rad), k.spin.speed_rad_per_s) : SpinCoupling();
+    return apply_impulse(g, normal_impulse_N_s, tangential_impulse_N_s, sc, k);
   }
 
   // Second time derivative of delta for given accelerations:

@@ -81,9 +81,11 @@ struct PenaltySystem {
       const int n = modal_count<L>(x);
       dxdt.resize(x.size());
       dxdt.segment(L::kModal, n) = x.tail(n);
-      const JeffcottModel::FreeLoads free =
-          flexible_free_loads(*model, *flexible, k, reference, x.tail(2 * n), dxdt.tail(n));
-      a = accelerations(reference, model->contact_geometry(k, reference), free);
+      const DriveState d = model->drive_at(k, reference);
+      const JeffcottModel::FreeLoads free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
+      a = accelerations(d, model->contact_geometry(k, d), free);
+      // A motor's spin: the modes take their share of its acceleration.
+      if constexpr (kMotor) flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(n));
     } else {
       a = accelerations(k, model->drive_at(k, reference));
     }

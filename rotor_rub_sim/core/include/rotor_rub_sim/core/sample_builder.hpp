@@ -8,9 +8,11 @@ namespace rotor_rub::core {
 
 // g and unbalance_dir: the state's contact geometry and the unbalance's
 // direction (cos phi, sin phi) of d.angle_rad, where the caller has them.
+// loads: the state's free loads (a flexible rotor's, whose spin coupling
+// takes the modes in), or null: the Jeffcott's from k.
 inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& k, const DriveState& d,
                           const ContactGeometry& g, const Vec2& unbalance_dir, double normal_force_N,
-                          double tangential_force_N, bool in_contact) {
+                          double tangential_force_N, bool in_contact, const JeffcottModel::FreeLoads* loads = nullptr) {
   // A motor's spin acceleration depends on the contact forces: the drive
   // state d carries the reference's until here. (Kept in a local until the
   // end: a lane read back from the Sample just written stalls the store
@@ -18,7 +20,8 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   DriveState drive = d;
   if (m.motor()) {
     drive.accel_rad_per_s2 =
-        m.accelerations(d, g, m.free_loads(k, d, unbalance_dir), normal_force_N, tangential_force_N).spin_rad_per_s2;
+        m.accelerations(d, g, loads ? *loads : m.free_loads(k, d, unbalance_dir), normal_force_N, tangential_force_N)
+            .spin_rad_per_s2;
   }
   Sample s;
   s.t_s = t_s;
