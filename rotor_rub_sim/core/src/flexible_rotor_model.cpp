@@ -34,6 +34,7 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
     a_full(dof_index(u.node, kDofY)) += u.me_kg_m * std::sin(u.phase_rad);
     b_full(dof_index(u.node, kDofX)) -= u.me_kg_m * std::sin(u.phase_rad);
     b_full(dof_index(u.node, kDofY)) += u.me_kg_m * std::cos(u.phase_rad);
+    pendulum_N_m_ += gravity_m_per_s2 * u.me_kg_m * Vec2(std::cos(u.phase_rad), std::sin(u.phase_rad));
   }
   a_ = rotor.expansion.transpose() * a_full;
   b_ = rotor.expansion.transpose() * b_full;

@@ -223,8 +223,9 @@ struct IterationSystem {
 // Hermite dense output (dop853, dense_high_order.hpp). kFlexible: the rotor
 // is a flexible rotor's rub station (flexible_rotor_model.hpp); its modal
 // block goes through projections, impacts and restarts unchanged (no
-// contact force or impulse reaches it), and every free load of the station
-// is the flexible model's (loads()).
+// contact force or impulse reaches it; a motor's spin jump at an impact
+// takes it along), and every free load of the station is the flexible
+// model's (loads()).
 template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:

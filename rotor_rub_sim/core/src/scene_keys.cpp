@@ -228,7 +228,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
-                     "rotor_radius_m are then the file's); prescribed drive, penalty on dopri5",
+                     "rotor_radius_m are then the file's); the penalty method on dopri5",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
@@ -244,7 +244,8 @@ const std::vector<KeyEntry>& entries() {
                        "drives the spin against the rub's friction torque",
                        [](Scene& s) -> DriveModel& { return s.model.drive_model; }));
     t.push_back(real("rotor_polar_inertia_kg_m2", 0, true, kInf,
-                     "polar moment of inertia J_G of the rotating train about its mass centre [kg m^2]",
+                     "polar moment of inertia of the rotating train: the Jeffcott's J_G about its mass centre; a "
+                     "rotor_file's J about the shaft axis [kg m^2]",
                      [](Scene& s) -> double& { return s.model.rotor_polar_inertia_kg_m2; }));
     t.push_back(real("drive_torque_limit_N_m", 0, true, kInf, "motor torque limit, motoring and braking [N m]",
                      [](Scene& s) -> double& { return s.model.drive_torque_limit_N_m; }));

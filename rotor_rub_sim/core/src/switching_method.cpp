@@ -164,7 +164,8 @@ struct EventValues {
 // Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
 // kFlexible: the rotor is a flexible rotor's rub station
 // (flexible_rotor_model.hpp), its modal block carried through every regime
-// and event unchanged (no impulse reaches it).
+// and event unchanged (no impulse reaches it), but for a motor's spin jump's
+// share at an impact.
 template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
  public:

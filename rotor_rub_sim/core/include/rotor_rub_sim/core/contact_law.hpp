@@ -183,7 +183,8 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 // below. W_nn + f s W_nt <= 0 (Painleve's paradox: the friction would pull
 // the bodies together faster than the normal impulse parts them) cannot
 // occur for either s while J_G > f e (R_r + e) m_r, which validate_scene()
-// demands; the check below is the guard behind it.
+// demands (a flexible rotor's counterpart: validate_flexible_spin); the
+// check below is the guard behind it.
 // sc: the state's spin coupling (FreeLoads::spin).
 inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const SpinCoupling& sc,
                                            double e, ImpactResult r, Kinematics& k) {

@@ -107,9 +107,14 @@ class FlexibleRotorModel {
 
   /// Under a motor drive: the spin coupling (model.hpp) at the unbalance's
   /// direction, given xi'' without the spin's share (free_loads with A = 0,
-  /// F_xi) and the train's polar inertia J [kg m^2]. Throws
-  /// std::logic_error when J_eff = J - h^T M^-1 h is not positive (the
-  /// scene's validation keeps it well above: flexible_spin_inertia_bound).
+  /// F_xi) and the train's polar inertia J [kg m^2]. Under gravity the
+  /// unbalances' own weight turns the spin (their pendulum torque, -g sum
+  /// m e cos(phi + beta)): the FE model's weight, which reaches the spin
+  /// through h^T q'', acts at the nodes, and the unbalances' masses are not
+  /// in M (on the one-node Jeffcott the two cancel, as the Jeffcott's weight
+  /// at its mass centre has no torque). Throws std::logic_error when J_eff
+  /// = J - h^T M^-1 h is not positive (the scene's validation keeps it well
+  /// above: validate_scene's bound).
   template <class Modal>
   SpinCoupling spin_coupling(const Vec2& unbalance_dir, const Eigen::MatrixBase<Modal>& free_xi_acc,
                              double polar_inertia_kg_m2) const {
@@ -121,7 +126,8 @@ class FlexibleRotorModel {
     const double j_eff = polar_inertia_kg_m2 - h.head<2>().squaredNorm() / station_mass_kg_ - h.tail(n).squaredNorm();
     if (!(j_eff > 0.0)) throw std::logic_error("flexible rotor: the spin's effective inertia is not positive");
     sc.inv_inertia_per_kg_m2 = 1.0 / j_eff;
-    sc.extra_torque_N_m = h.tail(n).dot(free_xi_acc.head(n));
+    sc.extra_torque_N_m = h.tail(n).dot(free_xi_acc.head(n)) -
+                          (unbalance_dir.x() * pendulum_N_m_.x() - unbalance_dir.y() * pendulum_N_m_.y());
     return sc;
   }
   /// The modes' share of the spin's acceleration A (xi'' += A h_xi) or of
@@ -185,6 +191,7 @@ class FlexibleRotorModel {
   Eigen::MatrixXd c_, g_;                                // C, G
   Eigen::VectorXd a_, b_;                                // the unbalances at spin angle 0 and pi/2, per unit w^2 [kg m]
   Eigen::VectorXd weight_;                               // gravity's load on q [N] (constant: no rate)
+  Vec2 pendulum_N_m_ = Vec2::Zero();                     // g sum m e (cos beta, sin beta): the unbalances' weight
 };
 
 /// The free loads of a flexible rotor's state as the contact's functions
