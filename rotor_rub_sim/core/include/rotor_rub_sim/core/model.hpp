@@ -222,8 +222,9 @@ struct Accelerations {
 //   a_r = F / m_r + A lever + bias_acc.
 // The Jeffcott: lever = e u, J_eff = J_G, extra 0, bias e w^2 (cos, sin) - g y
 // (the header comment). A flexible rotor: lever = h_u / m_st, J_eff = J -
-// h^T M^-1 h, extra = h_xi . F_xi, bias 0, with h the unbalances' lever on
-// the reduced coordinates (FlexibleRotorModel::spin_coupling).
+// h^T M^-1 h, extra = h_xi . F_xi and, under gravity, the unbalances'
+// pendulum torque, bias 0, with h the unbalances' lever on the reduced
+// coordinates (FlexibleRotorModel::spin_coupling).
 struct SpinCoupling {
   Vec2 lever_m = Vec2::Zero();
   double inv_inertia_per_kg_m2 = 0.0;  // 1 / J_eff
