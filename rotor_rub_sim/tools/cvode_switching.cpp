@@ -43,7 +43,7 @@ using core::Kinematics;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// The core's "starts on its surface" window (switching_method.cpp).
+// The core's "starts on its surface" window (switching_method_impl.hpp).
 constexpr double kOnSurface_s = 10.0 * core::kEventTimeTolerance_s;
 // A restart's first step: this share of the step CVODE would have taken next
 // in the regime it leaves, as the core restarts with the step size it had.
@@ -261,7 +261,7 @@ struct RootValues {
 //   strictly negative from the start, so the crossing back is found however
 //   early it comes (the undeflated function starts at +0 and may return to +
 //   within CVODE's first step, a sign change CVODE cannot see). The core does
-//   the same (switching_method.cpp, crossing()).
+//   the same (switching_method_impl.hpp, crossing()).
 // * The free flight's gap must be seen below its noise floor before a
 //   crossing counts (armed). CVODE arms on any negative value at a step end,
 //   and a flight that starts at a tangency (after a lift-off, or a plastic
@@ -622,7 +622,7 @@ class CvodeSwitching {
 
   // After a free-flight step ending at t1: the gap is armed where it is below
   // its noise floor (RootStart), and the core's third way to a touchdown
-  // (switching_method.cpp, crossing()) is checked: a touch that enters and
+  // (switching_method_impl.hpp, crossing()) is checked: a touch that enters and
   // leaves the bore inside one step, the gap negative at both ends, where
   // CVODE sees no sign change. The gap's rate falls through zero in between
   // (a maximum); located on the dense output, and the gap there decides.

@@ -1,4 +1,4 @@
-// The switching method (method II, core/switching_method.cpp) on SUNDIALS
+// The switching method (method II, core/switching_method_impl.hpp) on SUNDIALS
 // CVODE, for the benchmark only (issue 13): the same model, contact law and
 // event logic, integrated by a general-purpose variable-order multistep code
 // instead of the core's Dormand-Prince 5(4), so that the two are timed side by

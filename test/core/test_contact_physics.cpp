@@ -475,7 +475,7 @@ INSTANTIATE_TEST_SUITE_P(AllMethods, ViolentTouchdown, ::testing::ValuesIn(test:
 // a rigid bore 1e-9 m inside that is touched for ~7e-6 s (2 sqrt(2 d / a),
 // a ~ 180 m/s^2 the radius's deceleration there). Out of contact the penalty
 // method integrates no contact force, so it checks the gap's closest approach
-// inside each step (penalty_method.cpp): without that the touch went unfelt
+// inside each step (penalty_method_impl.hpp): without that the touch went unfelt
 // on dopri5 and rosenbrock4 at rtol 1e-9 (no touchdown at all). Every solver
 // finds it where the reference does (1e-6 s: the touch's own length).
 class ShallowGraze : public ::testing::TestWithParam<test::Solver> {};

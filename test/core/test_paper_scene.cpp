@@ -79,7 +79,7 @@ TEST(PaperScene, IterationMeetsItsBar) {
 
 TEST(PaperScene, IterationLocatesItsLiftOffs) {
   // The iteration method finds a lift-off where the pressing of its dense
-  // output falls through zero (iteration_method.cpp), on both its
+  // output falls through zero (iteration_method_impl.hpp), on both its
   // integrators: the first three lift-offs (2.7949, 2.8421, 2.8895 s) at
   // rtol 1e-8 within 1e-6 s of the reference's (measured 1.3e-8 s; when
   // the step's end decided they came 2.5e-5 .. 5.7e-5 s late).

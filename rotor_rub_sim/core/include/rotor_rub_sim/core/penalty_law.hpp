@@ -25,7 +25,7 @@
 // force is 0 and the friction edges are not watched. The force is continuous
 // across the edges where F_n = 0 and at the cap, so an edge is crossed
 // transversally unless touched with zero slope (a graze), where the method
-// takes one step on the clamped law (penalty_method.cpp).
+// takes one step on the clamped law (penalty_method_impl.hpp).
 //
 // The penalty method's touchdown and lift-off events are the pressed edge's
 // crossings: the force switching on and off. A force that returns while the
@@ -44,7 +44,7 @@ namespace rotor_rub::core {
 struct PenaltyMode {
   bool pressed = false;
   int slip = 0;          // +1: F_t = -f F_n; -1: F_t = +f F_n; 0: the linear range (or no friction)
-  bool clamped = false;  // a fallback step on the clamped law itself (penalty_method.cpp)
+  bool clamped = false;  // a fallback step on the clamped law itself (penalty_method_impl.hpp)
   bool operator==(const PenaltyMode& o) const { return pressed == o.pressed && slip == o.slip; }
   bool operator!=(const PenaltyMode& o) const { return !(*this == o); }
 };

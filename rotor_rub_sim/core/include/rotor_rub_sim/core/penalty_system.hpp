@@ -1,4 +1,4 @@
-// The penalty method's right-hand side (penalty_method.cpp), in a header of
+// The penalty method's right-hand side (penalty_method_impl.hpp), in a header of
 // its own so that its closed-form Jacobian can be tested against differences
 // (test_penalty_jacobian.cpp).
 #pragma once

@@ -4,7 +4,7 @@
 // * Contact: reduced coordinates that hold the constraint |r_r - r_s| = C
 //   exactly: the stator's position and the contact angle psi, with
 //   r_r = r_s + C (cos psi, sin psi). The normal force is the constraint
-//   force, in closed form (switching_method.cpp). Drift of the constraint is
+//   force, in closed form (switching_method_impl.hpp). Drift of the constraint is
 //   impossible by construction, so loose tolerances give no false lift-offs.
 // * Touchdown: delta - C crosses 0 upward (located on the dense output); the
 //   impact law (contact_law.hpp) is applied; contact follows if it settles and

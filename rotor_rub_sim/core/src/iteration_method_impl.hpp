@@ -1,4 +1,8 @@
-#include "rotor_rub_sim/core/iteration_method.hpp"
+// The iteration method's class template and its factory, included by one
+// translation unit per kind of rotor (iteration_method_jeffcott.cpp and
+// iteration_method_flexible.cpp): both in one unit made the build's longest
+// compile (docs/testing.md).
+#pragma once
 
 #include <algorithm>
 #include <boost/math/tools/roots.hpp>
@@ -16,11 +20,12 @@
 #include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
+#include "rotor_rub_sim/core/iteration_method.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
-namespace {
+namespace iteration_detail {
 
 // A root of an increasing function r(F) of one force [N], by TOMS 748 on a
 // bracket grown from the last root (the warm start): the model is a black box
@@ -747,28 +752,19 @@ class IterationMethod final : public ContactMethod {
   double* restart_time_s_ = nullptr;  // profiling only
 };
 
-template <Integrator kScheme>
+template <Integrator kScheme, bool kFlexible>
 struct IterationOn {
   template <int kStatorDof, bool kMotor>
-  using Method = IterationMethod<kStatorDof, kMotor, false, kScheme>;
+  using Method = IterationMethod<kStatorDof, kMotor, kFlexible, kScheme>;
 };
 
-}  // namespace
+}  // namespace iteration_detail
 
-template <Integrator I>
-std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  if (!scene.rotor.file.empty()) {
-    const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-    if (scene.model.drive_model == DriveModel::kMotor) {
-      if (rigid) return std::make_unique<IterationMethod<0, true, true, I>>(scene);
-      return std::make_unique<IterationMethod<2, true, true, I>>(scene);
-    }
-    if (rigid) return std::make_unique<IterationMethod<0, false, true, I>>(scene);
-    return std::make_unique<IterationMethod<2, false, true, I>>(scene);
-  }
-  return make_for_scene<IterationOn<I>::template Method>(scene);
+// The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
+// states) or a flexible rotor's, each kind in its own translation unit.
+template <Integrator I, bool kFlexible>
+std::unique_ptr<ContactMethod> make_iteration_for_rotor(const Scene& scene) {
+  return make_for_scene<iteration_detail::IterationOn<I, kFlexible>::template Method>(scene);
 }
-template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);
-template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

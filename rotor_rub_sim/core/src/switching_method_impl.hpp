@@ -1,4 +1,8 @@
-#include "rotor_rub_sim/core/switching_method.hpp"
+// The switching method's class template and its factory, included by one
+// translation unit per kind of rotor (switching_method_jeffcott.cpp and
+// switching_method_flexible.cpp): both in one unit made the build's longest
+// compile (docs/testing.md).
+#pragma once
 
 #include <array>
 #include <cmath>
@@ -18,9 +22,10 @@
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
+#include "rotor_rub_sim/core/switching_method.hpp"
 
 namespace rotor_rub::core {
-namespace {
+namespace switching_detail {
 
 // Free flight; a flexible rotor's station and modal rows from
 // FlexibleRotorModel (the rotor the bare station mass of model).
@@ -706,29 +711,19 @@ class SwitchingMethod final : public ContactMethod {
   bool end_sample_valid_ = false;
 };
 
-template <Integrator kScheme>
+template <Integrator kScheme, bool kFlexible>
 struct SwitchingOn {
   template <int kStatorDof, bool kMotor>
-  using Method = SwitchingMethod<kStatorDof, kMotor, false, kScheme>;
+  using Method = SwitchingMethod<kStatorDof, kMotor, kFlexible, kScheme>;
 };
 
-}  // namespace
+}  // namespace switching_detail
 
-template <Integrator I>
-std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  if (!scene.rotor.file.empty()) {
-    const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-    if (scene.model.drive_model == DriveModel::kMotor) {
-      if (rigid) return std::make_unique<SwitchingMethod<0, true, true, I>>(scene);
-      return std::make_unique<SwitchingMethod<2, true, true, I>>(scene);
-    }
-    if (rigid) return std::make_unique<SwitchingMethod<0, false, true, I>>(scene);
-    return std::make_unique<SwitchingMethod<2, false, true, I>>(scene);
-  }
-  return make_for_scene<SwitchingOn<I>::template Method>(scene);
+// The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
+// states) or a flexible rotor's, each kind in its own translation unit.
+template <Integrator I, bool kFlexible>
+std::unique_ptr<ContactMethod> make_switching_for_rotor(const Scene& scene) {
+  return make_for_scene<switching_detail::SwitchingOn<I, kFlexible>::template Method>(scene);
 }
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDopri5>(const Scene&);
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kRkf78>(const Scene&);
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -1,4 +1,8 @@
-#include "rotor_rub_sim/core/penalty_method.hpp"
+// The penalty method's class template and its factory, included by one
+// translation unit per kind of rotor (penalty_method_jeffcott.cpp and
+// penalty_method_flexible.cpp): both in one unit made the build's longest
+// compile (docs/testing.md).
+#pragma once
 
 #include <array>
 #include <limits>
@@ -15,11 +19,12 @@
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
 #include "rotor_rub_sim/core/penalty_law.hpp"
+#include "rotor_rub_sim/core/penalty_method.hpp"
 #include "rotor_rub_sim/core/penalty_system.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
-namespace {
+namespace penalty_detail {
 
 template <class Integrator>
 Integrator make_integrator(const SolverSettings& s) {
@@ -389,38 +394,21 @@ using PenaltyStepper =
     std::conditional_t<kScheme == Integrator::kRosenbrock4, DenseRodasp<State>,
                        std::conditional_t<kScheme == Integrator::kRk4, DenseRk4<State>, DenseDopri5<State>>>;
 
-template <Integrator kScheme>
+template <Integrator kScheme, bool kFlexible>
 struct PenaltyOn {
   template <int kStatorDof, bool kMotor>
   using Method =
-      PenaltyMethod<kStatorDof, kMotor, PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor>::State>>;
+      PenaltyMethod<kStatorDof, kMotor,
+                    PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor, kFlexible>::State>, kFlexible>;
 };
 
-}  // namespace
+}  // namespace penalty_detail
 
-template <Integrator I>
-std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
-  static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
-  if (!scene.rotor.file.empty()) {
-    // A flexible rotor: dopri5 only (validate_scene).
-    if constexpr (I == Integrator::kDopri5) {
-      const bool rigid = scene.model.stator_model == StatorModel::kRigid;
-      if (scene.model.drive_model == DriveModel::kMotor) {
-        if (rigid)
-          return std::make_unique<PenaltyMethod<0, true, DenseDopri5<FreeLayout<0, true, true>::State>, true>>(scene);
-        return std::make_unique<PenaltyMethod<2, true, DenseDopri5<FreeLayout<2, true, true>::State>, true>>(scene);
-      }
-      if (rigid)
-        return std::make_unique<PenaltyMethod<0, false, DenseDopri5<FreeLayout<0, false, true>::State>, true>>(scene);
-      return std::make_unique<PenaltyMethod<2, false, DenseDopri5<FreeLayout<2, false, true>::State>, true>>(scene);
-    } else {
-      throw std::logic_error("make_penalty_method: a flexible rotor runs on dopri5 only (validate_scene)");
-    }
-  }
-  return make_for_scene<PenaltyOn<I>::template Method>(scene);
+// The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
+// states) or a flexible rotor's, each kind in its own translation unit.
+template <Integrator I, bool kFlexible>
+std::unique_ptr<ContactMethod> make_penalty_for_rotor(const Scene& scene) {
+  return make_for_scene<penalty_detail::PenaltyOn<I, kFlexible>::template Method>(scene);
 }
-template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRosenbrock4>(const Scene&);
-template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kDopri5>(const Scene&);
-template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRk4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -1,0 +1,9 @@
+// The switching method on a flexible rotor (the class template:
+// switching_method_impl.hpp).
+#include "switching_method_impl.hpp"
+
+namespace rotor_rub::core {
+template std::unique_ptr<ContactMethod> make_switching_for_rotor<Integrator::kDopri5, true>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_for_rotor<Integrator::kRkf78, true>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_for_rotor<Integrator::kDop853, true>(const Scene&);
+}  // namespace rotor_rub::core
