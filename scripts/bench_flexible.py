@@ -8,11 +8,19 @@ table. With --page, also written into docs/benchmarks.md between
 the date, the machine and the command (the page's figures are the last run's,
 never typed in).
 
+With --penalty-stiffness K [K ...], instead: the penalty method on dopri5 and
+on rosenbrock4 at each contact stiffness K [N/m] (the scene's modes), each
+run's largest distance from the dopri5 run's station on the samples beside
+it (block flexible_penalty).
+
 usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M]
-                         [--scene FILE] [--page docs/benchmarks.md]"""
+                         [--penalty-stiffness K ...] [--scene FILE]
+                         [--page docs/benchmarks.md]"""
+import csv
 import argparse
 import datetime
 import json
+import math
 import os
 import platform
 import statistics
@@ -23,11 +31,63 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
 
-def run(runner, scene, modes, method):
+def run(runner, scene, sets, samples_csv=None):
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
-        subprocess.run([runner, "--scene", scene, "--set", "rotor_planar_modes=%d" % modes, "--set",
-                        "method=" + method, "--summary", f.name, "--quiet"], check=True)
+        cmd = [runner, "--scene", scene, "--summary", f.name, "--quiet"]
+        for s in sets:
+            cmd += ["--set", s]
+        if samples_csv:
+            cmd += ["--csv", samples_csv]
+        subprocess.run(cmd, check=True)
         return json.load(open(f.name))
+
+
+def station(samples_csv):
+    return [(float(r["x_r"]), float(r["y_r"])) for r in csv.DictReader(open(samples_csv))]
+
+
+def penalty_rows(a):
+    """The penalty method on dopri5 and rosenbrock4 at each contact stiffness."""
+    lines = ["%8s %12s %10s %10s %9s %9s %14s %12s" % ("k_c_N_m", "integrator", "steps", "rhs", "wall_ms",
+                                                       "max_Fn_N", "last_end_s", "from_dopri5_m")]
+    print(lines[0], flush=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        for kc in a.penalty_stiffness:
+            reference = None
+            for integrator in ("dopri5", "rosenbrock4"):
+                sets = ["method=penalty", "integrator=" + integrator, "contact_stiffness_N_per_m=%g" % kc]
+                samples = os.path.join(tmp, "samples.csv")
+                runs = [run(a.runner, a.scene, sets, samples if i == 0 else None) for i in range(a.repeats)]
+                orbit = station(samples)
+                if reference is None:
+                    reference = orbit
+                gap = max(math.hypot(p[0] - q[0], p[1] - q[1]) for p, q in zip(orbit, reference))
+                if len(orbit) != len(reference):
+                    gap = float("nan")
+                s = runs[0]
+                wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
+                lines.append("%8.0e %12s %10d %10d %9.1f %9.3f %14.6f %12.2e" % (
+                    kc, integrator, s["stats"]["steps"], s["stats"]["rhs_evals"], wall_ms,
+                    s["max_normal_force_N"], s["last_contact_end_s"], gap))
+                print(lines[-1], flush=True)
+    return lines
+
+
+def mode_rows(a):
+    """The method's run at each number of planar modes."""
+    head = "%6s %5s %10s %10s %9s %11s %9s %11s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
+                                                       "max_Fn_N", "touchdowns", "last_end_s")
+    lines = [head]
+    for m in a.modes:
+        sets = ["rotor_planar_modes=%d" % m, "method=" + a.method]
+        runs = [run(a.runner, a.scene, sets) for _ in range(a.repeats)]
+        s = runs[0]
+        wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
+        lines.append("%6d %5d %10d %10d %9.1f %11.6f %9.3f %11d %14.6f" % (
+            m, 2 * m, s["stats"]["steps"], s["stats"]["rhs_evals"], wall_ms, s["first_contact_s"],
+            s["max_normal_force_N"], s["stats"]["touchdowns"], s["last_contact_end_s"]))
+        print(lines[-1] if len(lines) > 2 else "\n".join(lines), flush=True)
+    return lines
 
 
 def main(argv=None):
@@ -37,33 +97,31 @@ def main(argv=None):
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 2, 4, 8, 12, 16, 20])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--method", default="switching")
+    ap.add_argument("--penalty-stiffness", type=float, nargs="+", metavar="K",
+                    help="the penalty method on dopri5 and rosenbrock4 at these contact stiffnesses [N/m]")
     ap.add_argument("--page", help="write the table into this page (docs/benchmarks.md)")
     a = ap.parse_args(argv)
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
-    head = "%6s %5s %10s %10s %9s %11s %9s %11s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
-                                                       "max_Fn_N", "touchdowns", "last_end_s")
-    lines = [head]
-    for m in a.modes:
-        runs = [run(a.runner, a.scene, m, a.method) for _ in range(a.repeats)]
-        s = runs[0]
-        wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
-        lines.append("%6d %5d %10d %10d %9.1f %11.6f %9.3f %11d %14.6f" % (
-            m, 2 * m, s["stats"]["steps"], s["stats"]["rhs_evals"], wall_ms, s["first_contact_s"],
-            s["max_normal_force_N"], s["stats"]["touchdowns"], s["last_contact_end_s"]))
-        print(lines[-1] if len(lines) > 2 else "\n".join(lines), flush=True)
+    if a.penalty_stiffness and any(not (k > 0.0) for k in a.penalty_stiffness):
+        sys.exit("bench_flexible: --penalty-stiffness must be > 0")
+    lines = penalty_rows(a) if a.penalty_stiffness else mode_rows(a)
     if a.page:
         cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")),
                    "unknown CPU")
         machine = "%d cores (%s), %s %s" % (os.cpu_count(), cpu, platform.system(), platform.release())
-        command = "scripts/bench_flexible.py $WS/devel/lib/rotor_rub_sim/rotor_rub_run --repeats %d --method %s " \
-                  "--modes %s --page docs/benchmarks.md" % (a.repeats, a.method, " ".join(map(str, a.modes)))
+        what = "--penalty-stiffness %s" % " ".join("%g" % k for k in a.penalty_stiffness) if a.penalty_stiffness \
+            else "--method %s --modes %s" % (a.method, " ".join(map(str, a.modes)))
+        command = "scripts/bench_flexible.py $WS/devel/lib/rotor_rub_sim/rotor_rub_run --repeats %d %s " \
+                  "--page docs/benchmarks.md" % (a.repeats, what)
         block = ["Written by `scripts/bench_flexible.py` on %s UTC, on %s (%s, scene %s; wall: the median of "
-                 "%d runs):" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine, a.method,
-                                os.path.relpath(a.scene, ROOT), a.repeats), "", "    " + command, ""]
+                 "%d runs):" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine,
+                                "penalty" if a.penalty_stiffness else a.method, os.path.relpath(a.scene, ROOT),
+                                a.repeats), "", "    " + command, ""]
         block += ["    " + l for l in lines]
         text = open(a.page).read()
-        begin, stop = "<!-- BEGIN GENERATED: flexible -->", "<!-- END GENERATED: flexible -->"
+        name = "flexible_penalty" if a.penalty_stiffness else "flexible"
+        begin, stop = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
         if begin not in text or stop not in text:
             sys.exit("bench_flexible: %s has no '%s' ... '%s' block" % (a.page, begin, stop))
         before, rest = text.split(begin, 1)

@@ -68,6 +68,22 @@ MotorAgreement motor_agreement(core::Method m) {
   return {2e-6, 1e-3};
 }
 
+// rosenbrock4 integrates the Jeffcott's pressed mode in the contact's polar
+// coordinates on a closed-form Jacobian, and a rotor file's in Cartesian
+// ones on a differenced Jacobian (penalty_method_impl.hpp): the two runs
+// agree to the integration's error, not to rounding. At rtol 1e-9 (the
+// scene's 1e-6 left 1e-6 m after the rebounds' events) they agree within
+// 3e-8 m (8.6e-9 m measured: a rigid stator's rebounds under the motor) and
+// 1e-4 rad/s (2.3e-5 measured). Returns whether solver is rosenbrock4.
+constexpr double kRosenbrock4Agreement_m = 3e-8;
+constexpr double kRosenbrock4SpeedAgreement_rad_per_s = 1e-4;
+bool tighten_for_rosenbrock4(const test::Solver& solver, core::Scene& s) {
+  if (solver.integrator != core::Integrator::kRosenbrock4) return false;
+  s.solver.rtol = 1e-9;
+  s.solver.atol = 1e-12;
+  return true;
+}
+
 }  // namespace
 
 // The paper's run-up (4 s through the critical speed into rub) with the
@@ -95,6 +111,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
       jeffcott_scene.solver.method = solver.method;
       if (i != 3) jeffcott_scene.solver.integrator = solver.integrator;
       if (penalty) jeffcott_scene.end_time_s = 2.0;  // through the first rub
+      const bool coordinates_differ = tighten_for_rosenbrock4(solver, jeffcott_scene);
       core::Scene file = jeffcott_scene;
       file.rotor = jeffcott_file_scene(1).rotor;
       const test::Run jeffcott = test::run(jeffcott_scene);
@@ -110,7 +127,11 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
       // jerk is in closed form).
       const bool differenced_jerk =
           solver.method == core::Method::kIteration && solver.integrator == core::Integrator::kDop853;
-      EXPECT_LT(max_position_difference(jeffcott, flexible), differenced_jerk ? 1e-9 : 1e-13)
+      const double d = max_position_difference(jeffcott, flexible);
+      if (coordinates_differ) std::printf("%s scene %zu: positions %.3g m\n", solver.name().c_str(), i, d);
+      EXPECT_LT(d, coordinates_differ ? kRosenbrock4Agreement_m
+                   : differenced_jerk ? 1e-9
+                                      : 1e-13)
           << solver.name() << " " << i;
     }
   }
@@ -151,6 +172,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsMotorRun) {
       core::Scene jeffcott_scene = scenes[i];
       jeffcott_scene.solver.method = solver.method;
       jeffcott_scene.solver.integrator = solver.integrator;
+      const bool coordinates_differ = tighten_for_rosenbrock4(solver, jeffcott_scene);
       core::Scene file = jeffcott_scene;
       file.rotor = jeffcott_file_scene(1).rotor;
       const double me = file.model.rotor_mass_kg * file.model.eccentricity_m;
@@ -168,8 +190,11 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsMotorRun) {
       }
       const double d = max_position_difference(jeffcott, flexible);
       std::printf("%s scene %zu: positions %.3g m, speed %.3g rad/s\n", solver.name().c_str(), i, d, speed);
-      EXPECT_LT(d, motor_agreement(solver.method).position_m) << solver.name() << " " << i;
-      EXPECT_LT(speed, motor_agreement(solver.method).speed_rad_per_s) << solver.name() << " " << i;
+      const MotorAgreement want = coordinates_differ
+                                      ? MotorAgreement{kRosenbrock4Agreement_m, kRosenbrock4SpeedAgreement_rad_per_s}
+                                      : motor_agreement(solver.method);
+      EXPECT_LT(d, want.position_m) << solver.name() << " " << i;
+      EXPECT_LT(speed, want.speed_rad_per_s) << solver.name() << " " << i;
     }
   }
 }
@@ -262,12 +287,27 @@ TEST(FlexibleRotorRuns, SettlesOntoTheClosedFormFullAnnularRub) {
 // "stator" of receptance 1 / k_c (StationStator: elastic, no mass, k_c).
 // With 8 planar modes, after 1.5 s from rest: N within 3e-5 of that closed
 // form (1.7e-5 measured: the truncation, as the rigid methods'), which
-// differs from the rigid contact's by 1e-3.
+// differs from the rigid contact's by 1e-3. On dopri5 and on rosenbrock4.
+void penalty_settles_onto_the_full_rub(core::Integrator integrator);  // below
+
 TEST(FlexibleRotorRuns, PenaltySettlesOntoTheFullRubWithItsContactSpring) {
+  for (const core::Integrator integrator : {core::Integrator::kDopri5, core::Integrator::kRosenbrock4}) {
+    SCOPED_TRACE(core::to_string(integrator));
+    penalty_settles_onto_the_full_rub(integrator);
+  }
+}
+
+void penalty_settles_onto_the_full_rub(core::Integrator integrator) {
   const core::FeRotor rotor = core::load_rotor_file(test::source_path("test/data/rotors/isotropic_seal.yaml"));
   core::Scene s = isotropic_full_rub_scene(8);
   s.solver.method = core::Method::kPenalty;
-  s.solver.integrator = core::Integrator::kDopri5;
+  s.solver.integrator = integrator;
+  if (integrator == core::Integrator::kRosenbrock4) {
+    // Its differenced Jacobian makes rtol 1e-9 four times dopri5's time; at
+    // rtol 1e-6 N is 1.64e-5 off (1.71e-5 on dopri5 at 1e-9): the truncation.
+    s.solver.rtol = 1e-6;
+    s.solver.atol = 1e-10;
+  }
   s.end_time_s = 1.5;
   core::StationStator spring;
   spring.rigid = false;
@@ -429,9 +469,10 @@ TEST(FlexibleRotorRuns, ScenesItCannotRunAreRefusedNamingTheKey) {
   EXPECT_EQ(core::effective_integrator(penalty), core::Integrator::kRosenbrock4);
   penalty.rotor.file = s.rotor.file;
   penalty.solver.integrator = core::Integrator::kRosenbrock4;
-  EXPECT_NE(refusal(penalty).find("'integrator': value 'rosenbrock4'"), std::string::npos) << refusal(penalty);
+  EXPECT_NO_THROW(core::validate_scene(penalty));
   penalty.solver.integrator = core::Integrator::kRk4;
-  EXPECT_NE(refusal(penalty).find("'integrator'"), std::string::npos) << refusal(penalty);
+  EXPECT_NE(refusal(penalty).find("'integrator': value 'rk4'"), std::string::npos) << refusal(penalty);
+  EXPECT_NE(refusal(penalty).find("accepted: rosenbrock4, dopri5, auto"), std::string::npos) << refusal(penalty);
   core::Scene motor = s;
   motor.model.drive_model = core::DriveModel::kMotor;
   EXPECT_NO_THROW(core::validate_scene(motor));

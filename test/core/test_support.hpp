@@ -82,10 +82,11 @@ inline std::vector<Solver> all_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
 }
 // Every method and integrator that runs a flexible rotor (a rotor_file): the
-// rigid methods on theirs, the penalty method on dopri5.
+// rigid methods on theirs, the penalty method on dopri5 and rosenbrock4.
 inline std::vector<Solver> flexible_solvers() {
   std::vector<Solver> v = rigid_solvers();
   v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
+  v.push_back({core::Method::kPenalty, core::Integrator::kRosenbrock4});
   return v;
 }
 

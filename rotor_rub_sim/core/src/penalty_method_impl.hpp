@@ -35,15 +35,18 @@ Integrator make_integrator(const SolverSettings& s) {
   }
 }
 
-// kFlexible: the rotor is a flexible rotor's rub station (explicit
-// integrators), its modal block carried through every restart.
+// kFlexible: the rotor is a flexible rotor's rub station, its modal block
+// carried through every restart.
 template <int kStatorDof, bool kMotor, class Integrator, bool kFlexible = false>
 class PenaltyMethod final : public ContactMethod {
  public:
   using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   static constexpr bool kModeLocked = is_implicit<Integrator>::value;
-  static_assert(!(kFlexible && kModeLocked), "a flexible rotor runs on the explicit integrators");
+  // The implicit integrator's pressed mode in the contact's polar
+  // coordinates: the Jeffcott's (a flexible rotor's stays Cartesian, its
+  // modes beside the station).
+  static constexpr bool kPolar = kModeLocked && !kFlexible;
 
   explicit PenaltyMethod(const Scene& scene)
       : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(
@@ -55,7 +58,7 @@ class PenaltyMethod final : public ContactMethod {
     system_.model = &model_;
     system_.flexible = flexible_.get();
     system_.law = PenaltyLaw(model_);
-    if constexpr (kModeLocked) polar_sys_.cartesian = &system_;
+    if constexpr (kPolar) polar_sys_.cartesian = &system_;
     if (scene.solver.profile_cost) {
       system_.rhs_time_s = &stats_.rhs_time_s;
       event_time_s_ = &stats_.event_time_s;
@@ -220,7 +223,7 @@ class PenaltyMethod final : public ContactMethod {
   // polar coordinates (penalty_system.hpp), else the Cartesian one.
   template <class F>
   void with_system(F&& f) {
-    if constexpr (kModeLocked) {
+    if constexpr (kPolar) {
       if (polar_) {
         f(polar_sys_);
         return;
@@ -232,7 +235,7 @@ class PenaltyMethod final : public ContactMethod {
   Kinematics kinematics_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    if constexpr (kModeLocked) {
+    if constexpr (kPolar) {
       if (polar_) return PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::kinematics(x);
     }
     return kinematics_of<kStatorDof, kMotor, kFlexible>(x);
@@ -268,9 +271,9 @@ class PenaltyMethod final : public ContactMethod {
     fallback_ = false;
     // A pressed contact has delta > 0 (> C but for a rounding at a crossed
     // edge): its polar coordinates exist. A fallback step stays Cartesian.
-    polar_ = kModeLocked && system_.mode.pressed && !system_.mode.clamped;
+    polar_ = kPolar && system_.mode.pressed && !system_.mode.clamped;
     State x = sized_state<L>(modal);
-    if constexpr (kModeLocked) {
+    if constexpr (kPolar) {
       if (polar_) x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
     }
     if (!polar_) store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
@@ -371,8 +374,8 @@ class PenaltyMethod final : public ContactMethod {
   JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
   PenaltySystem<kStatorDof, kMotor, kModeLocked, kFlexible> system_;
   struct NoPolar {};
-  std::conditional_t<kModeLocked, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;
-  bool polar_ = false;  // the integrator's state is polar_sys_'s (the pressed mode, implicit integrator)
+  std::conditional_t<kPolar, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;
+  bool polar_ = false;  // the integrator's state is polar_sys_'s (kPolar, the pressed mode)
   Integrator integrator_;
   double initial_step_s_;
   PenaltyEdgeValues edges_end_{};  // at valid_end_

@@ -7,16 +7,17 @@
 namespace rotor_rub::core {
 
 // Instantiated in penalty_method_flexible.cpp, not here.
+extern template std::unique_ptr<ContactMethod> make_penalty_for_rotor<Integrator::kRosenbrock4, true>(const Scene&);
 extern template std::unique_ptr<ContactMethod> make_penalty_for_rotor<Integrator::kDopri5, true>(const Scene&);
 
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
   static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
   if (!scene.rotor.file.empty()) {
-    if constexpr (I == Integrator::kDopri5) {
+    if constexpr (I != Integrator::kRk4) {
       return make_penalty_for_rotor<I, true>(scene);
     } else {
-      throw std::logic_error("make_penalty_method: a flexible rotor runs on dopri5 only (validate_scene)");
+      throw std::logic_error("make_penalty_method: a flexible rotor runs on rosenbrock4 and dopri5 (validate_scene)");
     }
   }
   return make_penalty_for_rotor<I, false>(scene);

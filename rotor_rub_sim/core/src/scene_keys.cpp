@@ -228,7 +228,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
-                     "rotor_radius_m are then the file's); the penalty method on dopri5",
+                     "rotor_radius_m are then the file's); the penalty method on dopri5 or rosenbrock4",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
@@ -350,16 +350,18 @@ void validate_flexible_spin(const Scene& s, const FlexibleRotorModel& rotor) {
   }
 }
 
-// A flexible rotor: what runs it (every method, the penalty on dopri5: what
-// FlexibleRotorModel models) and the file itself, read and reduced as a run will.
+// A flexible rotor: what runs it (every method, the penalty on rosenbrock4
+// and dopri5: what FlexibleRotorModel models) and the file itself, read and
+// reduced as a run will.
 void validate_flexible_rotor(const Scene& s) {
   const std::string why =
-      " (a flexible rotor, rotor_file, runs the penalty method on dopri5: rosenbrock4's closed-form Jacobian and "
-      "rk4's stability bound are the Jeffcott's)";
-  const Integrator integrator = effective_integrator(s);
-  if (s.solver.method == Method::kPenalty && integrator != Integrator::kDopri5) {  // auto is dopri5 here
-    throw SceneError("scene key 'integrator': value '" + std::string(to_string(integrator)) +
-                     "' is not accepted with rotor_file and method penalty; accepted: dopri5, auto" + why);
+      " (a flexible rotor, rotor_file, runs the penalty method on rosenbrock4 and dopri5: rk4's stability bound "
+      "is the Jeffcott's)";
+  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
+    throw SceneError(
+        "scene key 'integrator': value 'rk4' is not accepted with rotor_file and method penalty; "
+        "accepted: rosenbrock4, dopri5, auto" +
+        why);
   }
   std::optional<FlexibleRotorModel> rotor;
   try {

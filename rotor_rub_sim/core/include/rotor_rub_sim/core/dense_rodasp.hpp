@@ -28,7 +28,9 @@
 // prescribed drive, penalty_system.hpp; 6 right-hand sides an accepted step,
 // 5 a rejected one), else are forward differences of the same right-hand
 // side (jacobian()): n + 2 more a step for n states (the motor drive's 11
-// or 7).
+// or 7, a flexible rotor's 8 or 6 plus its modal block). A flexible rotor's
+// state is dynamic within a bound (model.hpp), and so are J and its LU: on
+// the stack, no allocation per step.
 #pragma once
 
 #include <Eigen/Dense>
@@ -105,7 +107,7 @@ class DenseRodasp {
  public:
   static constexpr int kSize = State::RowsAtCompileTime;
   static constexpr int kStages = RodaspTableau::kStages;
-  using Matrix = Eigen::Matrix<double, kSize, kSize>;
+  using Matrix = Eigen::Matrix<double, kSize, kSize, 0, State::MaxRowsAtCompileTime, State::MaxRowsAtCompileTime>;
 
   DenseRodasp(double atol, double rtol, double min_step_s, long max_steps)
       : atol_(atol), rtol_(rtol), min_step_s_(min_step_s), max_steps_(max_steps) {}
@@ -113,6 +115,8 @@ class DenseRodasp {
   template <class System>
   void initialize(System& /*sys*/, const State& x, double t_s, double dt_s, RunStats& /*stats*/) {
     x_old_ = x_new_ = x;
+    f0_ = dfdt_ = step_ = cont_c_ = cont_d_ = State::Zero(x.size());
+    jac_ = Matrix::Zero(x.size(), x.size());
     t_old_ = t_new_ = t_s;
     dt_ = dt_s;
     err_old_ = 0.0;
@@ -216,7 +220,8 @@ class DenseRodasp {
       return;
     }
     State f1, f2;
-    for (int j = 0; j < kSize; ++j) {
+    const Eigen::Index n = x_old_.size();
+    for (Eigen::Index j = 0; j < n; ++j) {
       const double h = 1e-7 * std::clamp(std::abs(x_old_[j]), 1e-6, 1.0);
       State xp = x_old_;
       xp[j] += h;
@@ -227,7 +232,7 @@ class DenseRodasp {
     sys(x_old_, f1, t + ht);
     sys(x_old_, f2, t - ht);
     dfdt_ = (f1 - f2) / (2.0 * ht);
-    stats.rhs_evals += kSize + 2;
+    stats.rhs_evals += n + 2;
   }
 
   // One trial step of size h from (x_old, t_old): the stages, step_ (the
@@ -245,7 +250,7 @@ class DenseRodasp {
   // E^-1 r, E = I - tau J, by one LU of E.
   struct FullSolver {
     Eigen::PartialPivLU<Matrix> lu;
-    FullSolver(const Matrix& jac, double tau) : lu(Matrix::Identity() - tau * jac) {}
+    FullSolver(const Matrix& jac, double tau) : lu(Matrix::Identity(jac.rows(), jac.cols()) - tau * jac) {}
     State solve(const State& r) const { return lu.solve(r); }
   };
   // The same for J = [0 I; A B] (kSecondOrderJacobian).
@@ -277,7 +282,7 @@ class DenseRodasp {
     {
       for (int i = 0; i < kStages; ++i) {
         State y = x_old_;
-        State sum = State::Zero();
+        State sum = State::Zero(x_old_.size());
         for (int j = 0; j < i; ++j) {
           y += (h * tab.alpha[i][j]) * k_[j];
           sum += tab.gt[i][j] * k_[j];
@@ -292,8 +297,8 @@ class DenseRodasp {
         k_[i] = solver.solve(f + sum + (tab.g[i] * h) * dfdt_) - sum;
       }
     }
-    State err = State::Zero();
-    step_.setZero();
+    State err = State::Zero(x_old_.size());
+    step_.setZero(x_old_.size());
     for (int i = 0; i < kStages; ++i) {
       step_ += tab.b[i] * k_[i];
       err += (tab.b[i] - tab.bh[i]) * k_[i];
@@ -316,8 +321,8 @@ class DenseRodasp {
     const RodaspTableau& tab = tableau();
     x_new_ = x1;
     t_new_ = t_s;
-    cont_c_.setZero();
-    cont_d_.setZero();
+    cont_c_.setZero(x1.size());
+    cont_d_.setZero(x1.size());
     for (int i = 0; i < kStages; ++i) {
       cont_c_ += tab.c[i] * k_[i];
       cont_d_ += tab.d[i] * k_[i];
@@ -328,9 +333,9 @@ class DenseRodasp {
   double min_step_s_;
   long max_steps_;
   std::array<State, kStages> k_{};
-  State f0_ = State::Zero(), dfdt_ = State::Zero(), step_ = State::Zero();
-  Matrix jac_ = Matrix::Zero();
-  State x_old_ = State::Zero(), x_new_ = State::Zero(), cont_c_ = State::Zero(), cont_d_ = State::Zero();
+  State f0_, dfdt_, step_;  // sized by initialize()
+  Matrix jac_;
+  State x_old_, x_new_, cont_c_, cont_d_;
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
   double err_old_ = 0.0, dt_old_ = 0.0;
   bool first_ = true, last_rejected_ = false;

@@ -26,12 +26,12 @@ namespace rotor_rub::core {
 // at loose tolerances the steps hop across those edges every few steps (at
 // rtol 1e-3 the position error allowed is about 400 times the penetration,
 // 3e-6 m against 8e-9 m): restarts there would multiply that noise.
-// kFlexible: the rotor is a flexible rotor's rub station (explicit
-// integrators only: the Jacobian below is the Jeffcott's); its free loads and
-// modal rows are FlexibleRotorModel's, the law acts on the station alone.
+// kFlexible: the rotor is a flexible rotor's rub station; its free loads and
+// modal rows are FlexibleRotorModel's, the law acts on the station alone (the
+// implicit integrator differences its Jacobian: the closed form below is the
+// Jeffcott's).
 template <int kStatorDof, bool kMotor, bool kModeLocked, bool kFlexible = false>
 struct PenaltySystem {
-  static_assert(!(kFlexible && kModeLocked), "a flexible rotor runs on the explicit integrators");
   using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
@@ -96,14 +96,14 @@ struct PenaltySystem {
   // RODASP's 16 on the paper scene). Of the mode's law (of the clamped law's
   // piece at x on a fallback step); under a motor drive the spin couples
   // every row, and the integrator differences instead (kAnalyticJacobian).
-  static constexpr bool kAnalyticJacobian = !kMotor;
+  static constexpr bool kAnalyticJacobian = !kMotor && !kFlexible;
   // Positions then velocities, nothing else (FreeLayout without the spin).
-  static constexpr bool kSecondOrderJacobian = !kMotor;
+  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
   static constexpr bool kOwnErrorNorm = false;  // the Cartesian state is the user's
   static_assert(kMotor || (L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof), "[q, v] layout");
   using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
-    static_assert(!kMotor, "the motor drive's Jacobian is differenced");
+    static_assert(kAnalyticJacobian, "the motor drive's and a flexible rotor's Jacobians are differenced");
     const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
