@@ -1,6 +1,6 @@
 // The contact methods on a flexible rotor (scene key rotor_file): the rigid
 // ones (switching, iteration) on each of their integrators, the penalty
-// method on dopri5. The seam (flexible_rotor_model.hpp, docs/rotors.md)
+// method on dopri5 and rosenbrock4. The seam (flexible_rotor_model.hpp, docs/rotors.md)
 // against the Jeffcott it must reduce to, the closed-form full annular rub
 // of a multi-DOF rotor, the methods against each other, and their promises
 // on the seal-rub example.
@@ -114,11 +114,23 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
       const bool coordinates_differ = tighten_for_rosenbrock4(solver, jeffcott_scene);
       core::Scene file = jeffcott_scene;
       file.rotor = jeffcott_file_scene(1).rotor;
+      // The whole train's J (J_G + m e^2, the motor run's below): not in the
+      // motion, in the drive's torque.
+      file.model.rotor_polar_inertia_kg_m2 += file.model.rotor_mass_kg * std::pow(file.model.eccentricity_m, 2);
       const test::Run jeffcott = test::run(jeffcott_scene);
       const test::Run flexible = test::run(file);
       ASSERT_FALSE(jeffcott.result.failure) << failure_of(jeffcott);
       ASSERT_FALSE(flexible.result.failure) << solver.name() << " " << i << ": " << failure_of(flexible);
       ASSERT_GE(jeffcott.out.events.size(), penalty ? 1u : 5u) << i;  // the rub: touchdowns, lift-offs
+      // The drive's torque: the Jeffcott's J_G A - R_r F_t - e F . u, the
+      // file's J A - R_r F_t - h^T q'' (flexible_rotor_model.hpp), equal.
+      double torque_N_m = 0.0, largest_N_m = 0.0;
+      for (std::size_t k = 0; k < std::min(jeffcott.out.samples.size(), flexible.out.samples.size()); ++k) {
+        torque_N_m = std::max(
+            torque_N_m, std::abs(jeffcott.out.samples[k].drive_torque_N_m - flexible.out.samples[k].drive_torque_N_m));
+        largest_N_m = std::max(largest_N_m, std::abs(jeffcott.out.samples[k].drive_torque_N_m));
+      }
+      std::printf("%s scene %zu: torque %.3g of %.3g N m\n", solver.name().c_str(), i, torque_N_m, largest_N_m);
       EXPECT_EQ(flexible.out.events.size(), jeffcott.out.events.size()) << solver.name() << " " << i;
       // Iteration on dop853 differences the jerk of its dense output over
       // 1e-6 s (DenseHighOrder::kJerkStep_s), which turns the forces'
@@ -132,6 +144,14 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
       EXPECT_LT(d, coordinates_differ ? kRosenbrock4Agreement_m
                    : differenced_jerk ? 1e-9
                                       : 1e-13)
+          << solver.name() << " " << i;
+      // The torques as the positions: to rounding, 1e-12 N m (3e-14
+      // measured); 1e-8 N m on iteration's differenced jerk (6.7e-10); on
+      // rosenbrock4 1e-3 of the largest (8.6e-5: the contact spring's force
+      // carries the positions' integration error).
+      EXPECT_LT(torque_N_m, coordinates_differ ? 1e-3 * largest_N_m
+                            : differenced_jerk ? 1e-8
+                                               : 1e-12)
           << solver.name() << " " << i;
     }
   }

@@ -426,7 +426,10 @@ class IterationMethod final : public ContactMethod {
     Sample s =
         make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged, &free);
     s.sticking = system_.engaged && mode.stick;
-    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_of<L>(x));
+    if constexpr (kFlexible) {
+      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_of<L>(x));
+      add_lateral_torque(model_, *flexible_, modal_of<L>(x), s);
+    }
     return s;
   }
 

@@ -187,7 +187,11 @@ class PenaltyMethod final : public ContactMethod {
       s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
     }
     s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
-    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_at(t_s));
+    if constexpr (kFlexible) {
+      const ModalState modal = modal_at(t_s);
+      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
+      add_lateral_torque(model_, *flexible_, modal, s);
+    }
     return s;
   }
 

@@ -351,10 +351,15 @@ class SwitchingMethod final : public ContactMethod {
   RunStats& mutable_stats() override { return stats_; }
 
  private:
-  // The sample at t_s; a flexible rotor's probes read their node.
+  // The sample at t_s; a flexible rotor's probes read their node, and
+  // under the prescribed drive its torque takes the lateral motion's in.
   Sample compute_sample(double t_s) const {
     Sample s = station_sample(t_s);
-    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_state(t_s));
+    if constexpr (kFlexible) {
+      const ModalState modal = modal_state(t_s);
+      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
+      add_lateral_torque(model_, *flexible_, modal, s);
+    }
     return s;
   }
 

@@ -34,6 +34,7 @@
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
+#include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
 
@@ -130,6 +131,20 @@ class FlexibleRotorModel {
                           (unbalance_dir.x() * pendulum_N_m_.x() - unbalance_dir.y() * pendulum_N_m_.y());
     return sc;
   }
+  /// The torque the rotor's lateral motion puts on the spin [N m]: h^T q''
+  /// less the unbalances' pendulum torque under gravity (spin_coupling()),
+  /// for the station's acceleration u_acc [m/s^2] and the modes' xi_acc (n).
+  /// Under the prescribed drive the drive supplies it besides J A - R_r F_t
+  /// (the Jeffcott's e F . u).
+  template <class Modal>
+  double lateral_torque_N_m(const Vec2& unbalance_dir, const Vec2& u_acc,
+                            const Eigen::MatrixBase<Modal>& xi_acc) const {
+    const int n = modal_size();
+    Reduced h(n + 2);
+    lever(unbalance_dir, h);
+    return h.head<2>().dot(u_acc) + h.tail(n).dot(xi_acc.head(n)) -
+           (unbalance_dir.x() * pendulum_N_m_.x() - unbalance_dir.y() * pendulum_N_m_.y());
+  }
   /// The modes' share of the spin's acceleration A (xi'' += A h_xi) or of
   /// its jump at an impact (xi' += dw h_xi), added to modal_rows (n).
   template <class Out>
@@ -213,6 +228,23 @@ JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const Flexi
   if (m.motor())
     free.spin = rotor.spin_coupling(free.unbalance_dir, modal_acc, m.parameters().rotor_polar_inertia_kg_m2);
   return free;
+}
+
+/// A flexible rotor's sample s under the prescribed drive: the drive torque
+/// reported for the bare station (m's, J A - R_r F_t) less the rotor's
+/// lateral torque on the spin (lateral_torque_N_m), from s's station, drive
+/// and contact force and its modal block [xi; xi']. A motor's torque is the
+/// motor's own: s is left as it is.
+template <class Modal>
+void add_lateral_torque(const JeffcottModel& m, const FlexibleRotorModel& rotor, const Eigen::MatrixBase<Modal>& modal,
+                        Sample& s) {
+  if (m.motor()) return;
+  const Vec2 dir = m.unbalance_dir(s.drive.angle_rad);
+  ModalVector xi_acc(rotor.modal_size());
+  const Vec2 station_N = rotor.free_loads(s.kin.rotor_pos, s.kin.rotor_vel, modal, dir, s.drive.speed_rad_per_s,
+                                          s.drive.accel_rad_per_s2, xi_acc);
+  s.drive_torque_N_m -=
+      rotor.lateral_torque_N_m(dir, (station_N + s.contact_force_on_rotor_N) / rotor.station_mass_kg(), xi_acc);
 }
 
 /// Reads settings.file (rotor_file.hpp) and reduces it at its rub station to
