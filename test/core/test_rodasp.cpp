@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "rotor_rub_sim/core/dense_rodasp.hpp"
@@ -104,7 +106,9 @@ struct Forced {
   // No closed-form hooks (dense_rodasp.hpp): the integrator differences J.
   static constexpr bool kAnalyticJacobian = false, kSecondOrderJacobian = false, kOwnErrorNorm = false;
   static constexpr double w = 80.0, z = 0.01, W = 130.0;
-  void operator()(const Eigen::Vector2d& x, Eigen::Vector2d& dx, double t) const {
+  template <class State>  // fixed-size, or dynamic within a bound
+  void operator()(const State& x, State& dx, double t) const {
+    dx.resize(2);
     dx[0] = x[1];
     dx[1] = std::cos(W * t) - 2 * z * w * x[1] - w * w * x[0];
   }
@@ -126,6 +130,39 @@ TEST(Rodasp, FourthOrderOnANonAutonomousOscillator) {
   const Outcome tight = integrate(Forced{}, Eigen::Vector2d::Zero().eval(), 1e-9, 1.0, Forced::exact);
   // The amplitude is ~1e-4 m, so atol = tol governs the errors.
   expect_runs(loose, 1e-6, tight, 1e-9, kOrderFourStepGrowth, kDenseErrorPerTol);
+}
+
+// A flexible rotor's state is dynamic within a bound (model.hpp), its J and
+// LU too (dense_rodasp.hpp): on the same problem such a state takes the
+// fixed-size run's steps and gives its results to rounding (Eigen's loops
+// for the two sizes may sum in another order; 1e-15 of the amplitude).
+TEST(Rodasp, ADynamicBoundedStateStepsAsTheFixedSizeOne) {
+  using Bounded = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 8, 1>;
+  DenseRodasp<Eigen::Vector2d> fixed(1e-8, 1e-8, 1e-14, 1'000'000);
+  DenseRodasp<Bounded> bounded(1e-8, 1e-8, 1e-14, 1'000'000);
+  core::RunStats fixed_stats, bounded_stats;
+  const Forced sys;
+  fixed.initialize(sys, Eigen::Vector2d::Zero().eval(), 0.0, 1e-5, fixed_stats);
+  bounded.initialize(sys, Bounded::Zero(2).eval(), 0.0, 1e-5, bounded_stats);
+  double worst = 0.0, largest = 0.0;
+  while (fixed.t_new() < 1.0) {
+    fixed.do_step(sys, fixed_stats);
+    bounded.do_step(sys, bounded_stats);
+    ASSERT_NEAR(bounded.t_new(), fixed.t_new(), 1e-12) << fixed_stats.steps;
+    const double t = 0.5 * (fixed.t_old() + fixed.t_new());
+    Eigen::Vector2d a;
+    Bounded b;
+    fixed.state_at(t, a);
+    bounded.state_at(t, b);
+    ASSERT_EQ(b.size(), 2);
+    worst = std::max(worst, (a - b).lpNorm<Eigen::Infinity>());
+    largest = std::max(largest, a.lpNorm<Eigen::Infinity>());
+  }
+  std::printf("bounded against fixed: %.3g of %.3g\n", worst, largest);
+  EXPECT_EQ(bounded_stats.steps, fixed_stats.steps);
+  EXPECT_EQ(bounded_stats.rejected_steps, fixed_stats.rejected_steps);
+  EXPECT_EQ(bounded_stats.rhs_evals, fixed_stats.rhs_evals);
+  EXPECT_LE(worst, 1e-15 * largest);
 }
 
 // Two coupled, damped oscillators, one mode stiff (about -1e4 1/s), under

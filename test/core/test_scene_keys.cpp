@@ -73,7 +73,10 @@ TEST(SceneKeys, OutOfRangeNamesTheRange) {
   EXPECT_NE(msg.find("(0, inf)"), std::string::npos) << msg;
   EXPECT_NE(error_of({{"restitution", "1.5"}}).find("[0, 1]"), std::string::npos);
   EXPECT_NE(error_of({{"method", "euler"}}).find("penalty switching iteration"), std::string::npos);
-  EXPECT_NE(error_of({{"max_steps", "2.5"}}).find("integer"), std::string::npos);
+  EXPECT_NE(error_of({{"max_steps", "2.5"}}).find("value 2.5 is not an integer; accepted: integer in"),
+            std::string::npos)
+      << error_of({{"max_steps", "2.5"}});
+  EXPECT_NE(error_of({{"max_steps", "0"}}).find("value 0 is out of range"), std::string::npos);
 }
 
 TEST(SceneKeys, UnknownKeySuggestsTheNearest) {

@@ -91,7 +91,10 @@ KeyEntry integer(std::string key, long lo, long hi, std::string description, std
   e.info.is_integer = true;
   e.set = [key, lo, hi, accepted, ref](Scene& s, const std::string& text) {
     const double v = parse_number(key, text, accepted);
-    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
+    if (std::isfinite(v) && v != std::floor(v)) {
+      throw SceneError("scene key '" + key + "': value " + text + " is not an integer; accepted: " + accepted);
+    }
+    if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi))) {
       throw SceneError("scene key '" + key + "': value " + text + " is out of range; accepted: " + accepted);
     }
     ref(s) = static_cast<long>(v);

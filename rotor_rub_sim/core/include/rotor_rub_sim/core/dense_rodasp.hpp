@@ -1,6 +1,7 @@
 // The stiff option (penalty method, integrator key rosenbrock4): RODASP,
 // Steinebach's L-stable, stiffly accurate Rosenbrock 4(3) with six stages and
-// a third-order continuous extension, on fixed-size Eigen types.
+// a third-order continuous extension, on fixed-size Eigen types (a flexible
+// rotor's: dynamic within a fixed bound, below).
 //
 // Why not Boost.Odeint's rosenbrock4 (used here until issue 13): it is Hairer
 // and Wanner's RODAS, and on this model it
@@ -28,7 +29,8 @@
 // prescribed drive, penalty_system.hpp; 6 right-hand sides an accepted step,
 // 5 a rejected one), else are forward differences of the same right-hand
 // side (jacobian()): n + 2 more a step for n states (the motor drive's 11
-// or 7, a flexible rotor's 8 or 6 plus its modal block). A flexible rotor's
+// or 7; a flexible rotor's fixed part plus its modal block, 32 on the seal
+// example with 8 planar modes). A flexible rotor's
 // state is dynamic within a bound (model.hpp), and so are J and its LU: on
 // the stack, no allocation per step.
 #pragma once

@@ -44,8 +44,8 @@ Integrator auto_integrator(Method method, double rtol);
 
 /// The integrator a run of these settings uses (`auto` resolved).
 Integrator effective_integrator(const SolverSettings& solver);
-/// The same for a scene: a flexible rotor's (rotor_file) penalty method
-/// runs on dopri5 alone, which `auto` then stands for.
+/// The same for a scene: for a flexible rotor's (rotor_file) penalty method
+/// `auto` stands for dopri5 (rosenbrock4 differences its Jacobian there).
 Integrator effective_integrator(const Scene& scene);
 
 /// "dop853, dopri5, rkf78": the integrators offered with a method, in the registry's order.
