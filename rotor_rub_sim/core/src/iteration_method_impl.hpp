@@ -25,7 +25,7 @@
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
-namespace iteration_detail {
+namespace {
 
 // A root of an increasing function r(F) of one force [N], by TOMS 748 on a
 // bracket grown from the last root (the warm start): the model is a black box
@@ -761,13 +761,17 @@ struct IterationOn {
   using Method = IterationMethod<kStatorDof, kMotor, kFlexible, kScheme>;
 };
 
-}  // namespace iteration_detail
-
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
-// states) or a flexible rotor's, each kind in its own translation unit.
+// states) or a flexible rotor's, each kind in its own translation unit
+// (the classes keep the internal linkage the compiler inlines best).
 template <Integrator I, bool kFlexible>
 std::unique_ptr<ContactMethod> make_iteration_for_rotor(const Scene& scene) {
-  return make_for_scene<iteration_detail::IterationOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<IterationOn<I, kFlexible>::template Method>(scene);
 }
+
+}  // namespace
+
+// A flexible rotor's method on one of the method's integrators (iteration_method_flexible.cpp).
+std::unique_ptr<ContactMethod> make_iteration_flexible(Integrator integrator, const Scene& scene);
 
 }  // namespace rotor_rub::core

@@ -4,13 +4,9 @@
 
 namespace rotor_rub::core {
 
-// Instantiated in iteration_method_flexible.cpp, not here.
-extern template std::unique_ptr<ContactMethod> make_iteration_for_rotor<Integrator::kDopri5, true>(const Scene&);
-extern template std::unique_ptr<ContactMethod> make_iteration_for_rotor<Integrator::kDop853, true>(const Scene&);
-
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  if (!scene.rotor.file.empty()) return make_iteration_for_rotor<I, true>(scene);
+  if (!scene.rotor.file.empty()) return make_iteration_flexible(I, scene);
   return make_iteration_for_rotor<I, false>(scene);
 }
 template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);

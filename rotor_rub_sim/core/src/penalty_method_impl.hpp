@@ -24,7 +24,7 @@
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
-namespace penalty_detail {
+namespace {
 
 template <class Integrator>
 Integrator make_integrator(const SolverSettings& s) {
@@ -409,13 +409,17 @@ struct PenaltyOn {
                     PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor, kFlexible>::State>, kFlexible>;
 };
 
-}  // namespace penalty_detail
-
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
-// states) or a flexible rotor's, each kind in its own translation unit.
+// states) or a flexible rotor's, each kind in its own translation unit
+// (the classes keep the internal linkage the compiler inlines best).
 template <Integrator I, bool kFlexible>
 std::unique_ptr<ContactMethod> make_penalty_for_rotor(const Scene& scene) {
-  return make_for_scene<penalty_detail::PenaltyOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<PenaltyOn<I, kFlexible>::template Method>(scene);
 }
+
+}  // namespace
+
+// A flexible rotor's method on one of the method's integrators (penalty_method_flexible.cpp).
+std::unique_ptr<ContactMethod> make_penalty_flexible(Integrator integrator, const Scene& scene);
 
 }  // namespace rotor_rub::core

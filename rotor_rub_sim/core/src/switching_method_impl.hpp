@@ -25,7 +25,7 @@
 #include "rotor_rub_sim/core/switching_method.hpp"
 
 namespace rotor_rub::core {
-namespace switching_detail {
+namespace {
 
 // Free flight; a flexible rotor's station and modal rows from
 // FlexibleRotorModel (the rotor the bare station mass of model).
@@ -722,13 +722,17 @@ struct SwitchingOn {
   using Method = SwitchingMethod<kStatorDof, kMotor, kFlexible, kScheme>;
 };
 
-}  // namespace switching_detail
-
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
-// states) or a flexible rotor's, each kind in its own translation unit.
+// states) or a flexible rotor's, each kind in its own translation unit
+// (the classes keep the internal linkage the compiler inlines best).
 template <Integrator I, bool kFlexible>
 std::unique_ptr<ContactMethod> make_switching_for_rotor(const Scene& scene) {
-  return make_for_scene<switching_detail::SwitchingOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<SwitchingOn<I, kFlexible>::template Method>(scene);
 }
+
+}  // namespace
+
+// A flexible rotor's method on one of the method's integrators (switching_method_flexible.cpp).
+std::unique_ptr<ContactMethod> make_switching_flexible(Integrator integrator, const Scene& scene);
 
 }  // namespace rotor_rub::core
