@@ -1,7 +1,9 @@
 // The iteration method's class template and its factory, included by one
 // translation unit per kind of rotor (iteration_method_jeffcott.cpp and
 // iteration_method_flexible.cpp): both in one unit made the build's longest
-// compile (docs/testing.md).
+// compile (docs/testing.md). Private to those two: its unnamed namespace
+// gives each its own copy, and they share nothing of it (the Jeffcott's
+// unit calls make_iteration_flexible).
 #pragma once
 
 #include <algorithm>
