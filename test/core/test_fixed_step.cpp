@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "test_support.hpp"
@@ -14,11 +16,12 @@ using namespace rotor_rub;
 
 namespace {
 
-// RK4's stability interval on the negative real axis, [-2.785, 0]: for e = 0
+// RK4's stability interval on the negative real axis, [-2.7853, 0] (the real
+// root of x^3 - 4 x^2 + 12 x - 24, test_flexible_rk4.cpp): for e = 0
 // the penalty damper is overdamped (zeta = 4.81, the restitution floor 0.01,
 // contact_law.hpp), so the contact mode's eigenvalues are real,
 // -omega_c (zeta +- sqrt(zeta^2 - 1)), and the fast one bounds the step.
-constexpr double kRk4RealAxisRadius = 2.785;
+constexpr double kRk4RealAxisRadius = 2.7852935634;
 // The bound is derived for the contact mode alone (k_c >> k_r, k_s: 1e9
 // against 2.5e3 and 3.8e4 N/m here) and ignores friction coupling; 20 %
 // either side of it is where the test expects the clear verdicts.
@@ -58,7 +61,8 @@ double theoretical_h_max_s(const core::Scene& s) {
 TEST(FixedStep, StableBelowTheBoundDivergedAbove) {
   const double h_max = theoretical_h_max_s(rk4_scene(1e-6));
   EXPECT_NEAR(h_max, 4.91e-6, 0.01e-6);  // k_c 1e9, m_eff 0.281 kg, zeta 4.81
-  EXPECT_DOUBLE_EQ(h_max, core::rk4_stable_step_s(core::JeffcottModel(rk4_scene(1e-6).model)));
+  // (to the constant's 11 digits)
+  EXPECT_NEAR(h_max, core::rk4_stable_step_s(core::JeffcottModel(rk4_scene(1e-6).model)), 1e-10 * h_max);
 
   Count below_samples;
   const core::RunResult below = core::run_scene(rk4_scene(kMarginBelow * h_max), below_samples);
@@ -98,4 +102,28 @@ TEST(FixedStep, Rk4IsForThePenaltyMethodOnly) {
     EXPECT_NE(std::string(e.what()).find("accepted with method 'penalty' only"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(core::scene_from_values({{"method", "penalty"}, {"integrator", "rk4"}, {"fixed_step_s", "1e-6"}}));
+}
+
+// An underdamped contact mode (restitution 0.226: zeta 0.656, its
+// eigenvalues at 131 degrees) leaves RK4's region before the real axis's
+// radius: the bound follows its ray, 2.66 / omega_c, 4.5 % inside
+// 2.785 / omega_c, where |R(h lambda)| exceeds 1 (rk4_stability.hpp).
+TEST(FixedStep, AnUnderdampedContactModeIsBoundAlongItsRay) {
+  core::Scene s = rk4_scene(1e-6);
+  s.model.friction_coefficient = 0.0;  // the tangential damper's real eigenvalue would bound it first
+  s.model.restitution = 0.226;
+  const core::JeffcottModel m(s.model);
+  const double zeta = core::contact_damping_ratio(s.model);
+  EXPECT_NEAR(zeta, 0.656, 1e-3);
+  const double omega_c = std::sqrt(s.model.contact_stiffness_N_per_m / m.effective_mass_kg());
+  const std::complex<double> lambda = omega_c * std::complex<double>(-zeta, std::sqrt(1.0 - zeta * zeta));
+  auto gain = [](std::complex<double> z) {
+    return std::abs(1.0 + z + z * z / 2.0 + z * z * z / 6.0 + z * z * z * z / 24.0);
+  };
+  const double h_max = core::rk4_stable_step_s(m);
+  EXPECT_NEAR(h_max * omega_c, 2.66, 0.005);
+  EXPECT_LE(gain(h_max * lambda), 1.0 + 2e-12);
+  EXPECT_GT(gain(kRk4RealAxisRadius / omega_c * lambda), 1.0 + 1e-3);
+  s.solver.fixed_step_s = 1.01 * h_max;
+  EXPECT_THROW(core::validate_scene(s), core::SceneError);
 }

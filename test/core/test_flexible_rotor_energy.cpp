@@ -306,7 +306,9 @@ TEST(FlexibleRotorEnergy, ThePrescribedDrivesTorqueDoesTheWork) {
       std::printf("%s%s: E - E(0) up to %.3g J, work against it within %.3g J, %zu events\n", solver.name().c_str(),
                   rub ? " rub" : "", largest_change_J, worst_J, events.size());
       EXPECT_GT(largest_change_J, 0.1);
-      if (rub) EXPECT_GT(events.size(), 4u);
+      if (rub) {
+        EXPECT_GT(events.size(), 4u);
+      }
       EXPECT_LT(worst_J, 1e-4 * largest_change_J);
     }
   }

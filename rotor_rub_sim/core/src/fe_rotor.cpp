@@ -242,19 +242,17 @@ ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
   return backward ? ModeWhirl::kBackward : ModeWhirl::kForward;  // a planar mode counts as forward
 }
 
-}  // namespace
-
-std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
-  using Complex = std::complex<double>;
+// The first-order matrix [[0, I], [-L^-1 K L^-T, -L^-1 (C + Omega G) L^-T]]
+// in mass-normalised coordinates y = L^T q (M = L L^T): there the stiffness
+// of a symmetric K is symmetric, and the matrix far better scaled than with
+// M^-1 K (a rotor's masses and inertias span 1e4 and more). L written to l.
+Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_s, Eigen::MatrixXd& l) {
   const int n = static_cast<int>(m.M.rows());
-  // In mass-normalised coordinates y = L^T q (M = L L^T), the stiffness
-  // L^-1 K L^-T is symmetric: the first-order matrix is far better scaled
-  // than with M^-1 K (a rotor's masses and inertias span 1e4 and more).
   const Eigen::LLT<Eigen::MatrixXd> mass(m.M);
   if (mass.info() != Eigen::Success) {
     throw std::invalid_argument("rotor: the mass matrix is not positive definite (a node without mass or inertia?)");
   }
-  const Eigen::MatrixXd l = mass.matrixL();
+  l = mass.matrixL();
   auto congruent = [&](const Eigen::MatrixXd& x) {
     const Eigen::MatrixXd left = l.triangularView<Eigen::Lower>().solve(x);
     return Eigen::MatrixXd(l.triangularView<Eigen::Lower>().solve(left.transpose()).transpose());
@@ -263,6 +261,23 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
   a.topRightCorner(n, n).setIdentity();
   a.bottomLeftCorner(n, n) = -congruent(m.K);
   a.bottomRightCorner(n, n) = -congruent(m.C + speed_rad_per_s * m.G);
+  return a;
+}
+
+}  // namespace
+
+Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
+  Eigen::MatrixXd l;
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(first_order_matrix(m, speed_rad_per_s, l), false);
+  if (eig.info() != Eigen::Success) throw std::runtime_error("eigenvalues: the eigenvalue solver did not converge");
+  return eig.eigenvalues();
+}
+
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
+  using Complex = std::complex<double>;
+  const int n = static_cast<int>(m.M.rows());
+  Eigen::MatrixXd l;
+  const Eigen::MatrixXd a = first_order_matrix(m, speed_rad_per_s, l);
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(a);
   if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
   const Eigen::MatrixXcd ac = a.cast<Complex>();

@@ -12,6 +12,8 @@ std::unique_ptr<ContactMethod> make_penalty_flexible(Integrator integrator, cons
       return make_penalty_for_rotor<Integrator::kRosenbrock4, true>(scene);
     case Integrator::kDopri5:
       return make_penalty_for_rotor<Integrator::kDopri5, true>(scene);
+    case Integrator::kRk4:
+      return make_penalty_for_rotor<Integrator::kRk4, true>(scene);
     default:
       throw std::logic_error("make_penalty_flexible: the penalty method does not run a flexible rotor on " +
                              std::string(to_string(integrator)) + " (validate_scene)");

@@ -12,6 +12,7 @@
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
+#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 
 namespace rotor_rub::core {
@@ -353,19 +354,9 @@ void validate_flexible_spin(const Scene& s, const FlexibleRotorModel& rotor) {
   }
 }
 
-// A flexible rotor: what runs it (every method, the penalty on rosenbrock4
-// and dopri5: what FlexibleRotorModel models) and the file itself, read and
-// reduced as a run will.
+// A flexible rotor: the file itself, read and reduced as a run will, and
+// what runs on it (the spin's inertia under a motor drive, RK4's step).
 void validate_flexible_rotor(const Scene& s) {
-  const std::string why =
-      " (a flexible rotor, rotor_file, runs the penalty method on rosenbrock4 and dopri5: rk4's stability bound "
-      "is the Jeffcott's)";
-  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
-    throw SceneError(
-        "scene key 'integrator': value 'rk4' is not accepted with rotor_file and method penalty; "
-        "accepted: rosenbrock4, dopri5, auto" +
-        why);
-  }
   std::optional<FlexibleRotorModel> rotor;
   try {
     rotor.emplace(load_flexible_rotor(s.rotor));
@@ -383,6 +374,19 @@ void validate_flexible_rotor(const Scene& s) {
                      (ranged ? "" : "; accepted: a rotor file with a rub_station (docs/rotors.md)"));
   }
   if (s.model.drive_model == DriveModel::kMotor) validate_flexible_spin(s, *rotor);
+  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
+    const double h_max = flexible_rk4_stable_step_s(*rotor, s.model, s.speed.max_speed_rad_per_s);
+    if (s.solver.fixed_step_s > h_max) {
+      throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +
+                       " is out of range; accepted with rk4 on this rotor and contact (rotor_file, "
+                       "rotor_planar_modes = " +
+                       std::to_string(s.rotor.planar_modes) +
+                       ", contact_stiffness_N_per_m = " + format_double(s.model.contact_stiffness_N_per_m) +
+                       ", max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "): (0, " +
+                       format_double(h_max) +
+                       "], RK4's stability bound on the rotor in sustained contact (docs/rotors.md)");
+    }
+  }
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -486,14 +490,14 @@ void validate_scene(const Scene& s) {
                      methods + " only; accepted for method '" + to_string(s.solver.method) + "': auto, " +
                      integrators_of(s.solver.method));
   }
-  if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4) {
+  if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4 && s.rotor.file.empty()) {
     const double h_max = rk4_stable_step_s(JeffcottModel(s.model));
     if (s.solver.fixed_step_s > h_max) {
       throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +
                        " is out of range; accepted with rk4 on this contact (contact_stiffness_N_per_m = " +
                        format_double(s.model.contact_stiffness_N_per_m) +
                        ", restitution = " + format_double(s.model.restitution) + "): (0, " + format_double(h_max) +
-                       "], RK4's stability bound 2.785 / (omega_c (zeta + sqrt(zeta^2 - 1)))");
+                       "], RK4's stability bound on the contact mode (docs/numerics.md)");
     }
   }
   {

@@ -110,8 +110,9 @@ std::string solver_table_text() {
     }
     os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 13) << pad(when, 15) << e.note << '\n';
   }
-  os << "  with a rotor_file (a flexible rotor): penalty on dopri5 (auto's pick) and rosenbrock4 (its Jacobian\n"
-        "    differenced: for a contact spring far stiffer than the highest mode, on the seal example from 1e11 N/m)\n";
+  os << "  with a rotor_file (a flexible rotor): penalty on dopri5 (auto's pick), rosenbrock4 (its Jacobian\n"
+        "    differenced: for a contact spring far stiffer than the highest mode, on the seal example from 1e11 N/m)\n"
+        "    and rk4 (fixed_step_s below the rotor's own stability bound, from its eigenvalues in contact)\n";
   return os.str();
 }
 

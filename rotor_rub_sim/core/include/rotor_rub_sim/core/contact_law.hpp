@@ -39,7 +39,7 @@
 //   -f F_n, f F_n) with c_t = 2 sqrt(k_c m_eff), the contact's critical
 //   damping. Its rate c_t / m_eff = 2 omega_c is of the contact's own order
 //   (below the normal damper's 9.5 omega_c at e = 0; it sets RK4's bound for
-//   e >= 0.1, rk4_stable_step_s()), so rolling never stalls the integrator;
+//   e >= 0.1, rk4_stability.hpp), so rolling never stalls the integrator;
 //   in stick the surfaces creep at |F_t| / c_t, which vanishes as k_c grows.
 #pragma once
 
@@ -103,31 +103,6 @@ inline double contact_damping_ratio(const ModelParameters& p) {
 inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
   return 2.0 * contact_damping_ratio(m.parameters()) *
          std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
-}
-
-// RK4's stability bound on the penalty contact [s]: the contact mode's
-// fastest eigenvalue is -omega_c (zeta + sqrt(zeta^2 - 1)) when overdamped
-// (zeta >= 1) and omega_c on the unit circle's scale otherwise; RK4 is stable
-// on [-2.785, 0] of the real axis and to 2.828 on the imaginary one, so
-// h <= 2.785 / |lambda_max| holds for every zeta (dense_rk4.hpp). Above it
-// the clamp keeps the state bounded but the contact chatters: a wrong answer,
-// so validate_scene() refuses such a step.
-inline double rk4_stable_step_s(const JeffcottModel& m) {
-  const double zeta = contact_damping_ratio(m.parameters());
-  const double omega_c = std::sqrt(m.parameters().contact_stiffness_N_per_m / m.effective_mass_kg());
-  double fast = zeta >= 1.0 ? zeta + std::sqrt(zeta * zeta - 1.0) : 1.0;
-  // The friction's tangential damper (below) adds the real eigenvalue
-  // -c_t / m_eff = -2 omega_c while the contact creeps.
-  // Under a motor drive the spin shares the tangential impulse: the rate is
-  // c_t W_tt, W_tt <= 1/m_eff + (R_r + e)^2 / J_G (model.hpp).
-  double spin_share = 1.0;
-  if (m.motor()) {
-    const ModelParameters& p = m.parameters();
-    const double lever = p.rotor_radius_m + p.eccentricity_m;
-    spin_share += lever * lever * m.effective_mass_kg() / p.rotor_polar_inertia_kg_m2;
-  }
-  if (m.has_friction()) fast = std::max(fast, 2.0 * spin_share);
-  return 2.785 / (fast * omega_c);
 }
 
 // The tangential damper of the penalty friction [N s/m].

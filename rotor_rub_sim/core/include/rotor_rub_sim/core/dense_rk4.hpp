@@ -6,9 +6,10 @@
 // lambda = omega_c (-zeta +- i sqrt(1 - zeta^2)), omega_c = sqrt(k_c / m_eff);
 // RK4 is stable while |R(h lambda)| <= 1, R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24,
 // i.e. h <= r(zeta) / omega_c with r = 2.828 for zeta = 0 (e = 1, imaginary
-// axis). Overdamped (zeta > 1; e = 0 gives zeta = 4.81 up to k_c 1e9, contact_law.hpp) the
-// eigenvalues are real, -omega_c (zeta +- sqrt(zeta^2 - 1)), and the bound is
-// h <= 2.785 / (omega_c (zeta + sqrt(zeta^2 - 1))).
+// axis), 2.616 at its lowest (zeta 0.53; rk4_stability.hpp). Overdamped
+// (zeta > 1; e = 0 gives zeta = 4.81 up to k_c 1e9, contact_law.hpp) the
+// eigenvalues are real, -omega_c (zeta +- sqrt(zeta^2 - 1)), and the bound
+// is h <= 2.785 / (omega_c (zeta + sqrt(zeta^2 - 1))).
 //
 // Dense output: cubic Hermite on the step's end values and slopes (third
 // order; the slope at the end is the next step's first stage, so it costs

@@ -144,6 +144,11 @@ struct Mode {
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count,
                         const Eigen::MatrixXd& expansion = Eigen::MatrixXd());
 
+/// Every eigenvalue of that first-order system at speed Omega [1/s] (M
+/// positive definite; K, C and G may be any square matrices of its size,
+/// the contact's linearisation among them: rk4_stability.hpp).
+Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
+
 /// Critical speeds: where a mode's damped frequency equals the speed
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
 /// for the `count` lowest modes tracked by index, in [0, max_speed]; located
