@@ -1,40 +1,88 @@
 #!/usr/bin/env bash
 # The core's tests under AddressSanitizer and UndefinedBehaviorSanitizer, from
-# the clang++ build that scripts/check_package.sh clang makes ($WS/build_clang,
-# -O1 -g1): one build serves the second compiler and the sanitizers. Writes
-# gtest XML into the directory given (run_tests.sh passes its test_results, so
-# the counts and catkin_test_results include these runs); exits non-zero on
-# any failure, a sanitizer report included (halt_on_error).
+# the clang++ build that scripts/check_package.sh clang makes ($WS/build_clang):
+# one build serves the second compiler and the sanitizers. Writes gtest XML
+# into the directory given (run_tests.sh passes its test_results, so the
+# counts and catkin_test_results include these runs); exits non-zero on any
+# failure, a sanitizer report included (halt_on_error).
 #   scripts/run_sanitizers.sh RESULTS_DIR
+# test_core runs in SANITIZE_SHARDS gtest shards (default 8: its heaviest
+# tests spread over them), SANITIZE_JOBS binaries at a time (default 2, the
+# machine's cores).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR}"
 source "$ROOT/scripts/workspace.sh"
 mkdir -p "$RESULTS"
-TESTS=(test_core test_runner_cli test_sweep_cli test_cvode_switching)
+SHARDS="${SANITIZE_SHARDS:-8}"
+JOBS="${SANITIZE_JOBS:-2}"
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-rc=0
-for t in "${TESTS[@]}"; do
-  bin="$WS/devel_clang/lib/rotor_rub_sim/$t"
-  xml="$RESULTS/sanitize-$t.xml"
+# The instrumented core first: the binaries find it by their RUNPATH, which
+# LD_LIBRARY_PATH overrides, and a sourced devel space puts the g++ build's
+# uninstrumented core there (the programs the tests start inherit this too).
+export LD_LIBRARY_PATH="$WS/devel_clang/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+VERDICTS="$(mktemp -d)"
+trap 'rm -rf "$VERDICTS"' EXIT
+
+fail_xml() {  # fail_xml FILE SUITE CASE MESSAGE
+  printf '<testsuites><testsuite name="%s"><testcase name="%s"><failure message="%s"/></testcase></testsuite></testsuites>\n' \
+    "$2" "$3" "$4" > "$1"
+}
+
+# run_one TEST SHARD: one binary (one shard of it, SHARD "-" for all), its verdict in $VERDICTS.
+run_one() {
+  local t="$1" shard="$2" name="$1" bin="$WS/devel_clang/lib/rotor_rub_sim/$1" core
+  [ "$shard" = "-" ] || name="$t-shard$shard"
+  local xml="$RESULTS/sanitize-$name.xml" log="$WS/sanitize_$name.log"
   if [ ! -x "$bin" ]; then
-    rc=1
-    echo "[FAILED] sanitizers: $t not built (scripts/check_package.sh clang)"
-    printf '<testsuites><testsuite name="sanitize-%s"><testcase name="%s_built"><failure message="not built"/></testcase></testsuite></testsuites>\n' "$t" "$t" > "$xml"
-    continue
+    echo "[FAILED] sanitizers: $name not built (scripts/check_package.sh clang)" > "$VERDICTS/$name"
+    fail_xml "$xml" "sanitize-$name" "${t}_built" "not built"
+    return
   fi
+  # The core it loads must be the instrumented one, or the run checks nothing
+  # of it; the CLI tests' core runs in the program they start.
+  local user="$bin"
+  case "$t" in
+    test_runner_cli) user="$WS/devel_clang/lib/rotor_rub_sim/rotor_rub_run" ;;
+    test_sweep_cli) user="$WS/devel_clang/lib/rotor_rub_sim/rotor_rub_sweep" ;;
+  esac
+  core="$(ldd "$user" 2>/dev/null | awk '/librotor_rub_core/ {print $3}')"
+  if [ "$core" != "$WS/devel_clang/lib/librotor_rub_core.so" ]; then
+    echo "[FAILED] sanitizers: $name: $(basename "$user") loads '$core', not the instrumented core of $WS/devel_clang/lib" \
+      > "$VERDICTS/$name"
+    fail_xml "$xml" "sanitize-$name" "${t}_loads_the_instrumented_core" "uninstrumented core"
+    return
+  fi
+  local env=()
+  [ "$shard" = "-" ] || env=(GTEST_TOTAL_SHARDS="$SHARDS" GTEST_SHARD_INDEX="$shard")
   # A bound on each binary: a hung sanitized test must not hang the command.
-  if ! (cd "$ROOT" && timeout --kill-after=10 1200 "$bin" --gtest_output="xml:$xml" > "$WS/sanitize_$t.log" 2>&1); then
-    rc=1
-    echo "[FAILED] sanitizers: $t (log: $WS/sanitize_$t.log)"
-    tail -n 20 "$WS/sanitize_$t.log"
+  if (cd "$ROOT" && env "${env[@]}" timeout --kill-after=10 1500 "$bin" --gtest_output="xml:$xml" > "$log" 2>&1); then
+    echo "[  OK  ] sanitizers: $name" > "$VERDICTS/$name"
+  else
+    { echo "[FAILED] sanitizers: $name (log: $log)"; tail -n 20 "$log"; } > "$VERDICTS/$name"
     # A sanitizer abort leaves no (or a partial) XML, and LeakSanitizer
     # reports at exit, after gtest wrote an all-pass XML: the exit status is
     # a failing case of its own either way.
-    printf '<testsuites><testsuite name="sanitize-%s-exit"><testcase name="%s_exits_0_under_asan_ubsan"><failure message="non-zero exit: a test failure, a sanitizer report or a timeout"/></testcase></testsuite></testsuites>\n' "$t" "$t" > "$RESULTS/sanitize-$t-exit.xml"
-  else
-    echo "[  OK  ] sanitizers: $t"
+    fail_xml "$RESULTS/sanitize-$name-exit.xml" "sanitize-$name-exit" "${name}_exits_0_under_asan_ubsan" \
+      "non-zero exit: a test failure, a sanitizer report or a timeout"
   fi
+}
+
+RUNS=()
+for ((i = 0; i < SHARDS; ++i)); do RUNS+=("test_core $i"); done
+RUNS+=("test_cvode_switching -" "test_runner_cli -" "test_sweep_cli -")
+for r in "${RUNS[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n; done
+  # shellcheck disable=SC2086
+  run_one $r &
+done
+wait
+rc=0
+for r in "${RUNS[@]}"; do
+  read -r t shard <<< "$r"
+  name="$t"; [ "$shard" = "-" ] || name="$t-shard$shard"
+  if [ -f "$VERDICTS/$name" ]; then cat "$VERDICTS/$name"; else echo "[FAILED] sanitizers: $name gave no verdict"; fi
+  grep -q '^\[  OK  \]' "$VERDICTS/$name" 2>/dev/null || rc=1
 done
 exit $rc
