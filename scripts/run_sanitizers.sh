@@ -16,6 +16,10 @@ source "$ROOT/scripts/workspace.sh"
 mkdir -p "$RESULTS"
 SHARDS="${SANITIZE_SHARDS:-8}"
 JOBS="${SANITIZE_JOBS:-2}"
+[[ $SHARDS =~ ^[1-9][0-9]*$ && $JOBS =~ ^[1-9][0-9]*$ ]] || {
+  echo "run_sanitizers.sh: SANITIZE_SHARDS ($SHARDS) and SANITIZE_JOBS ($JOBS) must be positive integers" >&2
+  exit 2
+}
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 # The instrumented core first: the binaries find it by their RUNPATH, which

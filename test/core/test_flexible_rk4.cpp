@@ -209,3 +209,20 @@ TEST(FlexibleRk4, BelowTheBoundItRunsThePenaltyLawsRun) {
     EXPECT_EQ(again.out.samples[i].kin.rotor_pos, rk4.out.samples[i].kin.rotor_pos) << i;
   }
 }
+
+// Under a motor the speed controller is part of the system: in the torque
+// limit its anti-windup's integral decays at -K_i / K_p, which a small K_p
+// makes the fastest eigenvalue (2.5e6 1/s at K_p 1e-6, K_i 2.5, against
+// the contact's 5.7e5 1/s here), on the real axis.
+TEST(FlexibleRk4, ASlowSpeedControllersAntiWindupBoundsTheStep) {
+  core::Scene s = jeffcott_file_scene();
+  s.model.drive_model = core::DriveModel::kMotor;
+  s.model.drive_proportional_gain_N_m_s_per_rad = 1e-6;
+  const double expected_s =
+      core::rk4_stable_step_s(-s.model.drive_integral_gain_N_m_per_rad / s.model.drive_proportional_gain_N_m_s_per_rad);
+  EXPECT_NEAR(expected_s, 2.7853 / 2.5e6, 1e-4 * expected_s);
+  EXPECT_DOUBLE_EQ(flexible_bound_s(s), expected_s);
+  core::Scene jeffcott = s;
+  jeffcott.rotor.file.clear();
+  EXPECT_DOUBLE_EQ(core::rk4_stable_step_s(core::JeffcottModel(jeffcott.model)), expected_s);
+}

@@ -81,8 +81,9 @@ inline std::vector<Solver> rigid_solvers() {
 inline std::vector<Solver> all_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
 }
-// Every method and integrator that runs a flexible rotor (a rotor_file): the
-// rigid methods on theirs, the penalty method on dopri5 and rosenbrock4.
+// The methods and integrators the flexible-rotor suites run (a rotor_file):
+// the rigid methods on theirs, the penalty method on dopri5 and rosenbrock4
+// (rk4, at a fixed step below the rotor's bound: test_flexible_rk4.cpp).
 inline std::vector<Solver> flexible_solvers() {
   std::vector<Solver> v = rigid_solvers();
   v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});

@@ -54,6 +54,16 @@ double rk4_stable_step_s(const JeffcottModel& m) {
     }
     h = std::min(h, rk4_stable_step_s(-2.0 * spin_share * omega_c));
   }
+  if (m.motor()) {
+    // The speed controller on the spin, J_G s^2 + K_p s + K_i = 0, and in
+    // the torque limit the anti-windup's -K_i / K_p.
+    const ModelParameters& p = m.parameters();
+    const double j = p.rotor_polar_inertia_kg_m2, kp = p.drive_proportional_gain_N_m_s_per_rad,
+                 ki = p.drive_integral_gain_N_m_per_rad;
+    const std::complex<double> root = std::sqrt(std::complex<double>(kp * kp - 4.0 * j * ki, 0.0));
+    h = std::min({h, rk4_stable_step_s((-kp + root) / (2.0 * j)), rk4_stable_step_s((-kp - root) / (2.0 * j)),
+                  rk4_stable_step_s(-ki / kp)});
+  }
   return h;
 }
 
@@ -82,9 +92,17 @@ double flexible_rk4_stable_step_s(const FlexibleRotorModel& rotor, const ModelPa
     }
   }
   const double spin_lever_kg_m2 = rotor.max_spin_lever_kg_m2();
-  if (motor) free.M(spin, spin) = p.rotor_polar_inertia_kg_m2 - spin_lever_kg_m2;
+  if (motor) {
+    // The speed controller: K_p a damper and K_i a spring on the spin angle
+    // (its integral state is the angle's lag behind the reference).
+    free.M(spin, spin) = p.rotor_polar_inertia_kg_m2 - spin_lever_kg_m2;
+    free.C(spin, spin) = p.drive_proportional_gain_N_m_s_per_rad;
+    free.K(spin, spin) = p.drive_integral_gain_N_m_per_rad;
+  }
 
-  double h = std::numeric_limits<double>::infinity();
+  // In the torque limit the anti-windup's integral decays at -K_i / K_p.
+  double h = motor ? rk4_stable_step_s(-p.drive_integral_gain_N_m_per_rad / p.drive_proportional_gain_N_m_s_per_rad)
+                   : std::numeric_limits<double>::infinity();
   // The normal along x, then along y; t a quarter turn on.
   for (const Vec2& normal : {Vec2(1.0, 0.0), Vec2(0.0, 1.0)}) {
     const Vec2 tangent(-normal.y(), normal.x());

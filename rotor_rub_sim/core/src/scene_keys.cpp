@@ -232,7 +232,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
-                     "rotor_radius_m are then the file's); the penalty method on dopri5 or rosenbrock4",
+                     "rotor_radius_m are then the file's); the penalty method on dopri5, rosenbrock4 or rk4",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
@@ -374,7 +374,7 @@ void validate_flexible_rotor(const Scene& s) {
                      (ranged ? "" : "; accepted: a rotor file with a rub_station (docs/rotors.md)"));
   }
   if (s.model.drive_model == DriveModel::kMotor) validate_flexible_spin(s, *rotor);
-  if (s.solver.method == Method::kPenalty && s.solver.integrator == Integrator::kRk4) {
+  if (s.solver.method == Method::kPenalty && effective_integrator(s) == Integrator::kRk4) {
     const double h_max = flexible_rk4_stable_step_s(*rotor, s.model, s.speed.max_speed_rad_per_s);
     if (s.solver.fixed_step_s > h_max) {
       throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +

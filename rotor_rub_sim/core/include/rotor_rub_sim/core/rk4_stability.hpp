@@ -28,14 +28,19 @@ double rk4_stable_step_s(std::complex<double> lambda);
 /// omega_c = sqrt(k_c / m_eff); with friction also the tangential damper's
 /// -c_t W_tt while the contact creeps: -2 omega_c, times 1 + (R_r + e)^2
 /// m_eff / J_G under a motor drive (the spin shares the tangential impulse,
-/// model.hpp). The rotor's and stator's own springs (k_r, k_s << k_c) are
-/// left out: they move it by k / k_c.
+/// model.hpp); under a motor the speed controller's J_G s^2 + K_p s + K_i
+/// and, in the torque limit, its anti-windup's -K_i / K_p. The rotor's and
+/// stator's own springs (k_r, k_s << k_c) are left out: they move it by
+/// k / k_c; so is the unbalance's lever along the normal (e u . n, of order
+/// m e^2 / J_G of the contact's mobility).
 double rk4_stable_step_s(const JeffcottModel& m);
 
 /// The penalty contact's RK4 bound on a flexible rotor [s]: the smallest of
 /// rk4_stable_step_s over the eigenvalues of the reduced rotor (M, K, C and
-/// Omega G), the elastic stator and, under a motor drive, the spin (its
-/// inertia rotor_polar_inertia_kg_m2, turned by the friction at the contact,
+/// Omega G), the elastic stator and, under a motor drive, the spin with its
+/// speed controller (K_p a damper, K_i a spring on the spin angle; in the
+/// torque limit the anti-windup's -K_i / K_p) (its inertia
+/// rotor_polar_inertia_kg_m2, turned by the friction at the contact,
 /// at its lowest over the spin angle (J - max h^T M^-1 h, with the station's
 /// lever R_r + sqrt(max h^T M^-1 h / m_st): the Jeffcott's R_r + e,
 /// validate_flexible_spin's bound), linearised in sustained contact with
@@ -45,7 +50,10 @@ double rk4_stable_step_s(const JeffcottModel& m);
 /// stick; the cone's f F_n in slip, either way). Taken with the normal along
 /// x and along y (the bearings may differ) and at speeds 0 and
 /// max_speed_rad_per_s (the gyroscopic moments grow with speed; the limit
-/// of any speed command). scene_model: the scene's parameters.
+/// of any speed command). Left out, as on the Jeffcott: the unbalances'
+/// lever along the normal (h_u . n reaching the spin), of order max h^T
+/// M^-1 h / J_eff of the contact's mobility. scene_model: the scene's
+/// parameters.
 double flexible_rk4_stable_step_s(const FlexibleRotorModel& rotor, const ModelParameters& scene_model,
                                   double max_speed_rad_per_s);
 
