@@ -33,15 +33,15 @@ constexpr double kRounding = 1e-12;
 
 }  // namespace
 
-// The bound is the first exit of the ray s lambda from RK4's region: on the
-// negative real axis the real root of x^3 - 4 x^2 + 12 x - 24 = 0 (|R(-x)|
-// = 1 leaves that cubic), 2.7853; on the imaginary axis |R(iy)|^2 = 1 - y^6
-// / 72 + y^8 / 576, so 2 sqrt(2); in between inside up to the bound and
-// outside just past it, for any |lambda|; between the axes it falls to
+// The bound is the first exit of the ray s lambda from RK4's region, for
+// any |lambda|: the ray inside up to it and outside just past it. On the
+// negative real axis it is the real root of x^3 - 4 x^2 + 12 x - 24 = 0
+// (|R(-x)| = 1 leaves that cubic), 2.7853; on the imaginary axis |R(iy)|^2
+// = 1 - y^6 / 72 + y^8 / 576, so 2 sqrt(2); between the axes it falls to
 // 2.616 (at 122 degrees), so the real axis's 2.785 is no bound for every
-// damping ratio. The edge is found where
-// |R| = 1 + kRounding: on the real axis (|dR/dx| = 1.5) 6.7e-13 past the
-// root, which moves the cubic (slope 13) by 8.7e-12.
+// damping ratio. The edge is found where |R| = 1 + kRounding: on the real
+// axis (|dR/dx| = 1.5) 6.7e-13 past the root, which moves the cubic (slope
+// 13) by 8.7e-12.
 TEST(Rk4Stability, TheBoundIsTheEdgeOfRk4sRegionOnEveryRay) {
   const double real_axis = core::rk4_stable_step_s({-1.0, 0.0});
   EXPECT_NEAR(real_axis * real_axis * real_axis - 4.0 * real_axis * real_axis + 12.0 * real_axis - 24.0, 0.0, 1e-11);

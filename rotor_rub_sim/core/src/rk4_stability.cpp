@@ -121,11 +121,8 @@ double flexible_rk4_stable_step_s(const FlexibleRotorModel& rotor, const ModelPa
     // The friction's regimes: none, stick (the damper), slip either way
     // (F_t = -slip f F_n: the normal force's spring and damper reach the
     // tangential direction, a non-symmetric coupling).
-    std::vector<RotorMatrices> regimes;
-    if (!law.has_friction()) {
-      regimes.push_back(pressed);
-    } else {
-      regimes.push_back(pressed);
+    std::vector<RotorMatrices> regimes{pressed};
+    if (law.has_friction()) {
       regimes.back().C += law.tangential_damping_N_s_per_m * g_t * g_t.transpose();
       for (const double slip : {1.0, -1.0}) {
         regimes.push_back(pressed);
