@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
