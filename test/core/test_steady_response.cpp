@@ -166,3 +166,42 @@ TEST(SteadyResponse, RubOnsetOnASlowRunUp) {
   // The paper rotor without gravity: 70.643 rad/s (0.915 of the critical speed).
   EXPECT_NEAR(core::rub_onset_speed_rad_per_s(test::paper_scene().model), 70.6434, 1e-4);
 }
+
+// The onset speed solves its equation |z(w)| = C - |sag_rotor - sag_stator|
+// below the amplitude's peak, with gravity on elastic and rigid stators, and
+// gives its stated answers where there is no root.
+TEST(SteadyResponse, RubOnsetSpeedSolvesItsEquation) {
+  // TOMS 748 to 50 bits brackets w within ~1e-15 of it; |z| moves by
+  // d|z|/dw * dw, under 1e-14 of the 2 mm reach on this rotor.
+  constexpr double kOnsetReachRelTol = 1e-12;
+  const double g = 9.81;
+  for (const core::StatorModel stator : {core::StatorModel::kElastic, core::StatorModel::kRigid}) {
+    for (const double gravity : {0.0, g}) {
+      core::ModelParameters p = test::paper_scene().model;
+      p.stator_model = stator;
+      p.gravity_m_per_s2 = gravity;
+      const double sag_rotor = gravity * p.rotor_mass_kg / p.rotor_stiffness_N_per_m;
+      const double sag_stator =
+          stator == core::StatorModel::kRigid ? 0.0 : gravity * p.stator_mass_kg / p.stator_stiffness_N_per_m;
+      const double reach = p.clearance_m - std::abs(sag_rotor - sag_stator);
+      const double w = core::rub_onset_speed_rad_per_s(p);
+      const double wn = std::sqrt(p.rotor_stiffness_N_per_m / p.rotor_mass_kg);
+      EXPECT_GT(w, 0.0);
+      EXPECT_LT(w, wn) << "below the critical speed on this lightly damped rotor";
+      EXPECT_NEAR(std::abs(core::unbalance_response_m(p, w)), reach, kOnsetReachRelTol * reach)
+          << "gravity " << gravity;
+    }
+  }
+  core::ModelParameters p = test::paper_scene().model;
+  p.gravity_m_per_s2 = g;
+  p.clearance_m = 0.5 * p.rotor_mass_kg * g / p.rotor_stiffness_N_per_m;  // sags onto the stator
+  p.stator_model = core::StatorModel::kRigid;
+  EXPECT_EQ(core::rub_onset_speed_rad_per_s(p), 0.0) << "in contact at rest";
+  p = test::paper_scene().model;
+  p.rotor_damping_N_s_per_m = 40.0;  // zeta 0.62: the orbit's peak stays under the clearance
+  EXPECT_TRUE(std::isinf(core::rub_onset_speed_rad_per_s(p)));
+  p = test::paper_scene().model;
+  p.gravity_m_per_s2 = g;
+  p.rotor_stiffness_N_per_m = 0.0;
+  EXPECT_TRUE(std::isnan(core::rub_onset_speed_rad_per_s(p))) << "no static position";
+}

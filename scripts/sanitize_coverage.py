@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Which lines of the core the sanitized test subset leaves unexecuted.
+
+The sanitized run (scripts/run_sanitizers.sh) skips the long physics runs that
+test/sanitize_skip.txt lists. This measures what that costs: it runs a
+gcov-instrumented test_core twice, all of it and without the skipped tests,
+and prints the lines of the core (rotor_rub_sim/core) that only the full run
+executes. Lines no test executes are no concern of the subset.
+
+    scripts/sanitize_coverage.py BUILD_DIR TEST_CORE [SKIP_LIST]
+
+BUILD_DIR is a build made with --coverage (docs/testing.md, "The sanitized
+subset", gives the command), TEST_CORE its test_core. Exits 1 when the subset
+leaves a line unexecuted that the full run executes.
+"""
+import json
+import os
+import subprocess
+import sys
+from collections import defaultdict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sanitize_skip import gtest_filter, read_skip_list  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CORE = os.path.join(ROOT, "rotor_rub_sim", "core") + os.sep
+
+
+def executed_lines(build_dir):
+    """(file, line) of the core with a non-zero count in any unit's .gcda."""
+    lines = set()
+    for dirpath, _, files in os.walk(build_dir):
+        for f in files:
+            if not f.endswith(".gcda"):
+                continue
+            out = subprocess.run(["gcov", "--json-format", "--stdout", "-o", dirpath, os.path.join(dirpath, f)],
+                                 capture_output=True, text=True, check=True, cwd=dirpath).stdout
+            for doc in out.splitlines():
+                if not doc.strip():
+                    continue
+                for entry in json.loads(doc)["files"]:
+                    path = os.path.realpath(os.path.join(dirpath, entry["file"]))
+                    if not path.startswith(CORE):
+                        continue
+                    for ln in entry["lines"]:
+                        if ln["count"] > 0:
+                            lines.add((path[len(ROOT) + 1:], ln["line_number"]))
+    return lines
+
+
+def run(build_dir, test_core, extra):
+    for dirpath, _, files in os.walk(build_dir):
+        for f in files:
+            if f.endswith(".gcda"):
+                os.remove(os.path.join(dirpath, f))
+    subprocess.run([test_core] + extra, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+    return executed_lines(build_dir)
+
+
+def main():
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__)
+    build_dir, test_core = sys.argv[1], sys.argv[2]
+    skip = read_skip_list(sys.argv[3] if len(sys.argv) == 4 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
+    full = run(build_dir, test_core, [])
+    subset = run(build_dir, test_core, ["--gtest_filter=" + gtest_filter(skip)])
+    missed = sorted(full - subset)
+    by_file = defaultdict(list)
+    for path, line in missed:
+        by_file[path].append(line)
+    print("core lines executed: full suite %d, sanitized subset %d (%d tests skipped)" % (len(full), len(subset),
+                                                                                           len(skip)))
+    for path, lines in sorted(by_file.items()):
+        print("  only in the full suite: %s: %s" % (path, ", ".join(map(str, lines))))
+    sys.exit(1 if missed else 0)
+
+
+if __name__ == "__main__":
+    main()

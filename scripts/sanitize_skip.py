@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The gtest filter of the sanitized test_core run: every test but those of
+test/sanitize_skip.txt (docs/testing.md, "The sanitized subset").
+
+    scripts/sanitize_skip.py TEST_CORE [SKIP_LIST]
+
+Prints the filter (for --gtest_filter). Exits 2, naming them, when a listed
+name is no test of TEST_CORE: a renamed test must not slip back into (or
+silently out of) the sanitized run unnoticed.
+"""
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def read_skip_list(path):
+    """The full test names (Suite.Name, Prefix/Suite.Name/Param) of the list, in order."""
+    names = []
+    with open(path) as f:
+        for raw in f:
+            line = raw.split("#", 1)[0].strip()
+            if line:
+                names.append(line)
+    return names
+
+
+def gtest_filter(skip):
+    return "*-" + ":".join(skip) if skip else "*"
+
+
+def listed_tests(test_core):
+    """Every full test name of the binary, from --gtest_list_tests."""
+    out = subprocess.run([test_core, "--gtest_list_tests"], capture_output=True, text=True, check=True).stdout
+    names, suite = set(), ""
+    for line in out.splitlines():
+        text = line.split("#", 1)[0].rstrip()
+        if not text:
+            continue
+        if not line.startswith(" "):
+            suite = text.strip()
+        else:
+            names.add(suite + text.strip())
+    return names
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    skip = read_skip_list(sys.argv[2] if len(sys.argv) == 3 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
+    unknown = sorted(set(skip) - listed_tests(sys.argv[1]))
+    if unknown:
+        print("sanitize_skip.py: not tests of %s: %s" % (sys.argv[1], ", ".join(unknown)), file=sys.stderr)
+        sys.exit(2)
+    print(gtest_filter(skip))
+
+
+if __name__ == "__main__":
+    main()
