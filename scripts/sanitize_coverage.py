@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
-"""Which lines of the core the sanitized test subset leaves unexecuted.
+"""Which lines and functions of the core the sanitized test subset leaves
+unexecuted.
 
 The sanitized run (scripts/run_sanitizers.sh) skips the long physics runs that
 test/sanitize_skip.txt lists. This measures what that costs: it runs a
 gcov-instrumented test_core twice, all of it and without the skipped tests,
 and prints the lines of the core (rotor_rub_sim/core) that only the full run
-executes. Lines no test executes are no concern of the subset.
+executes, and, for information, the functions of the core that only the full
+run executes, each template instance apart (a method on one integrator,
+stator, drive and kind of rotor): the same lines in another instance. What
+no test executes is no concern of the subset.
 
     scripts/sanitize_coverage.py BUILD_DIR TEST_CORE [SKIP_LIST]
 
@@ -26,9 +30,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CORE = os.path.join(ROOT, "rotor_rub_sim", "core") + os.sep
 
 
-def executed_lines(build_dir):
-    """(file, line) of the core with a non-zero count in any unit's .gcda."""
-    lines = set()
+def executed(build_dir):
+    """(file, line) of the core with a non-zero count in any unit's .gcda,
+    and the executed functions of the core (by mangled name: each template
+    instance is one)."""
+    lines, functions = set(), set()
     for dirpath, _, files in os.walk(build_dir):
         for f in files:
             if not f.endswith(".gcda"):
@@ -45,7 +51,10 @@ def executed_lines(build_dir):
                     for ln in entry["lines"]:
                         if ln["count"] > 0:
                             lines.add((path[len(ROOT) + 1:], ln["line_number"]))
-    return lines
+                    for fn in entry["functions"]:
+                        if fn["execution_count"] > 0:
+                            functions.add((fn["name"], fn["demangled_name"]))
+    return lines, functions
 
 
 def run(build_dir, test_core, extra):
@@ -54,7 +63,7 @@ def run(build_dir, test_core, extra):
             if f.endswith(".gcda"):
                 os.remove(os.path.join(dirpath, f))
     subprocess.run([test_core] + extra, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
-    return executed_lines(build_dir)
+    return executed(build_dir)
 
 
 def main():
@@ -62,16 +71,19 @@ def main():
         sys.exit(__doc__)
     build_dir, test_core = sys.argv[1], sys.argv[2]
     skip = read_skip_list(sys.argv[3] if len(sys.argv) == 4 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
-    full = run(build_dir, test_core, [])
-    subset = run(build_dir, test_core, ["--gtest_filter=" + gtest_filter(skip)])
-    missed = sorted(full - subset)
+    full_lines, full_functions = run(build_dir, test_core, [])
+    lines, functions = run(build_dir, test_core, ["--gtest_filter=" + gtest_filter(skip)])
+    missed = sorted(full_lines - lines)
+    missed_functions = sorted(full_functions - functions, key=lambda f: f[1])
     by_file = defaultdict(list)
     for path, line in missed:
         by_file[path].append(line)
-    print("core lines executed: full suite %d, sanitized subset %d (%d tests skipped)" % (len(full), len(subset),
-                                                                                           len(skip)))
-    for path, lines in sorted(by_file.items()):
-        print("  only in the full suite: %s: %s" % (path, ", ".join(map(str, lines))))
+    print("core lines executed: full suite %d, sanitized subset %d; function instances: %d, %d (%d tests skipped)"
+          % (len(full_lines), len(lines), len(full_functions), len(functions), len(skip)))
+    for path, numbers in sorted(by_file.items()):
+        print("  line only in the full suite: %s: %s" % (path, ", ".join(map(str, numbers))))
+    for _, name in missed_functions:
+        print("  function instance only in the full suite (its lines run in another): %s" % name)
     sys.exit(1 if missed else 0)
 
 

@@ -153,5 +153,19 @@ TYPED_TEST(DenseIntegrator, StepAndDenseOutputConvergeWithTheirOrders) {
   EXPECT_NEAR(dense_order, TypeParam::kDenseOrder, kOrderTol) << coarse.dense << " " << fine.dense;
 }
 
+// Before its first step an integrator's interval is one instant: the dense
+// output there is the initial state itself (a method samples its start
+// before it steps, and a restart at an event samples it again).
+TYPED_TEST(DenseIntegrator, BeforeItsFirstStepItAnswersTheInitialState) {
+  const double t0 = 1.1;
+  auto integ = TypeParam::make(0.3);
+  core::RunStats stats;
+  Forced sys;
+  integ.initialize(sys, Forced::exact(t0), t0, 0.3, stats);
+  State x;
+  integ.state_at(t0, x);
+  EXPECT_EQ(x, Forced::exact(t0)) << TypeParam::kName;
+}
+
 }  // namespace
 }  // namespace rotor_rub
