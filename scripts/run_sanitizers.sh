@@ -7,9 +7,10 @@
 # failure, a sanitizer report included (halt_on_error).
 #   scripts/run_sanitizers.sh RESULTS_DIR
 # test_core runs without the long physics runs of test/sanitize_skip.txt
-# (scripts/sanitize_skip.py makes the filter and refuses a name that is no
-# test; scripts/sanitize_coverage.py shows the rest executes every line of
-# the core the whole suite does), in SANITIZE_SHARDS gtest shards (default 8),
+# (scripts/sanitize_skip.py makes the filter and fails a name that is no
+# test; scripts/sanitize_coverage.py, run by hand on a coverage build,
+# measures that the rest executes every line of the core the whole suite
+# does: docs/testing.md), in SANITIZE_SHARDS gtest shards (default 8),
 # SANITIZE_JOBS binaries at a time (default 2, the machine's cores).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -60,11 +61,11 @@ run_one() {
     fail_xml "$xml" "sanitize-$name" "${t}_loads_the_instrumented_core" "uninstrumented core"
     return
   fi
-  local env=()
+  local env=() args=(--gtest_output="xml:$xml")
   [ "$shard" = "-" ] || env=(GTEST_TOTAL_SHARDS="$SHARDS" GTEST_SHARD_INDEX="$shard")
-  [ "$t" = test_core ] && env+=(GTEST_FILTER="$CORE_FILTER")
+  [ "$t" = test_core ] && args+=(--gtest_filter="$CORE_FILTER")
   # A bound on each binary: a hung sanitized test must not hang the command.
-  if (cd "$ROOT" && env "${env[@]}" timeout --kill-after=10 1500 "$bin" --gtest_output="xml:$xml" > "$log" 2>&1); then
+  if (cd "$ROOT" && env "${env[@]}" timeout --kill-after=10 1500 "$bin" "${args[@]}" > "$log" 2>&1); then
     echo "[  OK  ] sanitizers: $name" > "$VERDICTS/$name"
   else
     { echo "[FAILED] sanitizers: $name (log: $log)"; tail -n 20 "$log"; } > "$VERDICTS/$name"
@@ -79,15 +80,26 @@ run_one() {
 RUNS=()
 CORE_FILTER="*"
 if [ -x "$WS/devel_clang/lib/rotor_rub_sim/test_core" ]; then
-  if ! CORE_FILTER="$(/usr/bin/python3 "$ROOT/scripts/sanitize_skip.py" "$WS/devel_clang/lib/rotor_rub_sim/test_core" \
-      2> "$WS/sanitize_skip.log")"; then
+  # Exit 2: a name that is no test (or listed twice); the filter it prints
+  # still holds (a name that matches nothing excludes nothing). Another
+  # failure (the lister itself) leaves the whole suite to run.
+  CORE_FILTER="$(/usr/bin/python3 "$ROOT/scripts/sanitize_skip.py" "$WS/devel_clang/lib/rotor_rub_sim/test_core" \
+    2> "$WS/sanitize_skip.log")"
+  case $? in
+  0) echo "[  OK  ] sanitizers: test/sanitize_skip.txt names tests of test_core" > "$VERDICTS/test_core-skip-list" ;;
+  2)
     echo "[FAILED] sanitizers: test/sanitize_skip.txt: $(cat "$WS/sanitize_skip.log")" > "$VERDICTS/test_core-skip-list"
     fail_xml "$RESULTS/sanitize-test_core-skip-list.xml" sanitize-test_core-skip-list skip_list_names_tests \
-      "test/sanitize_skip.txt names no test"
-    CORE_FILTER="*"  # the whole suite, then: slower, nothing unchecked
-  else
-    echo "[  OK  ] sanitizers: test/sanitize_skip.txt names tests of test_core" > "$VERDICTS/test_core-skip-list"
-  fi
+      "test/sanitize_skip.txt names no test of test_core, or one twice"
+    ;;
+  *)
+    echo "[FAILED] sanitizers: scripts/sanitize_skip.py failed (log: $WS/sanitize_skip.log)" \
+      > "$VERDICTS/test_core-skip-list"
+    fail_xml "$RESULTS/sanitize-test_core-skip-list.xml" sanitize-test_core-skip-list skip_list_read \
+      "scripts/sanitize_skip.py failed"
+    CORE_FILTER="*"
+    ;;
+  esac
 fi
 for ((i = 0; i < SHARDS; ++i)); do RUNS+=("test_core $i"); done
 RUNS+=("test_cvode_switching -" "test_runner_cli -" "test_sweep_cli -")

@@ -5,8 +5,9 @@ test/sanitize_skip.txt (docs/testing.md, "The sanitized subset").
     scripts/sanitize_skip.py TEST_CORE [SKIP_LIST]
 
 Prints the filter (for --gtest_filter). Exits 2, naming them, when a listed
-name is no test of TEST_CORE: a renamed test must not slip back into (or
-silently out of) the sanitized run unnoticed.
+name is no test of TEST_CORE or is listed twice: a renamed test must not slip
+back into the sanitized run unnoticed. The filter is printed then too (a
+name that matches no test excludes nothing).
 """
 import os
 import subprocess
@@ -32,7 +33,9 @@ def gtest_filter(skip):
 
 def listed_tests(test_core):
     """Every full test name of the binary, from --gtest_list_tests."""
-    out = subprocess.run([test_core, "--gtest_list_tests"], capture_output=True, text=True, check=True).stdout
+    env = {k: v for k, v in os.environ.items() if not k.startswith("GTEST_")}
+    out = subprocess.run([test_core, "--gtest_list_tests", "--gtest_filter=*"], capture_output=True, text=True,
+                         check=True, env=env).stdout
     names, suite = set(), ""
     for line in out.splitlines():
         text = line.split("#", 1)[0].rstrip()
@@ -50,10 +53,14 @@ def main():
         sys.exit(__doc__)
     skip = read_skip_list(sys.argv[2] if len(sys.argv) == 3 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
     unknown = sorted(set(skip) - listed_tests(sys.argv[1]))
+    twice = sorted({name for name in skip if skip.count(name) > 1})
+    print(gtest_filter(skip))
     if unknown:
         print("sanitize_skip.py: not tests of %s: %s" % (sys.argv[1], ", ".join(unknown)), file=sys.stderr)
+    if twice:
+        print("sanitize_skip.py: listed twice: %s" % ", ".join(twice), file=sys.stderr)
+    if unknown or twice:
         sys.exit(2)
-    print(gtest_filter(skip))
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "rotor_rub_sim/core/steady_response.hpp"
 #include "test_support.hpp"
@@ -168,12 +169,17 @@ TEST(SteadyResponse, RubOnsetOnASlowRunUp) {
 }
 
 // The onset speed solves its equation |z(w)| = C - |sag_rotor - sag_stator|
-// below the amplitude's peak, with gravity on elastic and rigid stators, and
+// below the amplitude's peak, with gravity on elastic and rigid stators, at
+// the values a bisection of the same equation gives independently, and
 // gives its stated answers where there is no root.
 TEST(SteadyResponse, RubOnsetSpeedSolvesItsEquation) {
-  // TOMS 748 to 50 bits brackets w within ~1e-15 of it; |z| moves by
-  // d|z|/dw * dw, under 1e-14 of the 2 mm reach on this rotor.
+  // TOMS 748 to 50 bits brackets w within 2^-49 of itself; |z| moves by
+  // d ln|z| / d ln w (12 here) times that: 1e-14 of the reach.
   constexpr double kOnsetReachRelTol = 1e-12;
+  // The onsets with gravity, from a bisection of |z(w)| = reach in Python
+  // (reach 0.576 mm on the elastic stator, 0.355 mm on the rigid one).
+  constexpr double kElasticOnset_rad_per_s = 59.36713, kRigidOnset_rad_per_s = 52.98131;
+  constexpr double kOnsetTol_rad_per_s = 1e-5;  // the reference's printed digits
   const double g = 9.81;
   for (const core::StatorModel stator : {core::StatorModel::kElastic, core::StatorModel::kRigid}) {
     for (const double gravity : {0.0, g}) {
@@ -185,11 +191,15 @@ TEST(SteadyResponse, RubOnsetSpeedSolvesItsEquation) {
           stator == core::StatorModel::kRigid ? 0.0 : gravity * p.stator_mass_kg / p.stator_stiffness_N_per_m;
       const double reach = p.clearance_m - std::abs(sag_rotor - sag_stator);
       const double w = core::rub_onset_speed_rad_per_s(p);
+      SCOPED_TRACE(std::string(core::to_string(stator)) + (gravity > 0.0 ? ", gravity" : ""));
       const double wn = std::sqrt(p.rotor_stiffness_N_per_m / p.rotor_mass_kg);
       EXPECT_GT(w, 0.0);
       EXPECT_LT(w, wn) << "below the critical speed on this lightly damped rotor";
-      EXPECT_NEAR(std::abs(core::unbalance_response_m(p, w)), reach, kOnsetReachRelTol * reach)
-          << "gravity " << gravity;
+      EXPECT_NEAR(std::abs(core::unbalance_response_m(p, w)), reach, kOnsetReachRelTol * reach);
+      if (gravity > 0.0) {
+        EXPECT_NEAR(w, stator == core::StatorModel::kRigid ? kRigidOnset_rad_per_s : kElasticOnset_rad_per_s,
+                    kOnsetTol_rad_per_s);
+      }
     }
   }
   core::ModelParameters p = test::paper_scene().model;
@@ -198,7 +208,9 @@ TEST(SteadyResponse, RubOnsetSpeedSolvesItsEquation) {
   p.stator_model = core::StatorModel::kRigid;
   EXPECT_EQ(core::rub_onset_speed_rad_per_s(p), 0.0) << "in contact at rest";
   p = test::paper_scene().model;
-  p.rotor_damping_N_s_per_m = 40.0;  // zeta 0.62: the orbit's peak stays under the clearance
+  p.rotor_damping_N_s_per_m = 40.0;  // zeta 0.62: the orbit's peak (0.41 mm) stays under the clearance
+  EXPECT_TRUE(std::isinf(core::rub_onset_speed_rad_per_s(p)));
+  p.rotor_damping_N_s_per_m = 60.0;  // zeta 0.93: no peak, the orbit rises towards e = 0.4 mm
   EXPECT_TRUE(std::isinf(core::rub_onset_speed_rad_per_s(p)));
   p = test::paper_scene().model;
   p.gravity_m_per_s2 = g;

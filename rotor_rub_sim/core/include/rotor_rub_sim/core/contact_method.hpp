@@ -21,11 +21,14 @@ class ContactMethod {
   virtual ~ContactMethod() = default;
 
   /// Starts integration at t_s from a physical state under a drive segment.
+  /// Until the first step, [step_begin(), step_end()] is the instant t_s,
+  /// where sample() answers that state.
   virtual void start(double t_s, const Kinematics& k, const SpeedSegment& segment) = 0;
 
   /// Restarts integration at t_s in [step_begin(), step_end()] from the
   /// method's own state there, under a new drive segment (a drive
-  /// discontinuity). The contact regime carries over.
+  /// discontinuity): the interval becomes the instant t_s. The contact
+  /// regime carries over.
   virtual void change_segment(double t_s, const SpeedSegment& segment) = 0;
 
   /// Restarts at t_s in [step_begin(), step_end()] under new model
