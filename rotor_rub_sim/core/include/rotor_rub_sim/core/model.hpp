@@ -97,12 +97,22 @@ inline constexpr int kMaxModalCoordinates = 2 * (kMaxPlanarModes - 1);
 using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoordinates, 1>;
 
 // The state vector of a layout whose fixed part has kFixed entries: fixed
-// size for the Jeffcott, dynamic with the modal block's maximum for a
-// flexible rotor.
+// size for the Jeffcott, dynamic for a flexible rotor. Every flexible
+// layout's state is one type, with room for the largest fixed part (an
+// elastic stator under a motor: 11) and the modal block's maximum, so that a
+// method's instances on one integrator (each stator, each drive, free flight
+// and contact) share one set of Eigen and odeint instantiations: the
+// flexible units build in under half the time and memory
+// (docs/benchmarks.md, "The test command").
+inline constexpr int kMaxFixedStates = 12;  // 12 + 72 doubles: 16-byte aligned storage
+using FlexibleState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxFixedStates + 2 * kMaxModalCoordinates, 1>;
 template <int kFixed, bool kFlexible>
-using LayoutState =
-    std::conditional_t<kFlexible, Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kFixed + 2 * kMaxModalCoordinates, 1>,
-                       Eigen::Matrix<double, kFixed, 1>>;
+struct LayoutStateOf {
+  static_assert(kFixed <= kMaxFixedStates, "a flexible layout's fixed part outgrew FlexibleState");
+  using type = std::conditional_t<kFlexible, FlexibleState, Eigen::Matrix<double, kFixed, 1>>;
+};
+template <int kFixed, bool kFlexible>
+using LayoutState = typename LayoutStateOf<kFixed, kFlexible>::type;
 
 // Layout of the free (unconstrained) state vector. kStatorDof is 2 for an
 // elastic stator and 0 for a rigid one; kMotor adds the drive's states;
