@@ -11,10 +11,10 @@
 #
 # Two builds, one per configuration: g++ Release (the product: the tests,
 # the install space, the tools' checks) and clang++ with the sanitizers (the
-# second compiler and ASan/UBSan at once). The clang build runs niced from the
-# start, on what the g++ build and the rostests (which mostly wait) leave
-# idle; the sanitized tests run beside the package checks. Each phase's wall
-# time goes to $WS/phases.txt (docs/testing.md).
+# second compiler and ASan/UBSan at once). The clang build runs niced while
+# the rostests, which mostly wait, use the other core; the sanitized tests run
+# beside the package checks. Each phase's wall time goes to $WS/phases.txt
+# (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
@@ -41,26 +41,9 @@ check() {
   else echo "[FAILED] $name" | tee -a "$CHECKS"; fi
 }
 
-# kill_tree PID: a background stream and everything it started.
-kill_tree() {
-  local child
-  for child in $(pgrep -P "$1"); do kill_tree "$child"; done
-  kill "$1" 2> /dev/null
-}
-
 timed "setup: apt and rosdep" "$ROOT/scripts/setup_deps.sh" || { echo "0 passed, 1 failed"; exit 1; }
+timed "build: g++ Release, all" "$ROOT/scripts/build.sh" || { echo "0 passed, 1 failed"; exit 1; }
 export PATH="/usr/bin:$PATH"
-# The clang++/sanitizer build from the start, niced: it takes a core whenever the
-# g++ build or the tests leave one idle. The workspace (scripts/build.sh) is laid
-# out first, so that the two builds do not both make catkin's top-level file.
-mkdir -p "$WS/src"
-ln -sfn "$ROOT" "$WS/src/rotor_rub_sim"
-ln -sfn "$ROOT/rotor_rub_msgs" "$WS/src/rotor_rub_msgs"
-[ -e "$WS/src/CMakeLists.txt" ] || (cd "$WS/src" && catkin_init_workspace > /dev/null)
-( timed "build: clang++ ASan/UBSan, all + tests" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
-  > "$WS/clang_stream.log" 2>&1 &
-CLANG_PID=$!
-timed "build: g++ Release, all" "$ROOT/scripts/build.sh" || { kill_tree "$CLANG_PID"; echo "0 passed, 1 failed"; exit 1; }
 cd "$WS" || exit 1
 # The rostests' Python test nodes import the generated rotor_rub_msgs: they
 # need the workspace environment (PYTHONPATH) of the built devel space.
@@ -71,8 +54,12 @@ rm -rf build/test_results
 # fresh clone that was before the generated Python messages existed.
 timed "build: g++ Release, tests" catkin_make --force-cmake tests -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test_build.log" 2>&1 \
-  || { tail -n 40 "$WS/test_build.log"; kill_tree "$CLANG_PID"; echo "0 passed, 1 failed"; exit 1; }
+  || { tail -n 40 "$WS/test_build.log"; echo "0 passed, 1 failed"; exit 1; }
 
+# The clang++/sanitizer build, niced, beside the tests (which mostly wait on ROS).
+( timed "build: clang++ ASan/UBSan, all + tests" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
+  > "$WS/clang_stream.log" 2>&1 &
+CLANG_PID=$!
 timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
