@@ -99,16 +99,18 @@ using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoor
 // The state vector of a layout whose fixed part has kFixed entries: fixed
 // size for the Jeffcott, dynamic for a flexible rotor. Every flexible
 // layout's state is one type, with room for the largest fixed part (an
-// elastic stator under a motor: 11) and the modal block's maximum, so that a
-// method's instances on one integrator (each stator, each drive, free flight
-// and contact) share one set of Eigen and odeint instantiations: the
-// flexible units build in under half the time and memory
-// (docs/benchmarks.md, "The test command").
-inline constexpr int kMaxFixedStates = 12;  // 12 + 72 doubles: 16-byte aligned storage
+// elastic stator under a motor: 11, rounded up to 12 so that the 12 + 76
+// doubles are 16-byte aligned storage) and the modal block's maximum, so that
+// a method's instances on one integrator (each stator, each drive, free
+// flight and contact) share one set of Eigen and odeint instantiations, which
+// shortens the flexible units' compile (docs/testing.md, "The longest
+// compiles"). The free and contact states of a flexible rotor are thus one
+// type: the layouts' indices, not the compiler, keep them apart.
+inline constexpr int kMaxFixedStates = 12;
 using FlexibleState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxFixedStates + 2 * kMaxModalCoordinates, 1>;
 template <int kFixed, bool kFlexible>
 struct LayoutStateOf {
-  static_assert(kFixed <= kMaxFixedStates, "a flexible layout's fixed part outgrew FlexibleState");
+  static_assert(!kFlexible || kFixed <= kMaxFixedStates, "a flexible layout's fixed part outgrew FlexibleState");
   using type = std::conditional_t<kFlexible, FlexibleState, Eigen::Matrix<double, kFixed, 1>>;
 };
 template <int kFixed, bool kFlexible>
