@@ -3,10 +3,12 @@
 # counts each as a test):
 #   lint        catkin_lint -W2 --strict on both packages (with the rosdep rules of
 #               scripts/setup_deps.sh): no error, warning or notice
-#   clang       build every C++ target, the tests' included, with clang++ (-std=c++17,
-#               as CMakeLists.txt sets) under ASan and UBSan (-O1 -g1) in $WS/build_clang:
-#               the second compiler and the sanitizers in one build, whose core tests
-#               scripts/run_sanitizers.sh runs
+#   clang       every C++ unit through clang++ (-std=c++17, as CMakeLists.txt sets) in
+#               $WS/build_clang: the targets scripts/run_sanitizers.sh runs built under
+#               ASan and UBSan (-O1 -g1), every other unit (the ROS layer, the tools,
+#               the tests no sanitizer runs) compiled without code generation
+#               (scripts/clang_syntax_check.py): the second compiler and the sanitizers
+#               in one build
 #   install     `catkin_make install` of the main (g++ Release) build into a fresh
 #               $WS/install: the install space the next steps use (no second build)
 #   layout      the install space holds the core's headers and library, every program,
@@ -51,9 +53,19 @@ clang)
   # tables for their reports, and a third of -O2's compile time.
   ARGS=(--build build_clang -DCATKIN_DEVEL_PREFIX="$WS/devel_clang" -Drotor_rub_sim_SANITIZE=ON
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPYTHON_EXECUTABLE=/usr/bin/python3)
-  (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" all tests) >> "$LOG" 2>&1 \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPYTHON_EXECUTABLE=/usr/bin/python3
+    -DCMAKE_EXPORT_COMPILE_COMMANDS=ON)
+  # What the sanitizers run (and the programs their CLI tests start, through
+  # add_dependencies), and the messages the ROS layer's units include.
+  read -r -a TARGETS <<< "$("$ROOT/scripts/run_sanitizers.sh" --targets)"
+  STAMP="$WS/clang_build.stamp"
+  mkdir -p "$B" && touch "$STAMP"
+  (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" "${TARGETS[@]}" \
+    rotor_rub_msgs_generate_messages_cpp) >> "$LOG" 2>&1 \
     || { tail -n 40 "$LOG" >&2; fail "the clang++ build failed (log: $LOG)"; }
+  # Every other unit, without code generation.
+  clean /usr/bin/python3 "$ROOT/scripts/clang_syntax_check.py" "$B" "$STAMP" --jobs 2 >> "$LOG" 2>&1 \
+    || { tail -n 40 "$LOG" >&2; fail "clang++ -fsyntax-only failed on a unit (log: $LOG)"; }
   # Warnings are reported, not fatal (the g++ build is the warning-free one).
   n=$(grep -c "warning:" "$LOG" || true)
   [ "$n" -eq 0 ] || echo "check_package clang: $n compiler warnings (log: $LOG)" >&2

@@ -6,6 +6,8 @@
 # counts and catkin_test_results include these runs); exits non-zero on any
 # failure, a sanitizer report included (halt_on_error).
 #   scripts/run_sanitizers.sh RESULTS_DIR
+#   scripts/run_sanitizers.sh --targets    (prints the tests it runs, which
+#                                           check_package.sh clang builds)
 # test_core runs without the long physics runs of test/sanitize_skip.txt
 # (scripts/sanitize_skip.py makes the filter and fails a name that is no
 # test; scripts/sanitize_coverage.py, run by hand on a coverage build,
@@ -14,7 +16,14 @@
 # SANITIZE_JOBS binaries at a time (default 2, the machine's cores).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR}"
+# The tests this script runs under the sanitizers: scripts/check_package.sh
+# clang builds them (and what they start) with ASan/UBSan, and only them.
+SANITIZED_TESTS=(test_core test_cvode_switching test_runner_cli test_sweep_cli)
+if [ "${1:-}" = "--targets" ]; then
+  echo "${SANITIZED_TESTS[@]}"
+  exit 0
+fi
+RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR | --targets}"
 source "$ROOT/scripts/workspace.sh"
 mkdir -p "$RESULTS"
 SHARDS="${SANITIZE_SHARDS:-8}"
@@ -101,8 +110,13 @@ if [ -x "$WS/devel_clang/lib/rotor_rub_sim/test_core" ]; then
     ;;
   esac
 fi
-for ((i = 0; i < SHARDS; ++i)); do RUNS+=("test_core $i"); done
-RUNS+=("test_cvode_switching -" "test_runner_cli -" "test_sweep_cli -")
+for t in "${SANITIZED_TESTS[@]}"; do
+  if [ "$t" = test_core ]; then
+    for ((i = 0; i < SHARDS; ++i)); do RUNS+=("test_core $i"); done
+  else
+    RUNS+=("$t -")
+  fi
+done
 for r in "${RUNS[@]}"; do
   while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n; done
   # shellcheck disable=SC2086

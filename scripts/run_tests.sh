@@ -10,8 +10,9 @@
 # alone exits 0 even then).
 #
 # Two builds, one per configuration: g++ Release (the product: the tests,
-# the install space, the tools' checks) and clang++ with the sanitizers (the
-# second compiler and ASan/UBSan at once). The clang build runs niced while
+# the install space, the tools' checks) and clang++ (the second compiler and
+# ASan/UBSan at once: what the sanitizers run is built under them, every other
+# unit compiled without code generation). The clang build runs niced while
 # the rostests, which mostly wait, use the other core; the sanitized tests run
 # beside the package checks. Each phase's wall time goes to $WS/phases.txt
 # (docs/testing.md).
@@ -57,14 +58,15 @@ timed "build: g++ Release, tests" catkin_make --force-cmake tests -DCMAKE_BUILD_
   || { tail -n 40 "$WS/test_build.log"; echo "0 passed, 1 failed"; exit 1; }
 
 # The clang++/sanitizer build, niced, beside the tests (which mostly wait on ROS).
-( timed "build: clang++ ASan/UBSan, all + tests" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
+( timed "build: clang++ ASan/UBSan + syntax" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
   > "$WS/clang_stream.log" 2>&1 &
 CLANG_PID=$!
 timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
-if wait "$CLANG_PID"; then echo "[  OK  ] clang++ -std=c++17 with ASan/UBSan: every C++ target, tests included" | tee -a "$CHECKS"
-else echo "[FAILED] clang++ -std=c++17 with ASan/UBSan: every C++ target, tests included" | tee -a "$CHECKS"
+CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets under ASan/UBSan, the rest -fsyntax-only)"
+if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
+else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
   tail -n 15 "$WS/check_clang.log"; fi
 
 # Stream A, beside stream B: the core's tests under ASan and UBSan (their XML joins the results).
