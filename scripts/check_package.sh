@@ -59,7 +59,7 @@ clang)
   # add_dependencies), and the messages the ROS layer's units include.
   read -r -a TARGETS <<< "$("$ROOT/scripts/run_sanitizers.sh" --targets)"
   STAMP="$WS/clang_build.stamp"
-  mkdir -p "$B" && touch "$STAMP"
+  touch "$STAMP"
   (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" "${TARGETS[@]}" \
     rotor_rub_msgs_generate_messages_cpp) >> "$LOG" 2>&1 \
     || { tail -n 40 "$LOG" >&2; fail "the clang++ build failed (log: $LOG)"; }
