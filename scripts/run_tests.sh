@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the core's gtests, the runner's and
-# sweep's CLI tests, the node's gtests and rostests; a clang++ build of every
-# target under ASan/UBSan and the core's tests from it; the chart and
+# sweep's CLI tests, the node's gtests and rostests; every unit through
+# clang++, the core's tests built under ASan/UBSan and run; the chart and
 # bifurcation commands on small grids; the ROS tools on both packages;
 # catkin_lint; the install space with a downstream package built against it;
 # the docs' generated tables; the README's quick start, verbatim; sweeps on a
@@ -12,7 +12,7 @@
 # Two builds, one per configuration: g++ Release (the product: the tests,
 # the install space, the tools' checks) and clang++ (the second compiler and
 # ASan/UBSan at once: what the sanitizers run is built under them, every other
-# unit compiled without code generation). The clang build runs niced while
+# unit compiled without code generation or linking). The clang build runs niced while
 # the rostests, which mostly wait, use the other core; the sanitized tests run
 # beside the package checks. Each phase's wall time goes to $WS/phases.txt
 # (docs/testing.md).
@@ -64,7 +64,7 @@ CLANG_PID=$!
 timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
-CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets under ASan/UBSan, the rest -fsyntax-only)"
+CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
 if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
 else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
   tail -n 15 "$WS/check_clang.log"; fi
