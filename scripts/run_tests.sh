@@ -115,6 +115,9 @@ format_check() (
     || { head -n 20 "$WS/clang_format.log" >&2; exit 1; }
 )
 timed "checks: clang-format" check "clang-format: every C++ file as .clang-format lays it out" format_check
+# The clang++ step's syntax check on a made-up build directory (its cases: test/tools/).
+timed "checks: clang syntax check's cases" check "scripts/clang_syntax_check.py: which units it checks, failures, exit codes" \
+  bash -c "'$ROOT/test/tools/test_clang_syntax_check.sh' > '$WS/clang_syntax_check_test.log' 2>&1"
 # The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
 BIN="$WS/devel/lib/rotor_rub_sim"
 timed "checks: docs tables" check "docs: docs/node.md's parameter tables match the key tables" \
