@@ -6,8 +6,10 @@
 scripts/check_package.sh clang builds only what the sanitized tests run
 (scripts/run_sanitizers.sh) under ASan/UBSan; every other unit of
 BUILD_DIR/compile_commands.json (the ROS layer, the tools, the tests no
-sanitizer runs) is compiled here with its own command plus -fsyntax-only:
-parsing, semantic analysis, template instantiation and warnings, without
+sanitizer runs) is compiled here with its own command plus -fsyntax-only
+(the build's own command, so nothing differs but the missing code generation;
+clang-check would do the same from clang-tools, which the set-up does not
+install): parsing, semantic analysis, template instantiation and warnings, without
 code generation and without linking (the g++ build links every target). A
 unit counts as compiled by the build when its object file is newer than
 STAMP (a file touched before the build); any other is checked here, so a
