@@ -6,8 +6,7 @@
 # counts and catkin_test_results include these runs); exits non-zero on any
 # failure, a sanitizer report included (halt_on_error).
 #   scripts/run_sanitizers.sh RESULTS_DIR
-#   scripts/run_sanitizers.sh --targets    (prints the tests it runs, which
-#                                           check_package.sh clang builds)
+# The binaries it runs are test/sanitized_tests.txt's, which that build makes.
 # test_core runs without the long physics runs of test/sanitize_skip.txt
 # (scripts/sanitize_skip.py makes the filter and fails a name that is no
 # test; scripts/sanitize_coverage.py, run by hand on a coverage build,
@@ -16,14 +15,10 @@
 # SANITIZE_JOBS binaries at a time (default 2, the machine's cores).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-# The tests this script runs under the sanitizers: scripts/check_package.sh
-# clang builds them (and what they start) with ASan/UBSan, and only them.
-SANITIZED_TESTS=(test_core test_cvode_switching test_runner_cli test_sweep_cli)
-if [ "${1:-}" = "--targets" ]; then
-  echo "${SANITIZED_TESTS[@]}"
-  exit 0
-fi
-RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR | --targets}"
+RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR}"
+SANITIZED_TESTS=()
+read -r -d '' -a SANITIZED_TESTS < <(grep -v '^#' "$ROOT/test/sanitized_tests.txt")
+[ "${#SANITIZED_TESTS[@]}" -gt 0 ] || { echo "run_sanitizers.sh: test/sanitized_tests.txt names no test" >&2; exit 2; }
 source "$ROOT/scripts/workspace.sh"
 mkdir -p "$RESULTS"
 SHARDS="${SANITIZE_SHARDS:-8}"
