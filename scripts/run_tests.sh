@@ -118,6 +118,9 @@ timed "checks: clang-format" check "clang-format: every C++ file as .clang-forma
 # The clang++ step's syntax check on a made-up build directory (its cases: test/tools/).
 timed "checks: clang syntax check's cases" check "scripts/clang_syntax_check.py: which units it checks, failures, exit codes" \
   bash -c "'$ROOT/test/tools/test_clang_syntax_check.sh' > '$WS/clang_syntax_check_test.log' 2>&1"
+# The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
+timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
+  bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
 # The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
 BIN="$WS/devel/lib/rotor_rub_sim"
 timed "checks: docs tables" check "docs: docs/node.md's parameter tables match the key tables" \
