@@ -13,8 +13,8 @@
 # the install space, the tools' checks) and clang++ (the second compiler and
 # ASan/UBSan at once: what the sanitizers run is built under them, every other
 # unit compiled without code generation or linking). The clang build runs niced while
-# the rostests, which mostly wait, use the other core; the sanitized tests run
-# beside the package checks. Each phase's wall time goes to $WS/phases.txt
+# the rostests, which mostly wait, use the other core; the sanitized tests, then
+# the Slurm sweeps, run beside the package checks. Each phase's wall time goes to $WS/phases.txt
 # (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -69,9 +69,13 @@ if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
 else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
   tail -n 15 "$WS/check_clang.log"; fi
 
-# Stream A, beside stream B: the core's tests under ASan and UBSan (their XML joins the results).
-( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
-  > "$WS/sanitize_stream.log" 2>&1 &
+# Stream A, beside stream B: the core's tests under ASan and UBSan, then sweeps on
+# a real, throwaway single-node Slurm cluster (the XML of both joins the results).
+SLURM_XML="$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
+( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize"
+  rc=$?
+  timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$SLURM_XML" > "$WS/slurm_stream.log" 2>&1
+  exit $rc ) > "$WS/sanitize_stream.log" 2>&1 &
 SAN_PID=$!
 
 # Stream B: the package as others consume it, the tools and the docs.
@@ -142,12 +146,10 @@ rm -rf "$BIF"
 timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --quick" bash -c "'$ROOT/scripts/make_bifurcation.sh' --quick '$BIF' \
   > '$WS/bifurcation_check.log' 2>&1 && for f in bifurcation bifurcation_map poincare_sections; do \
   test -s '$BIF/'\$f.png || exit 1; done && grep -q ',up,' '$BIF/data/bifurcation.csv'"
-# Sweeps on a real, throwaway single-node Slurm cluster (its cases join the results).
-timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
 
 if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
 else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
-cat "$WS/sanitize_stream.log"
+cat "$WS/sanitize_stream.log" "$WS/slurm_stream.log"
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
 
