@@ -12,10 +12,11 @@
 # Two builds, one per configuration: g++ Release (the product: the tests,
 # the install space, the tools' checks) and clang++ (the second compiler and
 # ASan/UBSan at once: what the sanitizers run is built under them, every other
-# unit compiled without code generation or linking). The clang build runs niced while
-# the rostests, which mostly wait, use the other core; the sanitized tests, then
-# the Slurm sweeps, run beside the package checks. Each phase's wall time goes to $WS/phases.txt
-# (docs/testing.md).
+# unit compiled without code generation or linking). The clang build runs
+# niced while the rostests, which mostly wait, use the other core; the
+# Slurm sweeps follow the rostests (they mostly wait on the scheduler), and
+# the sanitized tests run beside the package checks. Each phase's wall time
+# goes to $WS/phases.txt (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
@@ -64,18 +65,20 @@ CLANG_PID=$!
 timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
+# Sweeps on a real, throwaway single-node Slurm cluster (its cases join the
+# results), beside the rest of the clang++ build: the test mostly waits on the
+# scheduler.
+( timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
+  > "$WS/slurm_stream.log" 2>&1 &
+SLURM_PID=$!
 CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
 if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
 else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
   tail -n 15 "$WS/check_clang.log"; fi
 
-# Stream A, beside stream B: the core's tests under ASan and UBSan, then sweeps on
-# a real, throwaway single-node Slurm cluster (the XML of both joins the results).
-SLURM_XML="$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml"
-( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize"
-  rc=$?
-  timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$SLURM_XML" > "$WS/slurm_stream.log" 2>&1
-  exit $rc ) > "$WS/sanitize_stream.log" 2>&1 &
+# Stream A, beside stream B: the core's tests under ASan and UBSan (their XML joins the results).
+( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
+  > "$WS/sanitize_stream.log" 2>&1 &
 SAN_PID=$!
 
 # Stream B: the package as others consume it, the tools and the docs.
@@ -149,6 +152,7 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
 
 if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
 else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
+wait "$SLURM_PID"
 cat "$WS/sanitize_stream.log" "$WS/slurm_stream.log"
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
