@@ -17,7 +17,7 @@ set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 RESULTS="${1:?usage: run_sanitizers.sh RESULTS_DIR}"
 SANITIZED_TESTS=()
-read -r -d '' -a SANITIZED_TESTS < <(grep -v '^#' "$ROOT/test/sanitized_tests.txt")
+read -r -d '' -a SANITIZED_TESTS < <(grep -Ev '^[[:space:]]*(#|$)' "$ROOT/test/sanitized_tests.txt")
 [ "${#SANITIZED_TESTS[@]}" -gt 0 ] || { echo "run_sanitizers.sh: test/sanitized_tests.txt names no test" >&2; exit 2; }
 source "$ROOT/scripts/workspace.sh"
 mkdir -p "$RESULTS"

@@ -153,6 +153,9 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
 if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
 else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
 wait "$SLURM_PID"
+# A Slurm test killed before it wrote its results would otherwise count as nothing.
+[ -s "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ] \
+  || echo "[FAILED] slurm: no results (log: $WS/slurm_stream.log)" | tee -a "$CHECKS"
 cat "$WS/sanitize_stream.log" "$WS/slurm_stream.log"
 catkin_test_results build/test_results > "$WS/test_results.txt" 2>&1
 results_rc=$?
