@@ -24,6 +24,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -32,6 +33,7 @@
 #include "rotor_rub_sim/core/response_class.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/solver_registry.hpp"
 #include "sweep_grid.hpp"
 
 namespace {
@@ -503,8 +505,18 @@ int main(int argc, char** argv) {
   out << kRowHeader << '\n';
   out_points << kPointHeader << '\n';
   std::map<std::string, std::size_t> classes;
+  std::set<std::string> solvers;  // what ran, auto resolved: "switching on dop853"
   std::size_t rows = 0;
   for (const auto& res : results) {
+    Values values = base;
+    for (const auto& [k, v] : res.run.overrides) values[k] = v;
+    try {
+      const core::Scene scene = core::scene_from_values(values);
+      solvers.insert(std::string(core::to_string(scene.solver.method)) + " on " +
+                     core::to_string(core::effective_integrator(scene)));
+    } catch (const std::exception&) {
+      // An invalid run: its row says why.
+    }
     for (const auto& r : res.rows) {
       write_row(out, r);
       ++classes[r.status == "ok" ? core::to_string(r.c.response) : r.status];
@@ -518,9 +530,11 @@ int main(int argc, char** argv) {
                  << num(p.relative_m.norm()) << ',' << (p.in_contact ? 1 : 0) << ',' << num(p.normal_force_N) << '\n';
     }
   }
-  std::string summary;
+  std::string summary, ran;
   for (const auto& [k, n] : classes) summary += " " + k + " " + std::to_string(n);
-  std::fprintf(stderr, "rotor_rub_bifurcation: %zu runs (shard %zu/%zu of %zu), %zu rows:%s -> %s\n", mine.size(),
-               o.shard_index, o.shard_count, total, rows, summary.c_str(), o.out_path.c_str());
+  for (const auto& solver : solvers) ran += (ran.empty() ? "" : ", ") + solver;
+  std::fprintf(stderr, "rotor_rub_bifurcation: %zu runs (shard %zu/%zu of %zu; %s), %zu rows:%s -> %s\n", mine.size(),
+               o.shard_index, o.shard_count, total, ran.empty() ? "none valid" : ran.c_str(), rows, summary.c_str(),
+               o.out_path.c_str());
   return 0;
 }

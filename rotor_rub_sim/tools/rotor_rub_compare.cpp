@@ -89,6 +89,7 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
       } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
         RecordedRun& r = runs[run_key(topic, "/solver_stats")];
         r.method = st->method;
+        r.integrator = st->integrator;
         r.steps = st->steps;
         r.rhs_evals = st->rhs_evaluations;
         r.integration_wall_s = st->integration_wall_time;

@@ -1,5 +1,6 @@
 #include "run_comparison.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -8,7 +9,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "rotor_rub_sim/core/name_table.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 
 namespace rotor_rub::tools {
@@ -35,6 +35,7 @@ RunFigures compare_run(const RecordedRun& run, const RecordedRun& ref) {
   RunFigures f;
   f.name = run.name;
   f.method = run.method;
+  f.integrator = run.integrator;
   f.samples = run.samples.size();
   f.lost_samples = run.lost_samples;
   f.first_contact_s = run.has_events ? core::first_contact_s(run.events) : kNaN;
@@ -122,12 +123,12 @@ RunFigures compare_run(const RecordedRun& run, const RecordedRun& ref) {
 void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const std::string& reference_name) {
   char buf[512];
   os << "reference: " << reference_name << "\n";
-  std::snprintf(buf, sizeof buf, "%-44s %-9s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "run", "method",
-                "samples", "lost", "1st contact", "contact end", "max |r_r|", "max F_n", "max|dr_r|", "rms|dr_r|",
-                "max|dr_s|", "steps", "wall");
+  std::snprintf(buf, sizeof buf, "%-44s %-9s %-11s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "run",
+                "method", "integrator", "samples", "lost", "1st contact", "contact end", "max |r_r|", "max F_n",
+                "max|dr_r|", "rms|dr_r|", "max|dr_s|", "steps", "wall");
   os << buf;
-  std::snprintf(buf, sizeof buf, "%-44s %-9s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "", "", "", "",
-                "[s]", "[s]", "[m]", "[N]", "[m]", "[m]", "[m]", "", "[s]");
+  std::snprintf(buf, sizeof buf, "%-44s %-9s %-11s %7s %4s %12s %12s %10s %10s %10s %10s %9s %8s %9s\n", "", "", "", "",
+                "", "[s]", "[s]", "[m]", "[N]", "[m]", "[m]", "[m]", "", "[s]");
   os << buf;
   // A figure the run does not carry (a bag without contact events or solver
   // stats, e.g. from `rosbag record` of the states alone) prints as "-".
@@ -140,13 +141,15 @@ void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const st
   bool missing = false;
   for (const auto& r : rows) {
     const std::string method = r.method.empty() ? "-" : r.method;
+    const std::string integrator = r.integrator.empty() ? "-" : r.integrator;
     const std::string steps = r.steps < 0 ? "-" : std::to_string(r.steps);
     const std::string wall = r.steps < 0 ? "-" : fixed(r.integration_wall_s, "%.4f");
     missing = missing || r.steps < 0 || std::isnan(r.first_contact_s);
-    std::snprintf(buf, sizeof buf, "%-44s %-9s %7zu %4ld %12s %12s %10.4g %10.4g %10.3g %10.3g %9.3g %8s %9s\n",
-                  r.name.c_str(), method.c_str(), r.samples, r.lost_samples, fixed(r.first_contact_s, "%.9f").c_str(),
-                  fixed(r.last_contact_end_s, "%.9f").c_str(), r.max_orbit_m, r.max_normal_force_N, r.max_rotor_diff_m,
-                  r.rms_rotor_diff_m, r.max_stator_diff_m, steps.c_str(), wall.c_str());
+    std::snprintf(buf, sizeof buf, "%-44s %-9s %-11s %7zu %4ld %12s %12s %10.4g %10.4g %10.3g %10.3g %9.3g %8s %9s\n",
+                  r.name.c_str(), method.c_str(), integrator.c_str(), r.samples, r.lost_samples,
+                  fixed(r.first_contact_s, "%.9f").c_str(), fixed(r.last_contact_end_s, "%.9f").c_str(), r.max_orbit_m,
+                  r.max_normal_force_N, r.max_rotor_diff_m, r.rms_rotor_diff_m, r.max_stator_diff_m, steps.c_str(),
+                  wall.c_str());
     os << buf;
   }
   for (const auto& r : rows) {
@@ -159,21 +162,23 @@ void print_table(std::ostream& os, const std::vector<RunFigures>& rows, const st
 }
 
 void write_figures_csv(std::ostream& os, const std::vector<RunFigures>& rows) {
-  os << "run,method,samples,lost_samples,first_contact_s,first_touchdown_s,last_liftoff_s,last_contact_end_s,"
+  os << "run,method,integrator,samples,lost_samples,first_contact_s,first_touchdown_s,last_liftoff_s,last_contact_end_"
+        "s,"
         "touchdowns,liftoffs,grazes,max_orbit_m,max_normal_force_N,mean_normal_force_in_contact_N,contact_time_s,"
         "common_samples,max_rotor_diff_m,rms_rotor_diff_m,max_stator_diff_m,rms_stator_diff_m,"
         "max_normal_force_diff_N,first_contact_diff_s,last_contact_end_diff_s,steps,rhs_evals,integration_wall_s,"
         "real_time_factor,live_changes,first_change_s,first_contact_after_change_s,changes\n";
   for (const auto& r : rows) {
-    os << r.name << "," << r.method << "," << r.samples << "," << r.lost_samples << "," << num(r.first_contact_s) << ","
-       << num(r.first_touchdown_s) << "," << num(r.last_liftoff_s) << "," << num(r.last_contact_end_s) << ","
-       << r.touchdowns << "," << r.liftoffs << "," << r.grazes << "," << num(r.max_orbit_m) << ","
-       << num(r.max_normal_force_N) << "," << num(r.mean_normal_force_in_contact_N) << "," << num(r.contact_time_s)
-       << "," << r.common_samples << "," << num(r.max_rotor_diff_m) << "," << num(r.rms_rotor_diff_m) << ","
-       << num(r.max_stator_diff_m) << "," << num(r.rms_stator_diff_m) << "," << num(r.max_normal_force_diff_N) << ","
-       << num(r.first_contact_diff_s) << "," << num(r.last_contact_end_diff_s) << "," << r.steps << "," << r.rhs_evals
-       << "," << num(r.integration_wall_s) << "," << num(r.real_time_factor) << "," << r.live_changes << ","
-       << num(r.first_change_s) << "," << num(r.first_contact_after_change_s) << "," << r.changes << "\n";
+    os << r.name << "," << r.method << "," << r.integrator << "," << r.samples << "," << r.lost_samples << ","
+       << num(r.first_contact_s) << "," << num(r.first_touchdown_s) << "," << num(r.last_liftoff_s) << ","
+       << num(r.last_contact_end_s) << "," << r.touchdowns << "," << r.liftoffs << "," << r.grazes << ","
+       << num(r.max_orbit_m) << "," << num(r.max_normal_force_N) << "," << num(r.mean_normal_force_in_contact_N) << ","
+       << num(r.contact_time_s) << "," << r.common_samples << "," << num(r.max_rotor_diff_m) << ","
+       << num(r.rms_rotor_diff_m) << "," << num(r.max_stator_diff_m) << "," << num(r.rms_stator_diff_m) << ","
+       << num(r.max_normal_force_diff_N) << "," << num(r.first_contact_diff_s) << "," << num(r.last_contact_end_diff_s)
+       << "," << r.steps << "," << r.rhs_evals << "," << num(r.integration_wall_s) << "," << num(r.real_time_factor)
+       << "," << r.live_changes << "," << num(r.first_change_s) << "," << num(r.first_contact_after_change_s) << ","
+       << r.changes << "\n";
   }
 }
 
@@ -221,6 +226,7 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
     try {
       j = nlohmann::json::parse(js);
       run.method = j.at("method").get<std::string>();
+      run.integrator = j.value("integrator", std::string());
       const auto& stats = j.at("stats");
       run.steps = stats.at("steps").get<long>();
       run.rhs_evals = stats.at("rhs_evals").get<long>();
@@ -229,8 +235,11 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
         core::ContactEvent ev;
         ev.t_s = number_or_nan(e.at("t"));
         const std::string kind = e.at("kind").get<std::string>();
-        if (!core::value_in_table(core::kEventKindNames, kind, &ev.kind))
+        const auto named = std::find_if(core::kAllEventKinds.begin(), core::kAllEventKinds.end(),
+                                        [&kind](core::EventKind k) { return kind == core::to_string(k); });
+        if (named == core::kAllEventKinds.end())
           throw std::runtime_error("event kind '" + kind + "' is not one of touchdown, liftoff, graze");
+        ev.kind = *named;
         ev.normal_velocity_m_per_s = number_or_nan(e.at("normal_velocity_m_per_s"));
         ev.impulse_N_s = number_or_nan(e.at("impulse_N_s"));
         run.events.push_back(ev);

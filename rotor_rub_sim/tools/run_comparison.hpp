@@ -18,8 +18,9 @@ struct LiveChange {
 };
 
 struct RecordedRun {
-  std::string name;    // e.g. "paper.bag:/switching/rotor_rub_sim"
-  std::string method;  // from the last SolverStats, or "" when unknown
+  std::string name;        // e.g. "paper.bag:/switching/rotor_rub_sim"
+  std::string method;      // from the last SolverStats or the summary, or "" when unknown
+  std::string integrator;  // the one that ran (auto resolved), as method
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
   bool has_events = false;          // a CSV without its JSON summary has none
@@ -31,7 +32,7 @@ struct RecordedRun {
 };
 
 struct RunFigures {
-  std::string name, method;
+  std::string name, method, integrator;
   std::size_t samples = 0;
   long lost_samples = 0;
   double first_contact_s, first_touchdown_s, last_liftoff_s, last_contact_end_s;

@@ -61,6 +61,8 @@ TEST(BifurcationCli, HelpDescribesEveryOption) {
 TEST(BifurcationCli, RampsAgreeWithTheClosedFormsAndShowTheHysteresis) {
   const auto r = bif(kArgs + " --directions up,down --out " + rotor_rub::test::tmp() + "rr_bif.csv");
   ASSERT_EQ(r.status, 0) << r.err;
+  // The summary names what ran, auto resolved (the paper scene's switching at rtol 1e-6: dop853).
+  EXPECT_NE(r.err.find("; switching on dop853)"), std::string::npos) << r.err;
   const core::ModelParameters p = core::load_scene(kScene).model;
   const double onset = core::rub_onset_speed_rad_per_s(p);
   int full_rub_checked = 0, hysteresis_checked = 0;

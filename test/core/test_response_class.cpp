@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <string>
 
 #include "rotor_rub_sim/core/response_class.hpp"
 
@@ -111,8 +113,8 @@ TEST(ResponseClass, WhirlDirectionFromTheFullSpectrum) {
 }
 
 TEST(ResponseClass, EveryEnumHasAName) {
-  // Every enumerator, not only the table's rows (the last one of each enum
-  // bounds the loop).
+  // Every enumerator, not only those of the kAll arrays (the last one of
+  // each enum bounds the loop).
   for (int v = 0; v <= static_cast<int>(core::ResponseClass::kBackwardWhirl); ++v) {
     EXPECT_STRNE(core::to_string(static_cast<core::ResponseClass>(v)), "?") << v;
   }
@@ -121,6 +123,24 @@ TEST(ResponseClass, EveryEnumHasAName) {
   }
   EXPECT_STREQ(core::to_string(core::ResponseClass::kBackwardWhirl), "backward_whirl");
   EXPECT_STREQ(core::to_string(core::Motion::kQuasiPeriodic), "quasi_periodic");
+}
+
+// The kAll arrays parse names back (the tools read the CSV and JSON names):
+// each name once, so a name maps back to one value.
+template <class Array>
+void expect_distinct_names(const Array& all, const char* what) {
+  std::set<std::string> names;
+  for (const auto v : all) EXPECT_TRUE(names.insert(core::to_string(v)).second) << what << " " << core::to_string(v);
+}
+
+TEST(ResponseClass, NamesParseBackToOneValue) {
+  expect_distinct_names(core::kAllContactKinds, "ContactKind");
+  expect_distinct_names(core::kAllMotions, "Motion");
+  expect_distinct_names(core::kAllWhirls, "Whirl");
+  expect_distinct_names(core::kAllResponseClasses, "ResponseClass");
+  expect_distinct_names(core::kAllEventKinds, "EventKind");
+  EXPECT_EQ(core::kAllResponseClasses.back(), core::ResponseClass::kBackwardWhirl);
+  EXPECT_STREQ(core::to_string(core::EventKind::kLiftoff), "liftoff");
 }
 
 // Too few points for the 0-1 test: not periodic is all that is said.

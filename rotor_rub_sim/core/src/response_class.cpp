@@ -4,8 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include "rotor_rub_sim/core/name_table.hpp"
+#include <stdexcept>
 
 namespace rotor_rub::core {
 namespace {
@@ -29,10 +28,65 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-const char* to_string(ContactKind v) { return name_in_table(kContactKindNames, v); }
-const char* to_string(Motion v) { return name_in_table(kMotionNames, v); }
-const char* to_string(Whirl v) { return name_in_table(kWhirlNames, v); }
-const char* to_string(ResponseClass v) { return name_in_table(kResponseClassNames, v); }
+// No default labels: -Werror=switch names a value added without a name. The
+// throw after each switch is for a value cast from an integer out of range.
+const char* to_string(ContactKind v) {
+  switch (v) {
+    case ContactKind::kNone:
+      return "none";
+    case ContactKind::kPartial:
+      return "partial";
+    case ContactKind::kFull:
+      return "full";
+  }
+  throw std::logic_error("to_string: not a ContactKind");
+}
+
+const char* to_string(Motion v) {
+  switch (v) {
+    case Motion::kPeriodic:
+      return "periodic";
+    case Motion::kQuasiPeriodic:
+      return "quasi_periodic";
+    case Motion::kChaotic:
+      return "chaotic";
+    case Motion::kAperiodic:
+      return "aperiodic";
+    case Motion::kTooShort:
+      return "too_short";
+  }
+  throw std::logic_error("to_string: not a Motion");
+}
+
+const char* to_string(Whirl v) {
+  switch (v) {
+    case Whirl::kForward:
+      return "forward";
+    case Whirl::kBackward:
+      return "backward";
+  }
+  throw std::logic_error("to_string: not a Whirl");
+}
+
+const char* to_string(ResponseClass v) {
+  switch (v) {
+    case ResponseClass::kNoContact:
+      return "no_contact";
+    case ResponseClass::kFullRub:
+      return "full_rub";
+    case ResponseClass::kPartialRub:
+      return "partial_rub";
+    case ResponseClass::kQuasiPeriodic:
+      return "quasi_periodic";
+    case ResponseClass::kChaotic:
+      return "chaotic";
+    case ResponseClass::kAperiodicRub:
+      return "aperiodic_rub";
+    case ResponseClass::kBackwardWhirl:
+      return "backward_whirl";
+  }
+  throw std::logic_error("to_string: not a ResponseClass");
+}
 
 void ResponseWindow::add_sample(const Sample& s) {
   ++samples;

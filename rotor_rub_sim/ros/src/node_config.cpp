@@ -90,12 +90,12 @@ const std::vector<Entry>& entries() {
                      [](NodeConfig& c) -> double& { return c.real_time_factor; }));
     {
       std::string names;
-      for (const auto& row : kEndActionNames) names += std::string(names.empty() ? "" : " | ") + row.name;
+      for (EndAction a : kAllEndActions) names += std::string(names.empty() ? "" : " | ") + to_string(a);
       Entry e{{"end_action", names, "at end_time_s: exit, continue at the last speed, or pause", "exit"}, nullptr};
       e.set = [names](NodeConfig& c, const std::string& text) {
-        for (const auto& row : kEndActionNames) {
-          if (text == row.name) {
-            c.end_action = row.value;
+        for (EndAction a : kAllEndActions) {
+          if (text == to_string(a)) {
+            c.end_action = a;
             return;
           }
         }
@@ -185,11 +185,17 @@ std::vector<std::string> all_key_names() {
 
 }  // namespace
 
+// No default label: -Werror=switch names an action added without a name.
 const char* to_string(EndAction a) {
-  for (const auto& row : kEndActionNames) {
-    if (row.value == a) return row.name;
+  switch (a) {
+    case EndAction::kExit:
+      return "exit";
+    case EndAction::kContinue:
+      return "continue";
+    case EndAction::kPause:
+      return "pause";
   }
-  return "?";
+  return "?";  // a value cast from an integer out of range
 }
 
 const std::vector<NodeKeyInfo>& node_keys() {

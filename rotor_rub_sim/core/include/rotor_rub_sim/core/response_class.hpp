@@ -2,7 +2,7 @@
 // a bifurcation diagram, judged from the keyphasor's Poincare points and the
 // samples of the same time window (ResponseWindow collects both).
 //
-// How each attribute is decided (names in the tables below):
+// How each attribute is decided (names: to_string below):
 // * contact: the share of samples in contact (and whether any contact event
 //   happened in the window): none (0, no event), full (every sample in
 //   contact, no lift-off: annular rub), partial (the rest).
@@ -28,6 +28,7 @@
 //   contact, not shown periodic: too few points to judge).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -40,37 +41,16 @@ enum class Motion { kPeriodic, kQuasiPeriodic, kChaotic, kAperiodic, kTooShort }
 enum class Whirl { kForward, kBackward };
 enum class ResponseClass { kNoContact, kFullRub, kPartialRub, kQuasiPeriodic, kChaotic, kAperiodicRub, kBackwardWhirl };
 
-struct ContactKindName {
-  ContactKind value;
-  const char* name;
-};
-inline constexpr ContactKindName kContactKindNames[] = {
-    {ContactKind::kNone, "none"}, {ContactKind::kPartial, "partial"}, {ContactKind::kFull, "full"}};
-struct MotionName {
-  Motion value;
-  const char* name;
-};
-inline constexpr MotionName kMotionNames[] = {{Motion::kPeriodic, "periodic"},
-                                              {Motion::kQuasiPeriodic, "quasi_periodic"},
-                                              {Motion::kChaotic, "chaotic"},
-                                              {Motion::kAperiodic, "aperiodic"},
-                                              {Motion::kTooShort, "too_short"}};
-struct WhirlName {
-  Whirl value;
-  const char* name;
-};
-inline constexpr WhirlName kWhirlNames[] = {{Whirl::kForward, "forward"}, {Whirl::kBackward, "backward"}};
-struct ResponseClassName {
-  ResponseClass value;
-  const char* name;
-};
-inline constexpr ResponseClassName kResponseClassNames[] = {{ResponseClass::kNoContact, "no_contact"},
-                                                            {ResponseClass::kFullRub, "full_rub"},
-                                                            {ResponseClass::kPartialRub, "partial_rub"},
-                                                            {ResponseClass::kQuasiPeriodic, "quasi_periodic"},
-                                                            {ResponseClass::kChaotic, "chaotic"},
-                                                            {ResponseClass::kAperiodicRub, "aperiodic_rub"},
-                                                            {ResponseClass::kBackwardWhirl, "backward_whirl"}};
+inline constexpr std::array<ContactKind, 3> kAllContactKinds{ContactKind::kNone, ContactKind::kPartial,
+                                                             ContactKind::kFull};
+inline constexpr std::array<Motion, 5> kAllMotions{Motion::kPeriodic, Motion::kQuasiPeriodic, Motion::kChaotic,
+                                                   Motion::kAperiodic, Motion::kTooShort};
+inline constexpr std::array<Whirl, 2> kAllWhirls{Whirl::kForward, Whirl::kBackward};
+inline constexpr std::array<ResponseClass, 7> kAllResponseClasses{
+    ResponseClass::kNoContact,     ResponseClass::kFullRub, ResponseClass::kPartialRub,
+    ResponseClass::kQuasiPeriodic, ResponseClass::kChaotic, ResponseClass::kAperiodicRub,
+    ResponseClass::kBackwardWhirl};
+// The names in the bifurcation tool's CSV and the docs (snake case).
 const char* to_string(ContactKind v);
 const char* to_string(Motion v);
 const char* to_string(Whirl v);

@@ -13,16 +13,12 @@
 namespace rotor_rub::ros_node {
 
 // What the node does when the simulated time reaches the scene's end_time_s.
-enum class EndAction { kExit, kContinue, kPause };
-struct EndActionName {
-  EndAction value;
-  const char* name;
+enum class EndAction {
+  kExit,      // publish the final statistics, then shut down (exit status 0)
+  kContinue,  // keep running at the last commanded speed
+  kPause,     // stay up, paused, for reset or inspection
 };
-inline constexpr std::array<EndActionName, 3> kEndActionNames{{
-    {EndAction::kExit, "exit"},          // publish the final statistics, then shut down (exit status 0)
-    {EndAction::kContinue, "continue"},  // keep running at the last commanded speed
-    {EndAction::kPause, "pause"},        // stay up, paused, for reset or inspection
-}};
+inline constexpr std::array<EndAction, 3> kAllEndActions{EndAction::kExit, EndAction::kContinue, EndAction::kPause};
 const char* to_string(EndAction a);
 
 struct NodeConfig {
