@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
     for (const SolverEntry& e : solver_registry()) {
       if (e.method != m || e.integrator == Integrator::kRk4) continue;
       for (const auto& [r, a] : tolerances) {
-        // A pair the scene does not run (a flexible rotor's penalty on rosenbrock4) is named and left out.
+        // A pair the scene's validation refuses is named and left out.
         try {
           validate_scene(with(base, {m, r, a, e.integrator}));
         } catch (const SceneError& err) {

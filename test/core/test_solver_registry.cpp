@@ -33,6 +33,25 @@ TEST(SolverRegistry, AutoIsDop853UpToRtol1e4ThenDopri5AndRosenbrock4ForPenalty) 
   EXPECT_EQ(core::effective_integrator(s), Integrator::kRkf78);
 }
 
+// The integrator key's description (--help, the template, docs/node.md) is
+// written from the table: it says what auto_integrator does.
+TEST(SolverRegistry, TheAutoTextSaysWhatAutoPicks) {
+  const std::string text = core::auto_integrator_text();
+  EXPECT_EQ(text,
+            "penalty rosenbrock4, dopri5 with a rotor_file; switching dop853 up to rtol 1e-4, dopri5 above; "
+            "iteration dop853 up to rtol 1e-4, dopri5 above");
+  const core::SceneKeyInfo* key = nullptr;
+  for (const core::SceneKeyInfo& k : core::scene_keys()) {
+    if (k.key == "integrator") key = &k;
+  }
+  ASSERT_NE(key, nullptr);
+  EXPECT_NE(key->description.find(text), std::string::npos) << key->description;
+  core::Scene flexible;
+  flexible.solver.method = Method::kPenalty;
+  flexible.rotor.file = "rotor.yaml";  // auto's pick depends only on whether there is one
+  EXPECT_EQ(core::effective_integrator(flexible), core::kFlexiblePenaltyAuto);
+}
+
 TEST(SolverRegistry, EveryRowIsOfferedOnceAndEveryOtherPairRefused) {
   std::set<std::pair<Method, Integrator>> rows;
   for (const core::SolverEntry& e : core::solver_registry()) {

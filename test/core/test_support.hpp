@@ -82,14 +82,9 @@ inline std::vector<Solver> all_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
 }
 // The methods and integrators the flexible-rotor suites run (a rotor_file):
-// the rigid methods on theirs, the penalty method on dopri5 and rosenbrock4
-// (rk4, at a fixed step below the rotor's bound: test_flexible_rk4.cpp).
-inline std::vector<Solver> flexible_solvers() {
-  std::vector<Solver> v = rigid_solvers();
-  v.push_back({core::Method::kPenalty, core::Integrator::kDopri5});
-  v.push_back({core::Method::kPenalty, core::Integrator::kRosenbrock4});
-  return v;
-}
+// every pair of the registry, as for the Jeffcott rotor (rk4, at a fixed step
+// below the rotor's bound: test_flexible_rk4.cpp).
+inline std::vector<Solver> flexible_solvers() { return all_solvers(); }
 
 // A contact method driven alone, without Simulation (and so without
 // validate_scene), as a core user who builds one with make_contact_method

@@ -272,12 +272,10 @@ const std::vector<KeyEntry>& entries() {
     // Numerics.
     t.push_back(choice("method", kAllMethods, "contact method: penalty (I), switching (II), iteration (III)",
                        [](Scene& s) -> Method& { return s.solver.method; }));
-    t.push_back(
-        choice("integrator", kAllIntegrators,
-               "time integrator; auto: the fastest for the method at the rtol (penalty rosenbrock4, dopri5 with a "
-               "rotor_file; switching and iteration dop853 up to rtol 1e-4, dopri5 above); each method's "
-               "integrators: rotor_rub_run --list-solvers",
-               [](Scene& s) -> Integrator& { return s.solver.integrator; }));
+    t.push_back(choice("integrator", kAllIntegrators,
+                       "time integrator; auto: the fastest for the method at the rtol (" + auto_integrator_text() +
+                           "); each method's integrators: rotor_rub_run --list-solvers",
+                       [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",
                      [](Scene& s) -> double& { return s.solver.rtol; }));
     t.push_back(real("atol", 1e-16, false, 1.0, "absolute error tolerance per step [m, m/s]",

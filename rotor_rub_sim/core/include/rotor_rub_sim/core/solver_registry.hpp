@@ -42,6 +42,11 @@ const SolverEntry* find_solver(Method method, Integrator integrator);
 /// The integrator `auto` stands for with this method at this rtol.
 Integrator auto_integrator(Method method, double rtol);
 
+/// What `auto` stands for with the penalty method on a flexible rotor (a
+/// rotor_file): rosenbrock4 differences its Jacobian there and is the slower
+/// at the usual contact springs (docs/rotors.md).
+inline constexpr Integrator kFlexiblePenaltyAuto = Integrator::kDopri5;
+
 /// The integrator a run of these settings uses (`auto` resolved).
 Integrator effective_integrator(const SolverSettings& solver);
 /// The same for a scene: for a flexible rotor's (rotor_file) penalty method
@@ -50,6 +55,10 @@ Integrator effective_integrator(const Scene& scene);
 
 /// "dop853, dopri5, rkf78": the integrators offered with a method, in the registry's order.
 std::string integrators_of(Method method);
+
+/// What `auto` picks, per method, in one line (the integrator key's
+/// description: --help, --list-keys, the template, docs/node.md).
+std::string auto_integrator_text();
 
 /// A table for --list-solvers: method, integrator, where auto picks it, note.
 std::string solver_table_text();

@@ -3,9 +3,9 @@
 //
 // Why not rosbag::Bag: its write() seeks to the end of the file before every
 // message (in case the previous operation was a read), which flushes the
-// stdio buffer: four system calls and about 13 us per message, measured with
-// strace -c and perf. At 10 kHz state rate that alone held the node to a
-// real-time factor of 7. This writer never reads, so it never seeks while
+// stdio buffer: four system calls per message, which held the node's
+// real-time factor down at a 10 kHz state rate (docs/benchmarks.md, "The
+// node"). This writer never reads, so it never seeks while
 // recording: messages are serialised into an in-memory chunk, and a chunk
 // goes to the file whole (chunk record, then its index records) when it
 // reaches chunk_bytes or when flush() is called. close() appends the
