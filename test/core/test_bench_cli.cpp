@@ -101,10 +101,11 @@ TEST(BenchCli, MethodsAndCsvWithCvodeBesideUs) {
   std::remove(csv.c_str());
 }
 
-// The default scene is the package's from any directory: here /tmp. The
-// quickest whole bench there is (the paper scene, two tolerances, one repeat).
+// The default scene is the package's from any directory: here the test's own
+// temporary one. The quickest whole bench there is (the paper scene, two
+// tolerances, one repeat).
 TEST(BenchCli, QuickRunFromAnyDirectory) {
-  const Result r = bench("--quick --repeats 1", "cd /tmp &&");
+  const Result r = bench("--quick --repeats 1", "cd " + rotor_rub::test::tmp() + " &&");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out.rfind("scene /", 0), 0u) << r.out;
   EXPECT_NE(r.out.find("/config/paper_runup.yaml; reference"), std::string::npos) << r.out;
@@ -116,7 +117,7 @@ TEST(BenchCli, QuickRunFromAnyDirectory) {
 // here, so the run is quick).
 TEST(BenchCli, DefaultSceneBesideTheExecutableInAnInstallSpace) {
   namespace fs = std::filesystem;
-  const fs::path prefix = fs::temp_directory_path() / ("rotor_rub_prefix." + std::to_string(::getpid()));
+  const fs::path prefix = fs::path(rotor_rub::test::tmp()) / "install_prefix";
   fs::remove_all(prefix);
   fs::create_directories(prefix / "lib/rotor_rub_sim");
   fs::create_directories(prefix / "share/rotor_rub_sim/config");

@@ -184,10 +184,12 @@ TEST(SweepCli, UsageErrorsNameTheOptionTheValueAndTheRange) {
   EXPECT_NE(m.err.find("--merge"), std::string::npos) << m.err;
 }
 
-// The default scene is the package's, found from any directory (here /tmp,
-// and without ROS_PACKAGE_PATH: then beside the sources it was built from).
+// The default scene is the package's, found from any directory (here the
+// test's own temporary one, and / without ROS_PACKAGE_PATH: then beside the
+// sources it was built from).
 TEST(SweepCli, DefaultSceneFromAnyDirectory) {
-  for (const char* prefix : {"cd /tmp &&", "cd / && env -u ROS_PACKAGE_PATH"}) {
+  for (const std::string& prefix :
+       {"cd " + rotor_rub::test::tmp() + " &&", std::string("cd / && env -u ROS_PACKAGE_PATH")}) {
     const Result r = sweep(
         "--set end_time_s=0.2 --set method=switching --repeats 1 --jobs 1 --no-progress "
         "--out " +

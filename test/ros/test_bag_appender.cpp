@@ -18,8 +18,7 @@ using rotor_rub::ros_node::BagAppender;
 namespace {
 
 std::string temp_path(const std::string& name) {
-  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + name + "." +
-         std::to_string(::getpid()) + ".bag";
+  return testing::TempDir() + name + "." + std::to_string(::getpid()) + ".bag";
 }
 
 rotor_rub_msgs::RotorState state(uint64_t i) {
