@@ -16,6 +16,9 @@ namespace rotor_rub::core {
 
 class FlexibleRotorModel;
 
+/// One of the paper's methods on one integrator (solver_registry.hpp): the
+/// Simulation drives it; a library user may drive one alone (no validation,
+/// no invariants' checks: make_contact_method).
 class ContactMethod {
  public:
   virtual ~ContactMethod() = default;
@@ -48,6 +51,7 @@ class ContactMethod {
   /// are appended (at times <= step_end()). Throws MethodFailure.
   virtual void step(double t_limit_s, std::vector<ContactEvent>& events) = 0;
 
+  /// The last accepted step's interval [s]: sample() answers inside it.
   virtual double step_begin() const = 0;
   virtual double step_end() const = 0;
 
@@ -60,11 +64,15 @@ class ContactMethod {
   /// step_end()]; empty for the Jeffcott.
   virtual ModalState modal_state(double /*t_s*/) const { return ModalState(); }
 
+  /// The cost so far; mutable_stats() lets the Simulation add its own
+  /// (the output's time, the wall time).
   virtual const RunStats& stats() const = 0;
   virtual RunStats& mutable_stats() = 0;
 };
 
 struct Scene;
+/// The method of the scene's method and integrator (`auto` resolved), from
+/// the registry; the scene is not validated here (Simulation does that).
 std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene);
 
 }  // namespace rotor_rub::core

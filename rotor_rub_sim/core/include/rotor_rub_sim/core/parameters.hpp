@@ -16,14 +16,21 @@ namespace rotor_rub::core {
 /// *_from_string reads them back and names the accepted ones. Which
 /// integrators each method runs on is solver_registry.hpp's one table.
 
+/// The paper's contact methods: I penalty spring, II switching between the
+/// free and the contact equations at located events, III the contact force
+/// iterated at every evaluation (docs/numerics.md).
 enum class Method { kPenalty, kSwitching, kIteration };
 /// kAuto: the registry's choice for the method and the rtol (the fastest
 /// there at dopri5's accuracy or better, solver_registry.cpp), resolved when
 /// a run starts.
 enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
+/// The stator: elastic (mass, springs, dampers: the paper's) or rigid (fixed).
 enum class StatorModel { kElastic, kRigid };
+/// The spin: prescribed by the speed profile (the paper's), or a motor's
+/// state under a speed controller (ModelParameters::drive_model).
 enum class DriveModel { kPrescribed, kMotor };
 
+/// Every value of each enum, in the order --help lists them.
 inline constexpr std::array<Method, 3> kAllMethods{Method::kPenalty, Method::kSwitching, Method::kIteration};
 inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,        Integrator::kDopri5,
                                                            Integrator::kRosenbrock4, Integrator::kRk4,
@@ -31,6 +38,7 @@ inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,   
 inline constexpr std::array<StatorModel, 2> kAllStatorModels{StatorModel::kElastic, StatorModel::kRigid};
 inline constexpr std::array<DriveModel, 2> kAllDriveModels{DriveModel::kPrescribed, DriveModel::kMotor};
 
+/// The name of a value, as scene files, --help and the outputs write it.
 const char* to_string(Method m);
 const char* to_string(Integrator i);
 const char* to_string(StatorModel s);
@@ -43,23 +51,25 @@ DriveModel drive_model_from_string(const std::string& s);
 
 // ---- Physical model ---------------------------------------------------------
 
+/// The Jeffcott rotor, the stator, the contact and the drive (model.hpp
+/// states the equations).
 struct ModelParameters {
-  double rotor_mass_kg = 0.418;
-  double rotor_stiffness_N_per_m = 2493.0;
-  double rotor_damping_N_s_per_m = 1.3;
-  double rotor_radius_m = 0.010;   ///< R_r: contact point radius (sliding velocity)
-  double eccentricity_m = 0.4e-3;  ///< e: mass centre to geometric centre
+  double rotor_mass_kg = 0.418;             ///< m_r
+  double rotor_stiffness_N_per_m = 2493.0;  ///< k_r: the shaft's
+  double rotor_damping_N_s_per_m = 1.3;     ///< b_r: the shaft's
+  double rotor_radius_m = 0.010;            ///< R_r: contact point radius (sliding velocity)
+  double eccentricity_m = 0.4e-3;           ///< e: mass centre to geometric centre
   /// beta: the unbalance's angle on the shaft, counter-clockwise from the
   /// keyphasor's notch: the mass centre lies along phi + beta (0: the
   /// notch's direction, the paper's unbalance).
   double unbalance_phase_rad = 0.0;
   StatorModel stator_model = StatorModel::kElastic;
-  double stator_mass_kg = 0.86;
-  double stator_stiffness_N_per_m = 38166.0;
-  double stator_damping_N_s_per_m = 3.61;
-  double clearance_m = 2.0e-3;        ///< C: radial clearance
-  double friction_coefficient = 0.1;  ///< f: Coulomb (stick and slip, contact_law.hpp)
-  double restitution = 0.0;           ///< normal coefficient of restitution, 0 = plastic
+  double stator_mass_kg = 0.86;               ///< m_s (elastic stator)
+  double stator_stiffness_N_per_m = 38166.0;  ///< k_s: its supports' (elastic stator)
+  double stator_damping_N_s_per_m = 3.61;     ///< b_s: its supports' (elastic stator)
+  double clearance_m = 2.0e-3;                ///< C: radial clearance
+  double friction_coefficient = 0.1;          ///< f: Coulomb (stick and slip, contact_law.hpp)
+  double restitution = 0.0;                   ///< normal coefficient of restitution, 0 = plastic
   /// Impacts whose rebound velocity falls below this settle into sustained
   /// contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;
@@ -68,8 +78,8 @@ struct ModelParameters {
   /// The stator's rest position (a misaligned or thermally bowed casing): the
   /// centre its springs pull it to, or where a rigid stator sits. A static
   /// offset below the clearance gives partial rub on one side.
-  double stator_offset_x_m = 0.0;
-  double stator_offset_y_m = 0.0;
+  double stator_offset_x_m = 0.0;  ///< along x
+  double stator_offset_y_m = 0.0;  ///< along y
   /// The drive (model.hpp): prescribed, the speed profile is the spin; motor,
   /// the spin is a state driven by a PI speed controller (with acceleration
   /// feed-forward, a torque limit and back-calculation anti-windup) that
@@ -86,9 +96,12 @@ struct ModelParameters {
 
 // ---- Drive: piecewise constant angular acceleration ------------------------
 
+/// The speed profile the drive follows: from the initial speed toward the
+/// target at constant acceleration, then held (speed_profile.hpp); speed
+/// commands replace the target later.
 struct SpeedProfileParameters {
-  double initial_angle_rad = 0.0;
-  double initial_speed_rad_per_s = 0.0;
+  double initial_angle_rad = 0.0;         ///< phi at t = 0
+  double initial_speed_rad_per_s = 0.0;   ///< omega at t = 0
   double acceleration_rad_per_s2 = 70.0;  ///< magnitude used toward the target
   double target_speed_rad_per_s = 280.0;  ///< 70 rad/s^2 for 4 s, as in the paper
   double max_speed_rad_per_s = 2000.0;    ///< limit for speed commands
@@ -96,15 +109,17 @@ struct SpeedProfileParameters {
 
 // ---- Numerical settings ----------------------------------------------------
 
+/// How a scene is integrated: the method, the integrator and their
+/// tolerances and budgets.
 struct SolverSettings {
   Method method = Method::kSwitching;
   Integrator integrator = Integrator::kAuto;
-  double rtol = 1.0e-6;
-  double atol = 1.0e-9;  ///< applies to every state component (m and m/s)
-  double initial_step_s = 1.0e-5;
-  double fixed_step_s = 1.0e-6;  ///< integrator rk4 only: the fixed step h
-  double min_step_s = 1.0e-14;   ///< below it a run is declared stalled
-  long max_steps = 20'000'000;   ///< accepted + rejected step budget
+  double rtol = 1.0e-6;            ///< relative tolerance per step
+  double atol = 1.0e-9;            ///< applies to every state component (m and m/s)
+  double initial_step_s = 1.0e-5;  ///< the first trial step
+  double fixed_step_s = 1.0e-6;    ///< integrator rk4 only: the fixed step h
+  double min_step_s = 1.0e-14;     ///< below it a run is declared stalled
+  long max_steps = 20'000'000;     ///< accepted + rejected step budget
   /// Wall-time budget of the integration (cost, not simulated time): a run
   /// that spends it fails as timed_out instead of hanging a sweep or a node.
   double max_wall_time_s = 600.0;
@@ -155,14 +170,17 @@ struct RotorSettings {
   long probe_node = -1;
 };
 
+/// Everything a run needs: what scene files, rosparam and --set fill
+/// (scene_keys.hpp names every key). Simulation validates it
+/// (validate_scene).
 struct Scene {
   ModelParameters model;
   RotorSettings rotor;
   SpeedProfileParameters speed;
   SolverSettings solver;
   ProbeParameters probes;
-  double end_time_s = 4.0;
-  double output_rate_hz = 1000.0;
+  double end_time_s = 4.0;         ///< the run's simulated end
+  double output_rate_hz = 1000.0;  ///< the samples' rate in simulated time
 };
 
 }  // namespace rotor_rub::core

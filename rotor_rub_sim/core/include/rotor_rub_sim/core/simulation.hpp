@@ -19,10 +19,16 @@
 
 namespace rotor_rub::core {
 
+/// What a Simulation delivers to, in time order: override the calls wanted
+/// (every one defaults to nothing). Called from advance_to(), on its thread.
 class SimulationObserver {
  public:
   virtual ~SimulationObserver() = default;
+  /// A sample on the output grid t_k = k / output_rate_hz (k >= 0), the state
+  /// from the method's dense output; each passed the invariants' check.
   virtual void on_sample(const Sample& /*s*/) {}
+  /// A contact event (touchdown, lift-off, graze) at its located time, before
+  /// the samples after it.
   virtual void on_event(const ContactEvent& /*e*/) {}
   /// A keyphasor: once per revolution, when the spin angle phi passes a
   /// multiple of 2 pi (the unbalance pointing along +x), the state at that
@@ -43,12 +49,18 @@ class SimulationObserver {
   virtual void on_shaft_sample(const ShaftSample& /*s*/) {}
 };
 
+/// How a run failed: the class (run_types.hpp), the simulated time and a
+/// message naming what went wrong.
 struct RunFailure {
   FailureClass failure_class;
-  double time_s;
+  double time_s;  ///< where the failing step began or the invariant broke [s]
   std::string message;
 };
 
+/// A scene's run, advanced by the caller: the loop around one ContactMethod
+/// (made from the scene's method and integrator), with the speed profile, the
+/// commands and live changes, the invariants' checks and the output grid.
+/// Not thread-safe; one per run.
 class Simulation {
  public:
   /// Checks the scene (validate_scene: throws SceneError naming the key, the
@@ -90,13 +102,17 @@ class Simulation {
   double rotor_stator_distance_m() const;
   /// The scene as run: integrator `auto` resolved to the registry's choice.
   const Scene& scene() const { return scene_; }
+  /// The speed profile with the commands so far.
   const SpeedProfile& profile() const { return profile_; }
   /// A flexible rotor's node positions along the shaft [m] (node order; the
   /// nodes of ShaftSample); empty for the Jeffcott.
   std::vector<double> shaft_node_z_m() const;
   /// A flexible rotor's rub station node, or -1 (the Jeffcott).
   int shaft_station_node() const;
+  /// The run's cost so far (steps, evaluations, events; wall_time_s is the
+  /// integration's own time).
   const RunStats& stats() const { return method_->stats(); }
+  /// Set once a step has failed; the run stays there.
   const std::optional<RunFailure>& failure() const { return failure_; }
 
  private:
@@ -143,12 +159,15 @@ void check_speed_command(const Scene& scene, double target_rad_per_s, double acc
 Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes,
                         bool rules_between_keys);
 
-/// Runs the whole scene from 0 to end_time_s.
+/// A whole run's outcome (run_scene).
 struct RunResult {
   RunStats stats;
-  std::vector<ContactEvent> events;
+  std::vector<ContactEvent> events;  ///< every event, in time order
   std::optional<RunFailure> failure;
 };
+/// Runs the whole scene from 0 to end_time_s, delivering to observer, and
+/// returns its cost, events and failure, if any. Throws SceneError for a
+/// scene that does not validate.
 RunResult run_scene(const Scene& scene, SimulationObserver& observer);
 
 }  // namespace rotor_rub::core
