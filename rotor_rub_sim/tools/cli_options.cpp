@@ -87,7 +87,8 @@ CLI::Validator scene_key(const std::string& key) {
 
 std::string scene_key_description(const std::string& key) {
   const core::SceneKeyInfo& info = key_info(key);
-  return info.description + "; sets scene key " + key;
+  // The key's default, not the scene file's value: what a scene without the key runs.
+  return info.description + "; sets scene key " + key + " (the key's default: " + info.default_value + ")";
 }
 
 CLI::Validator existing_file() { return CLI::Validator(CLI::ExistingFile).description(""); }

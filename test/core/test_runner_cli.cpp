@@ -99,6 +99,8 @@ TEST(RunnerCli, HelpDescribesEveryOption) {
             "")
       << r.out;
   EXPECT_NE(r.out.find("[Hz]"), std::string::npos) << r.out;  // units where an option has one
+  // A scene key's option says the key's default: the integrator's is auto.
+  EXPECT_NE(r.out.find("sets scene key integrator (the key's default: auto)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Exit status"), std::string::npos) << r.out;
   EXPECT_EQ(run("-h").status, 0);
 }
