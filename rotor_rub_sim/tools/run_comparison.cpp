@@ -234,12 +234,7 @@ RecordedRun read_runner_csv(const std::string& csv_path, const std::string& summ
       for (const auto& e : j.at("events")) {
         core::ContactEvent ev;
         ev.t_s = number_or_nan(e.at("t"));
-        const std::string kind = e.at("kind").get<std::string>();
-        const auto named = std::find_if(core::kAllEventKinds.begin(), core::kAllEventKinds.end(),
-                                        [&kind](core::EventKind k) { return kind == core::to_string(k); });
-        if (named == core::kAllEventKinds.end())
-          throw std::runtime_error("event kind '" + kind + "' is not one of touchdown, liftoff, graze");
-        ev.kind = *named;
+        ev.kind = core::value_named(core::kAllEventKinds, e.at("kind").get<std::string>(), "event kind");
         ev.normal_velocity_m_per_s = number_or_nan(e.at("normal_velocity_m_per_s"));
         ev.impulse_N_s = number_or_nan(e.at("impulse_N_s"));
         run.events.push_back(ev);

@@ -24,7 +24,7 @@ struct CliResult {
   std::string out;
 };
 
-// `prefix` goes before the command in the shell: "cd /tmp &&", "env -u VAR".
+// `prefix` goes before the command in the shell: "cd DIR &&", "env -u VAR".
 inline CliResult run_cli(const std::string& binary, const std::string& args, const std::string& prefix = "") {
   const std::string base = rotor_rub::test::tmp() + "cli";
   const int rc = std::system((prefix + " " + binary + " " + args + " > " + base + ".out 2> " + base + ".err").c_str());

@@ -122,7 +122,7 @@ double worst_drift(const Energies& e) {
 // its energy, a G that did work or a station force counted twice is
 // orders of magnitude above either.
 TEST(FlexibleRotorEnergy, ConservedThroughElasticFrictionlessRub) {
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (const core::StatorModel stator : {core::StatorModel::kRigid, core::StatorModel::kElastic}) {
       SCOPED_TRACE(solver.name() + (stator == core::StatorModel::kRigid ? " rigid" : " elastic"));
       const Energies e = run_energy(undamped_scene(solver, stator), core::Vec2(0.05, 0.02));
@@ -216,7 +216,7 @@ TEST(FlexibleRotorMomentum, ImpactsMoveTheStationAloneAndConserveMomentum) {
 // out the modes' share of an impact's spin jump alone drifts by 3.7e-5 of
 // it (measured, switching, rigid stator).
 TEST(FlexibleRotorEnergy, ConservedWithTheSpinFreeOnAnUnbalancedRotor) {
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (const core::StatorModel stator : {core::StatorModel::kRigid, core::StatorModel::kElastic}) {
       SCOPED_TRACE(solver.name() + (stator == core::StatorModel::kRigid ? " rigid" : " elastic"));
       core::Scene s = undamped_scene(solver, stator);
@@ -268,7 +268,7 @@ TEST(FlexibleRotorEnergy, ConservedWithTheSpinFreeOnAnUnbalancedRotor) {
 // report before it was added: T = J A = 0) the work is nil against a
 // change of E of 0.5 to 3.6 J.
 TEST(FlexibleRotorEnergy, ThePrescribedDrivesTorqueDoesTheWork) {
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (const bool rub : {false, true}) {
       if (rub && solver.method != core::Method::kPenalty) continue;
       SCOPED_TRACE(solver.name() + (rub ? " rub" : " free flight"));
@@ -322,7 +322,7 @@ TEST(FlexibleRotorEnergy, ThePrescribedDrivesTorqueDoesTheWork) {
 // integrators' error (1e-6 of the start) and by the end has fallen by more
 // than a tenth.
 TEST(FlexibleRotorEnergy, PlasticImpactsAndFrictionWithoutSpinOnlyTakeEnergy) {
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (const bool spinning : {true, false}) {
       SCOPED_TRACE(solver.name() + (spinning ? " plastic at 300 rad/s" : " friction at rest"));
       core::Scene s = undamped_scene(solver, core::StatorModel::kRigid);

@@ -95,7 +95,7 @@ TEST(FlexibleRotorGravity, SettlesOntoItsStaticSag) {
   const HorizontalRotor h;
   const ReducedStatics statics = reduced_statics(h.reduced(kPlanarModes));
   const double sag_m = statics.sag(core::ReducedRotor::kStationY);
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     SCOPED_TRACE(solver.name());
     core::Scene s = horizontal_scene(solver, 1e-3);
     const test::Run r = test::run(s);
@@ -119,7 +119,7 @@ TEST(FlexibleRotorGravity, RestsOnTheSealCarryingItsShareOfTheWeight) {
   const ReducedStatics statics = reduced_statics(h.reduced(kPlanarModes));
   const double a = statics.sag(core::ReducedRotor::kStationY), b = statics.station_compliance_m_per_N;
   const double clearance_m = 0.5 * std::abs(a);
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     SCOPED_TRACE(solver.name());
     const core::Scene s = horizontal_scene(solver, clearance_m);
     const bool penalty = solver.method == core::Method::kPenalty;

@@ -103,7 +103,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
   scenes[2].model.stator_offset_x_m = 0.5e-3;
   scenes[2].model.restitution = 0.3;
   scenes[3].solver.integrator = core::Integrator::kDopri5;
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const bool penalty = solver.method == core::Method::kPenalty;
       if (penalty && i == 3) continue;  // dopri5 already
@@ -187,7 +187,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsMotorRun) {
     s.end_time_s = 0.15;
   }
   scenes[1].end_time_s = 0.07;
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       core::Scene jeffcott_scene = scenes[i];
       jeffcott_scene.solver.method = solver.method;
@@ -358,7 +358,7 @@ void penalty_settles_onto_the_full_rub(core::Integrator integrator) {
 void seal_rub_promises(core::Scene s);  // below
 
 TEST(FlexibleRotorRuns, SealRubRunUpKeepsTheMethodsPromises) {
-  for (const test::Solver& solver : test::flexible_solvers()) {
+  for (const test::Solver& solver : test::all_solvers()) {
     SCOPED_TRACE(solver.name());
     core::Scene s = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
     s.solver.method = solver.method;

@@ -129,7 +129,7 @@ TEST(MethodPromise, RigidStatorSceneRunsOnEveryMethod) {
 TEST(MethodPromise, StepsTileTheRunInEveryInstance) {
   const core::Scene seal = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
   for (const bool flexible : {false, true}) {
-    std::vector<test::Solver> solvers = flexible ? test::flexible_solvers() : test::all_solvers();
+    std::vector<test::Solver> solvers = test::all_solvers();
     solvers.push_back({core::Method::kPenalty, core::Integrator::kRk4});
     for (const core::StatorModel stator : {core::StatorModel::kElastic, core::StatorModel::kRigid}) {
       for (const core::DriveModel drive : {core::DriveModel::kPrescribed, core::DriveModel::kMotor}) {

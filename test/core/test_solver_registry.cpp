@@ -49,7 +49,7 @@ TEST(SolverRegistry, TheAutoTextSaysWhatAutoPicks) {
   core::Scene flexible;
   flexible.solver.method = Method::kPenalty;
   flexible.rotor.file = "rotor.yaml";  // auto's pick depends only on whether there is one
-  EXPECT_EQ(core::effective_integrator(flexible), core::kFlexiblePenaltyAuto);
+  EXPECT_EQ(core::effective_integrator(flexible), Integrator::kDopri5);  // as the text says
 }
 
 TEST(SolverRegistry, EveryRowIsOfferedOnceAndEveryOtherPairRefused) {

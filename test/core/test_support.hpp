@@ -78,13 +78,12 @@ inline std::vector<Solver> registry_solvers(std::initializer_list<core::Method> 
 inline std::vector<Solver> rigid_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration});
 }
+// Every method on every integrator of the registry but rk4 (the Jeffcott's
+// and a flexible rotor's alike; rk4 runs at a fixed step below the rotor's
+// bound: test_fixed_step.cpp, test_flexible_rk4.cpp).
 inline std::vector<Solver> all_solvers() {
   return registry_solvers({core::Method::kSwitching, core::Method::kIteration, core::Method::kPenalty});
 }
-// The methods and integrators the flexible-rotor suites run (a rotor_file):
-// every pair of the registry, as for the Jeffcott rotor (rk4, at a fixed step
-// below the rotor's bound: test_flexible_rk4.cpp).
-inline std::vector<Solver> flexible_solvers() { return all_solvers(); }
 
 // A contact method driven alone, without Simulation (and so without
 // validate_scene), as a core user who builds one with make_contact_method

@@ -3,20 +3,6 @@
 #include <stdexcept>
 
 namespace rotor_rub::core {
-namespace {
-
-// The value whose to_string is s, over every value of the enum.
-template <class Enum, std::size_t N>
-Enum value_named(const std::array<Enum, N>& all, const std::string& s, const char* what) {
-  std::string accepted;
-  for (const Enum v : all) {
-    if (s == to_string(v)) return v;
-    accepted += std::string(accepted.empty() ? "" : ", ") + to_string(v);
-  }
-  throw std::invalid_argument(std::string(what) + " '" + s + "' is not accepted; accepted: " + accepted);
-}
-
-}  // namespace
 
 // No default labels: -Wswitch names a value added without a name. The
 // return after each switch is for a value cast from an integer out of range.

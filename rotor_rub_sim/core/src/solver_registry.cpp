@@ -84,7 +84,7 @@ namespace {
 // 1e-4, not 0.0001: how the docs and the template write a tolerance.
 std::string rtol_text(double rtol) {
   const long exponent = std::lround(std::log10(rtol));
-  if (rtol < 1e-3 && rtol == std::pow(10.0, static_cast<double>(exponent))) return "1e" + std::to_string(exponent);
+  if (rtol < 1.0 && rtol == std::pow(10.0, static_cast<double>(exponent))) return "1e" + std::to_string(exponent);
   std::ostringstream os;
   os << rtol;
   return os.str();
@@ -99,11 +99,11 @@ std::string auto_integrator_text() {
     double auto_from = 0.0;  // as auto_integrator: the method's rows in order
     for (const SolverEntry& e : solver_registry()) {
       if (e.method != m || e.auto_up_to_rtol <= auto_from) continue;
-      if (auto_from > 0.0) {
-        picks += std::string(", ") + to_string(e.integrator) + " above";
-      } else {
-        picks += to_string(e.integrator);
-        if (e.auto_up_to_rtol < kAnyRtol) picks += " up to rtol " + rtol_text(e.auto_up_to_rtol);
+      picks += std::string(picks.empty() ? "" : ", ") + to_string(e.integrator);
+      if (e.auto_up_to_rtol < kAnyRtol) {
+        picks += " up to rtol " + rtol_text(e.auto_up_to_rtol);
+      } else if (auto_from > 0.0) {
+        picks += " above";
       }
       auto_from = e.auto_up_to_rtol;
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <stdexcept>
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
@@ -195,7 +196,7 @@ const char* to_string(EndAction a) {
     case EndAction::kPause:
       return "pause";
   }
-  return "?";  // a value cast from an integer out of range
+  throw std::logic_error("to_string: not an EndAction");
 }
 
 const std::vector<NodeKeyInfo>& node_keys() {

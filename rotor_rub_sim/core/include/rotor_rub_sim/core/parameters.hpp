@@ -7,6 +7,7 @@
 #include <array>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace rotor_rub::core {
@@ -43,6 +44,19 @@ const char* to_string(Method m);
 const char* to_string(Integrator i);
 const char* to_string(StatorModel s);
 const char* to_string(DriveModel d);
+/// The value of `all` whose to_string is s (any enum with a to_string and a
+/// kAll array: these, the event kinds, the node's end_action). Throws
+/// std::invalid_argument naming what, s and the accepted names.
+template <class Enum, std::size_t N>
+Enum value_named(const std::array<Enum, N>& all, const std::string& s, const char* what) {
+  std::string accepted;
+  for (const Enum v : all) {
+    if (s == to_string(v)) return v;
+    accepted += std::string(accepted.empty() ? "" : ", ") + to_string(v);
+  }
+  throw std::invalid_argument(std::string(what) + " '" + s + "' is not accepted; accepted: " + accepted);
+}
+
 /// Throw std::invalid_argument naming the accepted names.
 Method method_from_string(const std::string& s);
 Integrator integrator_from_string(const std::string& s);

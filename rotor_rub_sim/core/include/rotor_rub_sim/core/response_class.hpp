@@ -28,7 +28,6 @@
 //   contact, not shown periodic: too few points to judge).
 #pragma once
 
-#include <array>
 #include <string>
 #include <vector>
 
@@ -41,15 +40,6 @@ enum class Motion { kPeriodic, kQuasiPeriodic, kChaotic, kAperiodic, kTooShort }
 enum class Whirl { kForward, kBackward };
 enum class ResponseClass { kNoContact, kFullRub, kPartialRub, kQuasiPeriodic, kChaotic, kAperiodicRub, kBackwardWhirl };
 
-inline constexpr std::array<ContactKind, 3> kAllContactKinds{ContactKind::kNone, ContactKind::kPartial,
-                                                             ContactKind::kFull};
-inline constexpr std::array<Motion, 5> kAllMotions{Motion::kPeriodic, Motion::kQuasiPeriodic, Motion::kChaotic,
-                                                   Motion::kAperiodic, Motion::kTooShort};
-inline constexpr std::array<Whirl, 2> kAllWhirls{Whirl::kForward, Whirl::kBackward};
-inline constexpr std::array<ResponseClass, 7> kAllResponseClasses{
-    ResponseClass::kNoContact,     ResponseClass::kFullRub, ResponseClass::kPartialRub,
-    ResponseClass::kQuasiPeriodic, ResponseClass::kChaotic, ResponseClass::kAperiodicRub,
-    ResponseClass::kBackwardWhirl};
 // The names in the bifurcation tool's CSV and the docs (snake case).
 const char* to_string(ContactKind v);
 const char* to_string(Motion v);
