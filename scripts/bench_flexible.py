@@ -18,15 +18,15 @@ usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M]
                          [--page docs/benchmarks.md]"""
 import csv
 import argparse
-import datetime
 import json
 import math
 import os
-import platform
 import statistics
 import subprocess
 import sys
 import tempfile
+
+from doc_blocks import machine, now_utc, replace_block
 
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
@@ -107,27 +107,20 @@ def main(argv=None):
         sys.exit("bench_flexible: --penalty-stiffness must be > 0")
     lines = penalty_rows(a) if a.penalty_stiffness else mode_rows(a)
     if a.page:
-        cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")),
-                   "unknown CPU")
-        machine = "%d cores (%s), %s %s" % (os.cpu_count(), cpu, platform.system(), platform.release())
         what = "--penalty-stiffness %s" % " ".join("%g" % k for k in a.penalty_stiffness) if a.penalty_stiffness \
             else "--method %s --modes %s" % (a.method, " ".join(map(str, a.modes)))
         command = "scripts/bench_flexible.py $WS/devel/lib/rotor_rub_sim/rotor_rub_run --repeats %d %s " \
                   "--page docs/benchmarks.md" % (a.repeats, what)
         block = ["Written by `scripts/bench_flexible.py` on %s UTC, on %s (%s, scene %s; wall: the median of "
-                 "%d runs):" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine,
-                                "penalty" if a.penalty_stiffness else a.method, os.path.relpath(a.scene, ROOT),
-                                a.repeats), "", "    " + command, ""]
+                 "%d runs):" % (now_utc(), machine(), "penalty" if a.penalty_stiffness else a.method,
+                                os.path.relpath(a.scene, ROOT), a.repeats), "", "    " + command, ""]
         block += ["    " + l for l in lines]
-        text = open(a.page).read()
         name = "flexible_penalty" if a.penalty_stiffness else "flexible"
-        begin, stop = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
-        if begin not in text or stop not in text:
-            sys.exit("bench_flexible: %s has no '%s' ... '%s' block" % (a.page, begin, stop))
-        before, rest = text.split(begin, 1)
-        after = rest.split(stop, 1)[1]
-        open(a.page, "w").write(before + begin + "\n" + "\n".join(block) + "\n" + stop + after)
-
+        try:
+            text = replace_block(open(a.page).read(), name, block)
+        except ValueError as e:
+            sys.exit("bench_flexible: %s has %s" % (a.page, e))
+        open(a.page, "w").write(text)
 
 if __name__ == "__main__":
     main()

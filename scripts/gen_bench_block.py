@@ -10,10 +10,9 @@ With a fourth argument NAME, the block <!-- BEGIN GENERATED: NAME --> ...
 instead (the flexible rotor's CVODE comparison: flexible_cvode).
 
 usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md [NAME]"""
-import datetime
-import os
-import platform
 import sys
+
+from doc_blocks import machine, now_utc, replace_block
 
 bench_txt, command, page = sys.argv[1:4]
 name = sys.argv[4] if len(sys.argv) > 4 else "bench"
@@ -22,15 +21,10 @@ start = next((i for i, l in enumerate(lines) if l.startswith("cheapest within"))
 if start is None:
     sys.exit("gen_bench_block: no 'cheapest within' table in %s" % bench_txt)
 end = next((i for i, l in enumerate(lines) if l.startswith("paper (MATLAB")), len(lines))
-cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown CPU")
-machine = "%d cores (%s), %s %s" % (os.cpu_count(), cpu, platform.system(), platform.release())
-block = ["Written by `scripts/gen_bench_block.py` on %s UTC, "
-         "on %s:" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), machine), "",
+block = ["Written by `scripts/gen_bench_block.py` on %s UTC, on %s:" % (now_utc(), machine()), "",
          "    " + command, ""] + ["    " + l if l else "" for l in lines[start:end]]
-text = open(page).read()
-begin, stop = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
-if begin not in text or stop not in text:
-    sys.exit("gen_bench_block: %s has no '%s' ... '%s' block" % (page, begin, stop))
-head, rest = text.split(begin, 1)
-_, tail = rest.split(stop, 1)
-open(page, "w").write(head + begin + "\n" + "\n".join(block).rstrip() + "\n" + stop + tail)
+try:
+    text = replace_block(open(page).read(), name, block)
+except ValueError as e:
+    sys.exit("gen_bench_block: %s has %s" % (page, e))
+open(page, "w").write(text)

@@ -9,6 +9,8 @@ usage: gen_param_tables.py [--check] RUNNER NODE docs/node.md"""
 import subprocess
 import sys
 
+from doc_blocks import replace_block
+
 
 def rows(program):
     """(key, default, accepted, description) of a --list-keys listing: a line
@@ -30,23 +32,17 @@ def table(entries):
     return lines
 
 
-def replace_block(text, name, lines):
-    begin, end = "<!-- BEGIN GENERATED: %s -->" % name, "<!-- END GENERATED: %s -->" % name
-    if begin not in text or end not in text:
-        sys.exit("gen_param_tables: %s has no '%s' ... '%s' block" % (PAGE, begin, end))
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    return head + begin + "\n" + "\n".join(lines) + "\n" + end + tail
-
-
 args = sys.argv[1:]
 check = args[:1] == ["--check"]
 if check:
     args = args[1:]
 RUNNER, NODE, PAGE = args
 old = open(PAGE).read()
-new = replace_block(old, "scene keys", table(rows(RUNNER)))
-new = replace_block(new, "node keys", table(rows(NODE)))
+try:
+    new = replace_block(old, "scene keys", table(rows(RUNNER)))
+    new = replace_block(new, "node keys", table(rows(NODE)))
+except ValueError as e:
+    sys.exit("gen_param_tables: %s has %s" % (PAGE, e))
 if check:
     if new != old:
         sys.exit("gen_param_tables: %s is out of date with the key tables; run scripts/gen_param_tables.py" % PAGE)
