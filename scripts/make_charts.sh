@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Speed against accuracy (issue 4): runs the sweeps on the core and draws every
-# chart into docs/ (the sweep CSVs into docs/data/, so charts can be redrawn
-# without rerunning: --plot-only).
+# Speed against accuracy (issue 4): runs the sweeps and the bench on the core,
+# writes their tables into docs/benchmarks.md and draws every chart into docs/
+# (the CSVs into docs/data/, so charts can be redrawn without rerunning:
+# --plot-only).
 #   scripts/make_charts.sh              full sweeps (a few minutes on 2 cores) -> docs/
 #   scripts/make_charts.sh --quick DIR  the small CI grid, 1.5 s of the scene -> DIR (docs/ untouched)
 #   scripts/make_charts.sh --plot-only  redraw docs/ from docs/data/ and out/traces/
@@ -62,6 +63,14 @@ if [ "$MODE" != plot ]; then
   # Table 2: one run at a time so that the shares and times are not disturbed.
   "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \
     --profile "${REF[@]}" "${EXTRA[@]}" --out "$DATA/paper_table2.csv" --no-progress
+  # The tables of docs/benchmarks.md from the runs just made (quick: into a
+  # copy of the page in the output directory, docs/ untouched).
+  PAGE="$ROOT/docs/benchmarks.md"
+  if [ "$MODE" = quick ]; then
+    cp "$PAGE" "$OUTDIR/benchmarks.md"
+    PAGE="$OUTDIR/benchmarks.md"
+  fi
+  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$PAGE" bench_rows table2
 fi
 if [ "$MODE" != plot ] || [ ! -f "$TRACES/reference.csv" ]; then
   # Time series for the force and trajectory charts, at 20 kHz: the reference

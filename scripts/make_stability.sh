@@ -40,3 +40,8 @@ if [ "$MODE" != plot ]; then
 fi
 STAMP="scene config/paper_runup.yaml; $(nproc) cores; $(date -u +%Y-%m-%d); made by scripts/make_stability.sh ${1:-}"
 /usr/bin/python3 "$ROOT/scripts/plot_stability.py" --data "$DATA" --out "$OUTDIR" --stamp "$STAMP" --scene "$SCENE"
+# The penalty stiffness table of docs/benchmarks.md, from the campaign just run.
+if [ "$MODE" = full ]; then
+  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$ROOT/docs/benchmarks.md" \
+    penalty_stiffness
+fi

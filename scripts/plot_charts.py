@@ -4,11 +4,12 @@ traces, without running anything (scripts/make_charts.sh runs the sweeps).
 
 usage: plot_charts.py --data DIR --traces DIR --out DIR --stamp TEXT
 
-  DIR/work_precision.csv, paper_table2.csv, parameter_study.csv  (rotor_rub_sweep)
+  DIR/work_precision.csv, parameter_study.csv  (rotor_rub_sweep)
   DIR/bench.csv, when there (rotor_rub_bench --csv): CVODE's curves on the work-precision chart
   TRACES/<name>.csv and <name>.json for reference, switching, iteration, penalty (rotor_rub_run)
-Writes work_precision.png, contact_force.png, trajectories.png, parameter_study.png
-and table2.md into OUT. Every chart carries the stamp (scene, cores, date, command).
+Writes work_precision.png, contact_force.png, trajectories.png and parameter_study.png
+into OUT (the tables from the same CSVs: scripts/gen_bench_tables.py). Every chart
+carries the stamp (scene, cores, date, command).
 """
 import argparse
 import csv
@@ -254,50 +255,6 @@ def parameter_study(rows, out, text):
     plt.close(fig)
 
 
-# ---- Table 2 ----------------------------------------------------------------------
-PAPER_TABLE2 = {  # the paper's Table 2 (MATLAB ode45, rtol 1e-3, atol 1e-6)
-    "penalty": ("1123", "62 %", "0 %", "90 459"),
-    "switching": ("45", "64 %", "1 %", "1 857"),
-    "iteration": ("1050", "19 %", "65 %", "8 040"),
-}
-
-
-def table2(t2_rows, wp_rows, out):
-    lines = ["| method | paper: time [s] | paper: derivatives / iteration | paper: steps | ours: time [ms] | "
-             "ours: derivatives / iteration | ours: steps (+rejected) | ours: max error [m] |",
-             "|---|---|---|---|---|---|---|---|"]
-    for r in t2_rows:
-        p = PAPER_TABLE2.get(r["method"], ("", "", "", ""))
-        lines.append("| %s | %s | %s / %s | %s | %.2f | %.0f %% / %.0f %% | %s (+%s) | %.1e |" % (
-            r["method"], p[0], p[1], p[2], p[3], 1e3 * fnum(r, "wall_time_s"), 100 * fnum(r, "rhs_share"),
-            100 * fnum(r, "iteration_share"), r["steps"], r["rejected_steps"], fnum(r, "max_rotor_err_m")))
-    lines += ["", "The loosest tolerance at which each method's max |r_r - r_r,ref| is within 1e-6 m "
-              "(from the work-precision sweep; atol = 1e-3 rtol):", "",
-              "| method | integrator | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
-              "|---|---|---|---|---|---|---|"]
-    # Every method and integrator the sweep ran (config/sweeps/work_precision.yaml
-    # names them; rotor_rub_run --list-solvers lists what exists), methods in this order.
-    order = {"switching": 0, "iteration": 1, "penalty": 2}
-    pairs = sorted({(r["method"], r["integrator"]) for r in wp_rows}, key=lambda p: (order.get(p[0], 3), p[1]))
-    for method, integrator in pairs:
-        cands = [r for r in wp_rows if r["method"] == method and r["integrator"] == integrator
-                 and r["status"] in COMPLETED and fnum(r, "max_rotor_err_m") <= 1e-6]
-        if not cands:
-            best = min((r for r in wp_rows if r["method"] == method and r["integrator"] == integrator
-                        and r["status"] in COMPLETED),
-                       key=lambda r: fnum(r, "max_rotor_err_m"), default=None)
-            lines.append("| %s | %s | none reaches 1e-6 m | | | | best %.1e (rtol %s, k_c %s) |" % (
-                method, integrator, fnum(best, "max_rotor_err_m") if best else math.nan, best["rtol"] if best else "",
-                best["contact_stiffness_N_per_m"] if best else ""))
-            continue
-        r = max(cands, key=lambda r: fnum(r, "rtol"))
-        lines.append("| %s | %s | %s | %.2f | %s (+%s) | %s | %.1e |" % (
-            method, integrator, r["rtol"], 1e3 * fnum(r, "wall_time_s"), r["steps"], r["rejected_steps"], r["rhs_evals"],
-            fnum(r, "max_rotor_err_m")))
-    with open(os.path.join(out, "table2.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    return lines
-
 
 def main():
     ap = argparse.ArgumentParser()
@@ -316,8 +273,6 @@ def main():
         print(line)
     trajectories(a.traces, names, a.out, a.stamp, a.clearance)
     parameter_study(read_csv(os.path.join(a.data, "parameter_study.csv")), a.out, a.stamp)
-    for line in table2(read_csv(os.path.join(a.data, "paper_table2.csv")), wp, a.out):
-        print(line)
     print("charts written to", a.out)
 
 

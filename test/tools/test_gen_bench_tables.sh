@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# scripts/gen_bench_tables.py on a copy of docs/benchmarks.md and docs/data/:
+# --check passes on the committed data and fails when a figure moves, a
+# rewrite keeps the stamp unless --measured-now, and missing blocks or CSVs
+# are named. Each case prints "ok: ..." or "FAILED: ..."; exits 1 on any failure.
+#   test/tools/test_gen_bench_tables.sh
+set -uo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+GEN=(/usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py")
+BLOCKS=(bench_rows table2 penalty_stiffness)
+T="$(mktemp -d)"
+trap 'rm -rf "$T"' EXIT
+cp -r "$ROOT/docs/data" "$T/data"
+cp "$ROOT/docs/benchmarks.md" "$T/page.md"
+fails=0
+expect() {  # expect WHAT COND...: one case
+  local what="$1"; shift
+  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; fails=$((fails + 1)); fi
+}
+fails_with() {  # fails_with TEXT CMD...: CMD exits non-zero and says TEXT
+  local out
+  out="$("$@" 2>&1)" && return 1
+  grep -qF -- "$1" <<< "$out"
+}
+
+expect "the committed page matches the committed CSVs" "${GEN[@]}" --check --data "$T/data" --page "$T/page.md" "${BLOCKS[@]}"
+
+# The default's row (switching dop853 at rtol 1e-6, 3.0e-7 m) moved to 3.5e-7 m: the check names the block.
+sed -i 's/^\(switching,dop853,1e-06,.*\),2\.98[0-9e-]*,/\1,3.5e-07,/' "$T/data/bench.csv"
+expect "a moved figure fails the check, naming its block" \
+  fails_with "block bench_rows of $T/page.md differs" "${GEN[@]}" --check --data "$T/data" --page "$T/page.md" bench_rows
+cp "$T/page.md" "$T/before.md"
+"${GEN[@]}" --data "$T/data" --page "$T/page.md" bench_rows
+expect "a rewrite shows the moved figure" grep -q '^| switching | dop853 | 1e-06 / 1e-09 | .* | 3.5e-07 |$' "$T/page.md"
+expect "a rewrite without --measured-now keeps the stamp" \
+  test "$(grep -m1 -A1 'BEGIN GENERATED: bench_rows' "$T/before.md")" = "$(grep -m1 -A1 'BEGIN GENERATED: bench_rows' "$T/page.md")"
+expect "the rewritten page passes the check" "${GEN[@]}" --check --data "$T/data" --page "$T/page.md" bench_rows
+"${GEN[@]}" --measured-now --data "$T/data" --page "$T/page.md" bench_rows
+expect "--measured-now stamps today" grep -q "measured by \`scripts/make_charts.sh\` on $(date -u +%Y-%m-%d) " "$T/page.md"
+
+grep -v 'GENERATED: table2' "$T/page.md" > "$T/no_block.md"
+expect "a page without the block is named" \
+  fails_with "has no '<!-- BEGIN GENERATED: table2 -->'" "${GEN[@]}" --data "$T/data" --page "$T/no_block.md" table2
+rm "$T/data/stability_penalty_adaptive.csv"
+expect "a missing CSV is named" \
+  fails_with "stability_penalty_adaptive.csv" "${GEN[@]}" --data "$T/data" --page "$T/page.md" penalty_stiffness
+expect "an unknown block is refused" fails_with "invalid choice" "${GEN[@]}" --data "$T/data" --page "$T/page.md" tables
+
+echo "$fails failed"
+[ "$fails" -eq 0 ]
