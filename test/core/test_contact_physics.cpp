@@ -388,6 +388,52 @@ TEST(Invariants, PenetrationBeyondToleranceFailsTheRun) {
   EXPECT_EQ(core::exit_status(core::FailureClass::kInvariantViolated), 8);
 }
 
+// A located touchdown lies past the bore by up to the approach speed times
+// the events' time resolution: the limit grows with the relative speed
+// |v_r - v_s|, and only by that.
+TEST(Invariants, PenetrationLimitTakesTheEventTimeResolution) {
+  const core::InvariantLimits l = core::InvariantLimits::for_scene(test::paper_scene());
+  core::Sample smp;
+  smp.kin.rotor_vel = core::Vec2(3.0, -4.0);  // 5 m/s relative to the stator at rest
+  const double located_m = 5.0 * core::kEventTimeTolerance_s;
+  EXPECT_DOUBLE_EQ(l.penetration_limit_m(smp), l.penetration_tolerance_m + located_m);
+  smp.penetration_m = l.penetration_tolerance_m + 0.5 * located_m;
+  EXPECT_NO_THROW(core::check_invariants(smp, l));
+  smp.penetration_m = l.penetration_tolerance_m + 2.0 * located_m;
+  EXPECT_THROW(core::check_invariants(smp, l), core::MethodFailure);
+  smp.kin.stator_vel = smp.kin.rotor_vel;  // no relative motion: the integrator's part alone
+  smp.penetration_m = l.penetration_tolerance_m + 0.5 * located_m;
+  EXPECT_THROW(core::check_invariants(smp, l), core::MethodFailure);
+}
+
+// Far above the critical speed at the tightest tolerances the integrator's
+// part of the limit (3e-14 m at rtol 1e-12) is below the located
+// touchdowns' reach: 1500 rad/s, friction 0.3, from rest, where switching on
+// dopri5 failed `invariant_violated` at 3.4e-14 m (t = 0.0458 s, after four
+// contact events) before the limit took it in. The switching method only:
+// the iteration method, which takes a touchdown inside its step, stalls at
+// the first contact at rtol 1e-12 (the step falls below min_step_s; it runs
+// through at rtol 1e-11, docs/numerics.md).
+class TightTolerance : public ::testing::TestWithParam<test::Solver> {};
+
+TEST_P(TightTolerance, FarAboveTheCriticalSpeedRunsThrough) {
+  core::Scene s = test::with_method(test::paper_scene(), GetParam(), 1e-12, 1e-15);
+  s.speed.max_speed_rad_per_s = 3000.0;
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = 1500.0;
+  s.model.friction_coefficient = 0.3;
+  s.end_time_s = 0.08;
+  s.output_rate_hz = 20000.0;
+  const test::Run r = test::run(s);
+  ASSERT_FALSE(r.result.failure) << r.result.failure->message;
+  EXPECT_GE(r.result.stats.touchdowns + r.result.stats.grazes, 4);  // the contact events it met
+  const core::InvariantLimits l = core::InvariantLimits::for_scene(s);
+  for (const auto& smp : r.out.samples) ASSERT_LE(smp.penetration_m, l.penetration_limit_m(smp)) << smp.t_s;
+}
+
+INSTANTIATE_TEST_SUITE_P(Switching, TightTolerance,
+                         ::testing::ValuesIn(test::registry_solvers({core::Method::kSwitching})),
+                         [](const auto& info) { return info.param.name(); });
+
 // A graze inside one free step of the iteration method (no event location
 // for touchdown) must not pass through the bore: the stick-slip campaign
 // found one at 600 rad/s, friction 0.1, t = 0.616 s (4.6e-6 m beyond the

@@ -12,10 +12,6 @@
 
 namespace rotor_rub::core {
 
-// Time resolution of located events [s]: far below any step of interest,
-// yet representable beside t ~ 1e3 s.
-inline constexpr double kEventTimeTolerance_s = 1e-13;
-
 // The earliest root of f in [t0, t1] given f(t0) and f(t1) of opposite sign
 // (or f(t1) == 0). Returns the end of the bracket on the far side of the
 // sign change, so the event state is guaranteed past the switching surface.

@@ -13,6 +13,11 @@
 
 namespace rotor_rub::core {
 
+/// Time resolution of located events [s] (event_location.hpp): far below any
+/// step of interest, yet representable beside t ~ 1e3 s. A located event lies
+/// on the far side of its root by up to this much.
+inline constexpr double kEventTimeTolerance_s = 1e-13;
+
 /// The physical state at one instant, whatever the method's internal state.
 struct Sample {
   double t_s = 0.0;
