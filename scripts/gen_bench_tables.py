@@ -10,6 +10,8 @@ scripts leave in docs/data/, each between <!-- BEGIN GENERATED: NAME --> and
                      within 1e-6 m
   penalty_stiffness  stability_penalty_adaptive.csv (scripts/make_stability.sh): the
                      penalty method's error and cost against its contact stiffness
+  stick_slip         stick_slip_cost.csv (scripts/make_charts.sh): every method and
+                     integrator at constant speeds and frictions where the rotor rolls
 
 Each block opens with a line saying what wrote it, from which file, and when and
 where that file was measured. --measured-now (the measuring scripts pass it, right
@@ -145,10 +147,47 @@ def penalty_stiffness(data):
     return lines
 
 
+def settings(row):
+    """rotor_rub_sweep's other_settings, 'key=value;...', as a dict."""
+    return dict(kv.split("=", 1) for kv in row["other_settings"].split(";") if "=" in kv)
+
+
+def stick_slip(data):
+    rows = read_csv(os.path.join(data, "stick_slip_cost.csv"))
+    scene = lambda r: (fnum(settings(r), "initial_speed_rad_per_s"), fnum(r, "friction_coefficient"))
+    scenes = sorted({scene(r) for r in rows})
+    lines = ["| method | integrator | " + " | ".join("%g rad/s, f %g" % sc for sc in scenes) + " |",
+             "|---|---|" + "---|" * len(scenes)]
+    for method, integrator in sorted({(r["method"], r["integrator"]) for r in rows},
+                                     key=lambda p: (METHOD_ORDER.get(p[0], 9), p[0], p[1])):
+        cells = []
+        for sc in scenes:
+            r = next((r for r in rows if (r["method"], r["integrator"]) == (method, integrator) and scene(r) == sc),
+                     None)
+            if r is None:
+                cells.append("")
+            elif r["status"] not in COMPLETED:
+                cells.append("`%s`" % r["status"])
+            else:
+                cells.append("%s ms, %.1e m%s" % (ms(fnum(r, "wall_time_s")), fnum(r, "max_rotor_err_m"),
+                                                  "" if r["status"] == "ok" else " (%s)" % r["status"]))
+        lines.append("| %s | %s | %s |" % (method, integrator, " | ".join(cells)))
+    # The contact and its rolling, as the runs saw them: the spread over the
+    # methods, which the pointwise error of a drifting whirl does not show.
+    for what, key in (("contact", "contact_time_s"), ("rolling (stick)", "stick_time_s")):
+        cells = []
+        for sc in scenes:
+            v = [fnum(r, key) for r in rows if scene(r) == sc and r["status"] in COMPLETED]
+            cells.append("%.4f to %.4f s" % (min(v), max(v)) if v else "")
+        lines.append("| %s time | all | %s |" % (what, " | ".join(cells)))
+    return lines
+
+
 BLOCKS = {
     "bench_rows": (["bench.csv"], "scripts/make_charts.sh", bench_rows),
     "table2": (["paper_table2.csv", "work_precision.csv"], "scripts/make_charts.sh", table2),
     "penalty_stiffness": (["stability_penalty_adaptive.csv"], "scripts/make_stability.sh", penalty_stiffness),
+    "stick_slip": (["stick_slip_cost.csv"], "scripts/make_charts.sh", stick_slip),
 }
 
 

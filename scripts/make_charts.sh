@@ -63,6 +63,11 @@ if [ "$MODE" != plot ]; then
   # Table 2: one run at a time so that the shares and times are not disturbed.
   "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \
     --profile "${REF[@]}" "${EXTRA[@]}" --out "$DATA/paper_table2.csv" --no-progress
+  # Stick and slip at constant speed, every method and integrator, one run at a time.
+  STICK_SLIP=(--repeats 3)
+  [ "$MODE" = quick ] && STICK_SLIP=(--repeats 1 --set end_time_s=0.1)
+  "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/stick_slip_cost.yaml" --jobs 1 "${REF[@]}" \
+    "${STICK_SLIP[@]}" --out "$DATA/stick_slip_cost.csv" --no-progress
   # The tables of docs/benchmarks.md from the runs just made (quick: into a
   # copy of the page in the output directory, docs/ untouched).
   PAGE="$ROOT/docs/benchmarks.md"
@@ -70,7 +75,8 @@ if [ "$MODE" != plot ]; then
     cp "$PAGE" "$OUTDIR/benchmarks.md"
     PAGE="$OUTDIR/benchmarks.md"
   fi
-  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$PAGE" bench_rows table2
+  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$PAGE" bench_rows table2 \
+    stick_slip
 fi
 if [ "$MODE" != plot ] || [ ! -f "$TRACES/reference.csv" ]; then
   # Time series for the force and trajectory charts, at 20 kHz: the reference

@@ -135,7 +135,7 @@ timed "checks: docs tables" check "docs: docs/node.md's parameter tables match t
   "$ROOT/docs/node.md"
 timed "checks: benchmark tables" check "docs: docs/benchmarks.md's tables match the CSVs in docs/data" \
   /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --check --data "$ROOT/docs/data" --page "$ROOT/docs/benchmarks.md" \
-  bench_rows table2 penalty_stiffness
+  bench_rows table2 penalty_stiffness stick_slip
 timed "checks: benchmark tables' cases" check "scripts/gen_bench_tables.py: a moved figure fails its check, stamps, errors" \
   bash -c "'$ROOT/test/tools/test_gen_bench_tables.sh' > '$WS/gen_bench_tables_test.log' 2>&1"
 # The README's quick start, verbatim (scripts/check_quickstart.sh).
@@ -148,6 +148,7 @@ rm -rf "$CHARTS"
 timed "checks: charts --quick" check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
   && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
   && grep -q '^| switching | dop853 | 0.001 / ' '$CHARTS/benchmarks.md' && grep -q '^| penalty | 1123 | ' '$CHARTS/benchmarks.md' \
+  && grep -q '^| contact time | all | ' '$CHARTS/benchmarks.md' \
   && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
 # The bifurcation chart command end to end on a small grid (every picture drawn).
 BIF="$WS/bifurcation_check"

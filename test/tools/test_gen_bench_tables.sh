@@ -7,7 +7,7 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 GEN=(/usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py")
-BLOCKS=(bench_rows table2 penalty_stiffness)
+BLOCKS=(bench_rows table2 penalty_stiffness stick_slip)
 T="$(mktemp -d)"
 trap 'rm -rf "$T"' EXIT
 cp -r "$ROOT/docs/data" "$T/data"
