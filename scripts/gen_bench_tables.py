@@ -63,8 +63,13 @@ def sci(v):
     return ("%.0e" % v).replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
 
 
-def pair_key(row):
-    return (METHOD_ORDER.get(row["method"], 9), row["method"], row["integrator"])
+def pair_order(pair):
+    """(method, integrator) pairs in the docs' order: switching, iteration, penalty, CVODE."""
+    return (METHOD_ORDER.get(pair[0], 9),) + tuple(pair)
+
+
+def pairs(rows):
+    return sorted({(r["method"], r["integrator"]) for r in rows}, key=pair_order)
 
 
 def percent(row, key):
@@ -78,7 +83,7 @@ def bench_rows(data):
     lines = ["| method | integrator | rtol / atol | wall / quiet [ms] | steps (+rej) | RHS evals | "
              "rhs / iter / evt / out % | max \\|dr_r\\| [m] |",
              "|---|---|---|---|---|---|---|---|"]
-    for r in sorted(shown, key=lambda r: (pair_key(r), -fnum(r, "rtol"))):
+    for r in sorted(shown, key=lambda r: (pair_order((r["method"], r["integrator"])), -fnum(r, "rtol"))):
         if r["method"] == "cvode":  # timed without output: one time, no shares
             wall = ms(fnum(r, "quiet_wall_time_s"))
             shares = ""
@@ -109,15 +114,14 @@ def table2(data):
               "1e-6 m (the work-precision sweep, `config/sweeps/work_precision.yaml`; atol = 1e-3 rtol):", "",
               "| method | integrator | rtol | time [ms] | steps (+rejected) | RHS evaluations | max error [m] |",
               "|---|---|---|---|---|---|---|"]
-    for method, integrator in sorted({(r["method"], r["integrator"]) for r in wp},
-                                     key=lambda p: (METHOD_ORDER.get(p[0], 9), p[0], p[1])):
+    for method, integrator in pairs(wp):
         runs = [r for r in wp if (r["method"], r["integrator"]) == (method, integrator) and r["status"] in COMPLETED]
         within = [r for r in runs if fnum(r, "max_rotor_err_m") <= 1e-6]
         if not within:
             best = min(runs, key=lambda r: fnum(r, "max_rotor_err_m"), default=None)
-            lines.append("| %s | %s | none within 1e-6 m | | | | best %s |" % (
-                method, integrator, "%.1e m (rtol %s, k_c %s N/m)" % (
-                    fnum(best, "max_rotor_err_m"), best["rtol"], sci(fnum(best, "contact_stiffness_N_per_m"))) if best else "none"))
+            text = "none" if best is None else "%.1e m (rtol %s, k_c %s N/m)" % (
+                fnum(best, "max_rotor_err_m"), best["rtol"], sci(fnum(best, "contact_stiffness_N_per_m")))
+            lines.append("| %s | %s | none within 1e-6 m | | | | best %s |" % (method, integrator, text))
             continue
         r = max(within, key=lambda r: fnum(r, "rtol"))
         lines.append("| %s | %s | %s | %.2f | %s (+%s) | %s | %.1e |" % (
@@ -158,8 +162,7 @@ def stick_slip(data):
     scenes = sorted({scene(r) for r in rows})
     lines = ["| method | integrator | " + " | ".join("%g rad/s, f %g" % sc for sc in scenes) + " |",
              "|---|---|" + "---|" * len(scenes)]
-    for method, integrator in sorted({(r["method"], r["integrator"]) for r in rows},
-                                     key=lambda p: (METHOD_ORDER.get(p[0], 9), p[0], p[1])):
+    for method, integrator in pairs(rows):
         cells = []
         for sc in scenes:
             r = next((r for r in rows if (r["method"], r["integrator"]) == (method, integrator) and scene(r) == sc),
@@ -218,9 +221,9 @@ def main(argv=None):
         else:
             stamp = current[0]
         if a.check and current[2:] != table:
-            sys.exit("gen_bench_tables: block %s of %s differs from the table %s gives; run "
-                     "scripts/gen_bench_tables.py --data %s --page %s %s" % (name, a.page, " and ".join(files), a.data, a.page,
-                                                                    name))
+            sys.exit("gen_bench_tables: block %s of %s differs from the table %s gives; run scripts/"
+                     "gen_bench_tables.py --data %s --page %s %s" % (name, a.page, " and ".join(files), a.data,
+                                                                   a.page, name))
         new = replace_block(new, name, [stamp, ""] + table)
     if not a.check and new != old:
         open(a.page, "w").write(new)
