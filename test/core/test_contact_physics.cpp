@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "test_support.hpp"
@@ -404,6 +405,33 @@ TEST(Invariants, PenetrationLimitTakesTheEventTimeResolution) {
   smp.kin.stator_vel = smp.kin.rotor_vel;  // no relative motion: the integrator's part alone
   smp.penetration_m = l.penetration_tolerance_m + 0.5 * located_m;
   EXPECT_THROW(core::check_invariants(smp, l), core::MethodFailure);
+  // From t = 512 s on neighbouring doubles lie more than 1e-13 s apart: the
+  // resolution, and the limit, are one step between them.
+  const double t = 1000.0, step_s = std::nextafter(t, 2.0 * t) - t;
+  ASSERT_GT(step_s, core::kEventTimeTolerance_s);
+  EXPECT_EQ(core::event_time_resolution_s(t), step_s);
+  EXPECT_EQ(core::event_time_resolution_s(3.0), core::kEventTimeTolerance_s);
+  smp.t_s = t;
+  smp.kin.stator_vel.setZero();
+  EXPECT_DOUBLE_EQ(l.penetration_limit_m(smp), l.penetration_tolerance_m + 5.0 * step_s);
+}
+
+// An event near t = 1000 s is located to the one step between neighbouring
+// doubles there (1.1e-13 s), on the far side, in as many iterations as one
+// near t = 1 s (48 on this steep function, whose root falls between two
+// doubles): with a fixed 1e-13 s tolerance TOMS 748 could not meet it and
+// spent its 200 iterations on every such event.
+TEST(EventLocation, ConvergesWhereTimesAreCoarserThanTheTolerance) {
+  for (const double t_mid : {1.3, 1000.3}) {
+    core::RunStats stats;
+    auto f = [t_mid](double t) { return std::tanh(1e13 * (t - t_mid) + 0.37); };
+    const double root = t_mid - 0.37e-13;
+    const double lo = std::floor(t_mid), hi = lo + 1.0;
+    const double te = core::locate_event(f, lo, f(lo), hi, f(hi), stats);
+    EXPECT_GE(f(te), 0.0) << t_mid;  // the far side
+    EXPECT_LE(te - root, 2.0 * core::event_time_resolution_s(root)) << t_mid;
+    EXPECT_LT(stats.root_iterations, 100) << t_mid;
+  }
 }
 
 // Far above the critical speed at the tightest tolerances the integrator's

@@ -19,7 +19,9 @@ template <class F>
 double locate_event(F&& f, double t0, double f0, double t1, double f1, RunStats& stats) {
   if (f1 == 0.0) return t1;
   std::uintmax_t max_iter = 200;
-  auto tol = [](double a, double b) { return std::abs(b - a) <= kEventTimeTolerance_s; };
+  auto tol = [](double a, double b) {
+    return std::abs(b - a) <= event_time_resolution_s(std::max(std::abs(a), std::abs(b)));
+  };
   const auto bracket = boost::math::tools::toms748_solve(f, t0, t1, f0, f1, tol, max_iter);
   stats.root_iterations += static_cast<long>(max_iter);
   return bracket.second;

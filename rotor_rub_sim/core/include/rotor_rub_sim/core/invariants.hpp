@@ -10,7 +10,7 @@
 //   order atol + rtol |x| per position component (|x| <= C near the bore);
 //   kPenetrationSafety covers the dense output's error, an order above the
 //   step's own local error estimate. A located touchdown lies on the far
-//   side of the bore by up to kEventTimeTolerance_s (run_types.hpp), where
+//   side of the bore by up to event_time_resolution_s (run_types.hpp), where
 //   the rotor has moved into the bore by up to its approach speed times that,
 //   which |v_r - v_s| bounds: penetration_limit_m(). At the tightest
 //   tolerances that time resolution is the larger part (rtol 1e-12, C 2 mm:
@@ -46,7 +46,7 @@ struct InvariantLimits {
   /// The largest delta - C a sample may show [m]: the integrator's part and
   /// the located events' time resolution at the sample's relative speed.
   double penetration_limit_m(const Sample& s) const {
-    return penetration_tolerance_m + (s.kin.rotor_vel - s.kin.stator_vel).norm() * kEventTimeTolerance_s;
+    return penetration_tolerance_m + (s.kin.rotor_vel - s.kin.stator_vel).norm() * event_time_resolution_s(s.t_s);
   }
 
   static InvariantLimits for_scene(const Scene& scene) { return for_scene(scene, scene.model.rotor_radius_m); }

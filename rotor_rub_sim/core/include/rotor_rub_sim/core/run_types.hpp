@@ -2,9 +2,11 @@
 /// What a run reports: samples, contact events, cost, failures.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,9 +16,17 @@
 namespace rotor_rub::core {
 
 /// Time resolution of located events [s] (event_location.hpp): far below any
-/// step of interest, yet representable beside t ~ 1e3 s. A located event lies
-/// on the far side of its root by up to this much.
+/// step of interest; neighbouring times lie closer than this up to t = 512 s.
 inline constexpr double kEventTimeTolerance_s = 1e-13;
+
+/// The resolution a located event reaches at t_s [s]: kEventTimeTolerance_s,
+/// or, from t = 512 s on, where neighbouring doubles lie farther apart, the
+/// step to the next one. A located event lies on the far side of its root by
+/// up to this much.
+inline double event_time_resolution_s(double t_s) {
+  const double t = std::abs(t_s);
+  return std::max(kEventTimeTolerance_s, std::nextafter(t, std::numeric_limits<double>::infinity()) - t);
+}
 
 /// The physical state at one instant, whatever the method's internal state.
 struct Sample {
