@@ -26,7 +26,7 @@ import subprocess
 import sys
 import tempfile
 
-from doc_blocks import machine, now_utc, replace_block
+from doc_blocks import machine, now_utc, write_block
 
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
@@ -116,11 +116,7 @@ def main(argv=None):
                                 os.path.relpath(a.scene, ROOT), a.repeats), "", "    " + command, ""]
         block += ["    " + l for l in lines]
         name = "flexible_penalty" if a.penalty_stiffness else "flexible"
-        try:
-            text = replace_block(open(a.page).read(), name, block)
-        except ValueError as e:
-            sys.exit("bench_flexible: %s has %s" % (a.page, e))
-        open(a.page, "w").write(text)
+        write_block(a.page, name, block, "bench_flexible")
 
 if __name__ == "__main__":
     main()

@@ -24,7 +24,7 @@ import time
 
 import rosbag
 
-from doc_blocks import machine, now_utc, replace_block
+from doc_blocks import block, machine, now_utc, write_block
 
 p = argparse.ArgumentParser()
 p.add_argument("--rate", type=float, nargs="+", default=[10000.0], help="state rates [Hz], each measured in turn")
@@ -34,6 +34,11 @@ p.add_argument("--runner", required=True)
 p.add_argument("--scene", required=True)
 p.add_argument("--page", help="also write the medians into this page's node block (docs/benchmarks.md)")
 a = p.parse_args()
+if a.page:  # before minutes of measuring
+    try:
+        block(open(a.page).read(), "node")
+    except (OSError, ValueError) as e:
+        sys.exit("bench_node: %s: %s" % (a.page, e))
 
 tmp = tempfile.mkdtemp(prefix="rotor_rub_bench_")
 
@@ -103,8 +108,4 @@ if a.page:
         now_utc(), machine(), a.method, rows[0]["integrator"], a.repeats), "", "    " + command, "",
         "| state rate | real-time factor, recording | without recording | states published / recorded / lost "
         "| node wall | ROS/core | bag |", "|---|---|---|---|---|---|---|"] + page_rows
-    try:
-        text = replace_block(open(a.page).read(), "node", block)
-    except ValueError as e:
-        sys.exit("bench_node: %s has %s" % (a.page, e))
-    open(a.page, "w").write(text)
+    write_block(a.page, "node", block, "bench_node")

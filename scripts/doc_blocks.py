@@ -4,6 +4,7 @@ and the machine a measured block names."""
 import datetime
 import os
 import platform
+import sys
 
 
 def markers(name):
@@ -13,7 +14,7 @@ def markers(name):
 def block(text, name):
     """The block's lines, or ValueError naming the missing markers."""
     begin, end = markers(name)
-    if begin not in text or end not in text:
+    if begin not in text or end not in text.split(begin, 1)[1]:
         raise ValueError("no '%s' ... '%s' block" % (begin, end))
     return text.split(begin, 1)[1].split(end, 1)[0].strip("\n").split("\n")
 
@@ -25,6 +26,15 @@ def replace_block(text, name, lines):
     head, rest = text.split(begin, 1)
     tail = rest.split(end, 1)[1]
     return head + begin + "\n" + "\n".join(lines).rstrip("\n") + "\n" + end + tail
+
+
+def write_block(page, name, lines, prog):
+    """Writes the block into the page, or exits naming the page and the missing markers."""
+    try:
+        text = replace_block(open(page).read(), name, lines)
+    except ValueError as e:
+        sys.exit("%s: %s has %s" % (prog, page, e))
+    open(page, "w").write(text)
 
 
 def machine():

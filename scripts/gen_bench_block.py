@@ -12,7 +12,7 @@ instead (the flexible rotor's CVODE comparison: flexible_cvode).
 usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md [NAME]"""
 import sys
 
-from doc_blocks import machine, now_utc, replace_block
+from doc_blocks import machine, now_utc, write_block
 
 bench_txt, command, page = sys.argv[1:4]
 name = sys.argv[4] if len(sys.argv) > 4 else "bench"
@@ -23,8 +23,4 @@ if start is None:
 end = next((i for i, l in enumerate(lines) if l.startswith("paper (MATLAB")), len(lines))
 block = ["Written by `scripts/gen_bench_block.py` on %s UTC, on %s:" % (now_utc(), machine()), "",
          "    " + command, ""] + ["    " + l if l else "" for l in lines[start:end]]
-try:
-    text = replace_block(open(page).read(), name, block)
-except ValueError as e:
-    sys.exit("gen_bench_block: %s has %s" % (page, e))
-open(page, "w").write(text)
+write_block(page, name, block, "gen_bench_block")

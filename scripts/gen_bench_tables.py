@@ -55,12 +55,13 @@ def fnum(row, key):
 def ms(seconds):
     """A time in ms to three figures (whole ms from 100 up): 0.740, 3.00, 183, 5360."""
     v = 1e3 * seconds
-    return "%.0f" % v if v >= 100 else "%#.3g" % v
+    return "%.0f" % v if v >= 99.95 else "%#.3g" % v
 
 
 def sci(v):
-    """1e+09 -> 1e9."""
-    return ("%.0e" % v).replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+    """1e+09 -> 1e9, 2.5e+09 -> 2.5e9."""
+    mantissa, exponent = ("%.1e" % v).split("e")
+    return "%se%d" % (mantissa.rstrip("0").rstrip("."), int(exponent))
 
 
 def pair_order(pair):
@@ -92,7 +93,7 @@ def bench_rows(data):
             shares = " / ".join(percent(r, k) for k in ("rhs_share", "iteration_share", "event_share", "output_share"))
         error = "%.1e" % fnum(r, "max_rotor_err_m")
         if r["status"] != "ok":
-            error += " (%s)" % r["status"]
+            error += " (`%s`)" % r["status"]
         lines.append("| %s | %s | %s / %s | %s | %s (+%s) | %s | %s | %s |" % (
             r["method"], r["integrator"], r["rtol"], r["atol"], wall, r["steps"], r["rejected_steps"], r["rhs_evals"],
             shares, error))
@@ -158,7 +159,9 @@ def settings(row):
 
 def stick_slip(data):
     rows = read_csv(os.path.join(data, "stick_slip_cost.csv"))
-    scene = lambda r: (fnum(settings(r), "initial_speed_rad_per_s"), fnum(r, "friction_coefficient"))
+    if any("initial_speed_rad_per_s" not in settings(r) for r in rows):
+        raise KeyError("initial_speed_rad_per_s in other_settings")
+    scene = lambda r: (fnum(settings(r), "initial_speed_rad_per_s"), fnum(r, "friction_coefficient"))  # noqa: E731
     scenes = sorted({scene(r) for r in rows})
     lines = ["| method | integrator | " + " | ".join("%g rad/s, f %g" % sc for sc in scenes) + " |",
              "|---|---|" + "---|" * len(scenes)]
@@ -173,16 +176,19 @@ def stick_slip(data):
                 cells.append("`%s`" % r["status"])
             else:
                 cells.append("%s ms, %.1e m%s" % (ms(fnum(r, "wall_time_s")), fnum(r, "max_rotor_err_m"),
-                                                  "" if r["status"] == "ok" else " (%s)" % r["status"]))
+                                                  "" if r["status"] == "ok" else " (`%s`)" % r["status"]))
         lines.append("| %s | %s | %s |" % (method, integrator, " | ".join(cells)))
-    # The contact and its rolling, as the runs saw them: the spread over the
-    # methods, which the pointwise error of a drifting whirl does not show.
+    # The contact and its rolling, as the runs saw them (which the pointwise
+    # error of a drifting whirl does not show): the rigid methods' spread,
+    # and the penalty method's, whose bore its penetration enlarges.
     for what, key in (("contact", "contact_time_s"), ("rolling (stick)", "stick_time_s")):
-        cells = []
-        for sc in scenes:
-            v = [fnum(r, key) for r in rows if scene(r) == sc and r["status"] in COMPLETED]
-            cells.append("%.4f to %.4f s" % (min(v), max(v)) if v else "")
-        lines.append("| %s time | all | %s |" % (what, " | ".join(cells)))
+        for label, methods in (("switching, iteration", ("switching", "iteration")), ("penalty", ("penalty",))):
+            cells = []
+            for sc in scenes:
+                v = [fnum(r, key) for r in rows
+                     if scene(r) == sc and r["method"] in methods and r["status"] in COMPLETED]
+                cells.append("%.4f to %.4f s" % (min(v), max(v)) if v else "")
+            lines.append("| %s time | %s | %s |" % (what, label, " | ".join(cells)))
     return lines
 
 
@@ -215,7 +221,11 @@ def main(argv=None):
             table = make(a.data)
         except (OSError, KeyError) as e:
             sys.exit("gen_bench_tables: block %s: cannot read %s in %s: %s" % (name, " and ".join(files), a.data, e))
-        if a.measured_now or not current[0].startswith("Written by"):
+        if not a.measured_now and not current[0].startswith("Written by"):
+            # A first table needs its measurement's time: only the script that measured knows it.
+            sys.exit("gen_bench_tables: block %s of %s has no stamp to keep; write it with --measured-now "
+                     "right after measuring (scripts/make_charts.sh, make_stability.sh do)" % (name, a.page))
+        if a.measured_now:
             stamp = "Written by `scripts/gen_bench_tables.py` from %s, measured by `%s` on %s UTC, on %s:" % (
                 " and ".join("`docs/data/%s`" % f for f in files), script, now_utc(), machine())
         else:

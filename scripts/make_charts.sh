@@ -55,8 +55,9 @@ if [ "$MODE" != plot ]; then
     "$BIN/rotor_rub_bench" --scene "$QUICK_SCENE" --quick --repeats 1 --error-rate 20000 --methods switching,cvode \
       --csv "$DATA/bench.csv"
   else
-    "$BIN/rotor_rub_bench" --scene "$SCENE" --repeats 7 --error-rate 20000 --csv "$DATA/bench.csv" \
-      | tee "$ROOT/docs/bench_paper_runup.txt"
+    # From the root, so that the output names the scene as the repository does, not this checkout's path.
+    (cd "$ROOT" && "$BIN/rotor_rub_bench" --scene config/paper_runup.yaml --repeats 7 --error-rate 20000 \
+      --csv "$DATA/bench.csv") | tee "$ROOT/docs/bench_paper_runup.txt"
     /usr/bin/python3 "$ROOT/scripts/gen_bench_block.py" "$ROOT/docs/bench_paper_runup.txt" \
       "rosrun rotor_rub_sim rotor_rub_bench --repeats 7 --error-rate 20000" "$ROOT/docs/benchmarks.md"
   fi

@@ -15,7 +15,6 @@ import argparse
 import csv
 import collections
 import os
-import sys
 
 import matplotlib
 

@@ -12,7 +12,6 @@ into OUT (the tables from the same CSVs: scripts/gen_bench_tables.py). Every cha
 carries the stamp (scene, cores, date, command).
 """
 import argparse
-import csv
 import json
 import math
 import os
@@ -23,26 +22,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+# The sweeps' CSVs read as the tables of docs/benchmarks.md read them; COMPLETED:
+# the runs that reached the end, drawn on the curves.
+from gen_bench_tables import COMPLETED, fnum, read_csv  # noqa: E402
+
 METHOD_COLOURS = {"switching": "tab:blue", "iteration": "tab:green", "penalty": "tab:red", "reference": "black",
                   "cvode": "tab:purple"}
 BAD_WINDOW_COLOUR = "magenta"  # not a method's colour
 FAIL_MARKERS = {"stalled": "X", "diverged": "D", "not_converged": "s", "timed_out": "v", "invariant_violated": "^",
                 "invalid": "P",
                 "no_reference": "*"}
-COMPLETED = ("ok", "inaccurate")  # runs that reached the end: drawn on the curves
 WINDOW_S = 1e-3  # the impulse window of the force comparison (rotor_rub_sweep --window-ms 1)
-
-
-def read_csv(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
-def fnum(row, key):
-    try:
-        return float(row[key])
-    except (KeyError, ValueError):
-        return math.nan
 
 
 def stamp(fig, text):
@@ -253,7 +243,6 @@ def parameter_study(rows, out, text):
     stamp(fig, text)
     fig.savefig(os.path.join(out, "parameter_study.png"), dpi=110)
     plt.close(fig)
-
 
 
 def main():
