@@ -138,6 +138,8 @@ timed "checks: benchmark tables" check "docs: docs/benchmarks.md's tables match 
   bench_rows table2 penalty_stiffness stick_slip
 timed "checks: benchmark tables' cases" check "scripts/gen_bench_tables.py: a moved figure fails its check, stamps, errors" \
   bash -c "'$ROOT/test/tools/test_gen_bench_tables.sh' > '$WS/gen_bench_tables_test.log' 2>&1"
+timed "checks: phase table's cases" check "scripts/gen_phase_block.py: the test command's phases as a table, errors" \
+  bash -c "'$ROOT/test/tools/test_gen_phase_block.sh' > '$WS/gen_phase_block_test.log' 2>&1"
 # The README's quick start, verbatim (scripts/check_quickstart.sh).
 timed "checks: README quick start" check "README: the quick start runs verbatim" \
   bash -c "'$ROOT/scripts/check_quickstart.sh' > '$WS/quickstart_check.log' 2>&1"
