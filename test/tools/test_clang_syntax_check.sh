@@ -10,11 +10,7 @@ T="$(mktemp -d)"
 trap 'rm -rf "$T"' EXIT
 mkdir -p "$T/src" "$T/b/CMakeFiles/t.dir"
 cd "$T" || exit 1
-fails=0
-expect() {  # expect WHAT COND...: one case
-  local what="$1"; shift
-  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; fails=$((fails + 1)); fi
-}
+source "$ROOT/test/tools/cases.sh"
 
 printf 'int main() { return 0; }\n' > src/good.cpp
 printf 'int main() { int unused; return 0; }\n' > src/warned.cpp

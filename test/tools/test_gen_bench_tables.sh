@@ -12,16 +12,7 @@ T="$(mktemp -d)"
 trap 'rm -rf "$T"' EXIT
 cp -r "$ROOT/docs/data" "$T/data"
 cp "$ROOT/docs/benchmarks.md" "$T/page.md"
-fails=0
-expect() {  # expect WHAT COND...: one case
-  local what="$1"; shift
-  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; fails=$((fails + 1)); fi
-}
-fails_with() {  # fails_with TEXT CMD...: CMD exits non-zero and says TEXT
-  local out
-  out="$("$@" 2>&1)" && return 1
-  grep -qF -- "$1" <<< "$out"
-}
+source "$ROOT/test/tools/cases.sh"
 
 expect "the committed page matches the committed CSVs" "${GEN[@]}" --check --data "$T/data" --page "$T/page.md" "${BLOCKS[@]}"
 

@@ -8,16 +8,7 @@ ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 GEN=(/usr/bin/python3 "$ROOT/scripts/gen_phase_block.py")
 T="$(mktemp -d)"
 trap 'rm -rf "$T"' EXIT
-fails=0
-expect() {  # expect WHAT COND...: one case
-  local what="$1"; shift
-  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; fails=$((fails + 1)); fi
-}
-fails_with() {  # fails_with TEXT CMD...: CMD exits non-zero and says TEXT
-  local out
-  out="$("$@" 2>&1)" && return 1
-  grep -qF -- "$1" <<< "$out"
-}
+source "$ROOT/test/tools/cases.sh"
 
 # The phase log's format as scripts/run_tests.sh writes it.
 cat > "$T/phases.txt" <<'TXT'

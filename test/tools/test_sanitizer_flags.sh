@@ -21,11 +21,7 @@ PY
 )
 T="$(mktemp -d)"
 trap 'rm -rf "$T"' EXIT
-fails=0
-expect() {  # expect WHAT COND...: one case
-  local what="$1"; shift
-  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; fails=$((fails + 1)); fi
-}
+source "$(dirname "$0")/cases.sh"
 has_flag() { printf '%s\n' "${FLAGS[@]}" | grep -q -- "$1"; }
 expect "the core's units are built with ASan and UBSan" has_flag '^-fsanitize=address,undefined$'
 expect "the core's units are built with the ignore list" has_flag '^-fsanitize-ignorelist=.*test/ubsan_ignorelist.txt$'
