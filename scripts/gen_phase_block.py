@@ -2,13 +2,14 @@
 """Writes a run of the test command into docs/benchmarks.md, between
 <!-- BEGIN GENERATED: test_command --> and <!-- END GENERATED: test_command -->:
 its phases' wall times from the phase log scripts/run_tests.sh leaves in
-$WS/phases.txt, its count line from the run's output, the commit it ran on,
-the date and the machine. Run it after `bash .ci/run` on a fresh clone:
+$WS/phases.txt, its count line from the run's output, the date and the
+machine (no commit: the docs carry no commit stamps). Run it after
+`bash .ci/run` on a fresh clone:
 
     CI=true bash .ci/run > run.log 2>&1
-    scripts/gen_phase_block.py $WS/phases.txt run.log COMMIT docs/benchmarks.md
+    scripts/gen_phase_block.py $WS/phases.txt run.log docs/benchmarks.md
 
-usage: gen_phase_block.py PHASES_TXT RUN_LOG COMMIT PAGE"""
+usage: gen_phase_block.py PHASES_TXT RUN_LOG PAGE"""
 import re
 import sys
 
@@ -21,9 +22,9 @@ COUNT = re.compile(r"^\d+ passed, \d+ failed$")
 
 
 def main(argv):
-    if len(argv) != 4:
+    if len(argv) != 3:
         sys.exit(__doc__.split("\n\n")[-1])
-    phases_txt, run_log, commit, page = argv
+    phases_txt, run_log, page = argv
     rows, total = [], None
     for line in open(phases_txt):
         line = line.rstrip("\n")
@@ -39,7 +40,7 @@ def main(argv):
         sys.exit("gen_phase_block: %s has no phases and total, or %s no 'N passed, N failed' line"
                  % (phases_txt, run_log))
     block = ["Written by `scripts/gen_phase_block.py` on %s UTC from the phase log of `bash .ci/run` on a "
-             "fresh clone of %s, on %s:" % (now_utc(), commit, machine()), "",
+             "fresh clone, on %s:" % (now_utc(), machine()), "",
              "| phase | wall [s] | from .. to [s] | failed |", "|---|---|---|---|"] + rows
     block.append("| **total** | **%d** (%.1f min) | %s | |" % (total, total / 60.0, counts[-1]))
     write_block(page, "test_command", block, "gen_phase_block")
