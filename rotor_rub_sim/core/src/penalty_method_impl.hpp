@@ -421,7 +421,10 @@ std::unique_ptr<ContactMethod> make_penalty_for_rotor(const Scene& scene) {
 
 }  // namespace
 
-// A flexible rotor's method on one of the method's integrators (penalty_method_flexible.cpp).
-std::unique_ptr<ContactMethod> make_penalty_flexible(Integrator integrator, const Scene& scene);
+// A flexible rotor's method on integrator I, explicitly instantiated in
+// penalty_method_flexible.cpp for each integrator the Jeffcott's factory is: a
+// registry row without it fails to link.
+template <Integrator I>
+std::unique_ptr<ContactMethod> make_penalty_flexible(const Scene& scene);
 
 }  // namespace rotor_rub::core

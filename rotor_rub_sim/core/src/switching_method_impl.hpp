@@ -734,7 +734,10 @@ std::unique_ptr<ContactMethod> make_switching_for_rotor(const Scene& scene) {
 
 }  // namespace
 
-// A flexible rotor's method on one of the method's integrators (switching_method_flexible.cpp).
-std::unique_ptr<ContactMethod> make_switching_flexible(Integrator integrator, const Scene& scene);
+// A flexible rotor's method on integrator I, explicitly instantiated in
+// switching_method_flexible.cpp for each integrator the Jeffcott's factory is: a
+// registry row without it fails to link.
+template <Integrator I>
+std::unique_ptr<ContactMethod> make_switching_flexible(const Scene& scene);
 
 }  // namespace rotor_rub::core
