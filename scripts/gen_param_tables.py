@@ -2,10 +2,12 @@
 """Writes the parameter tables of docs/node.md from the key tables themselves
 (rotor_rub_run --list-keys: the scene's, rotor_rub_sim_node --list-keys: the
 node's), between the lines <!-- BEGIN GENERATED: scene keys --> and
-<!-- END GENERATED: scene keys --> (and the same for "node keys").
-With --check, writes nothing and exits 1 when the page differs (run_tests.sh).
+<!-- END GENERATED: scene keys --> (and the same for "node keys"), and the
+solver registry's table in docs/numerics.md (rotor_rub_run --list-solvers,
+block "solvers"). With --check, writes nothing and exits 1 when a page
+differs (run_tests.sh).
 
-usage: gen_param_tables.py [--check] RUNNER NODE docs/node.md"""
+usage: gen_param_tables.py [--check] RUNNER NODE docs/node.md docs/numerics.md"""
 import subprocess
 import sys
 
@@ -25,6 +27,12 @@ def rows(program):
     return out
 
 
+def solvers(program):
+    """rotor_rub_run --list-solvers, as a command and its output."""
+    out = subprocess.run([program, "--list-solvers"], check=True, capture_output=True, text=True).stdout
+    return ["```", "$ rosrun rotor_rub_sim rotor_rub_run --list-solvers"] + out.splitlines() + ["```"]
+
+
 def table(entries):
     cell = lambda s: s.replace("|", "\\|")
     lines = ["| key | default | accepted | meaning |", "|---|---|---|---|"]
@@ -36,15 +44,22 @@ args = sys.argv[1:]
 check = args[:1] == ["--check"]
 if check:
     args = args[1:]
-RUNNER, NODE, PAGE = args
-old = open(PAGE).read()
-try:
-    new = replace_block(old, "scene keys", table(rows(RUNNER)))
-    new = replace_block(new, "node keys", table(rows(NODE)))
-except ValueError as e:
-    sys.exit("gen_param_tables: %s has %s" % (PAGE, e))
-if check:
-    if new != old:
-        sys.exit("gen_param_tables: %s is out of date with the key tables; run scripts/gen_param_tables.py" % PAGE)
-elif new != old:
-    open(PAGE, "w").write(new)
+if len(args) != 4:
+    sys.exit(__doc__.split("\n\n")[-1])
+RUNNER, NODE, NODE_PAGE, NUMERICS_PAGE = args
+pages = {NODE_PAGE: [("scene keys", table(rows(RUNNER))), ("node keys", table(rows(NODE)))],
+         NUMERICS_PAGE: [("solvers", solvers(RUNNER))]}
+for page, blocks in pages.items():
+    old = open(page).read()
+    new = old
+    try:
+        for name, lines in blocks:
+            new = replace_block(new, name, lines)
+    except ValueError as e:
+        sys.exit("gen_param_tables: %s has %s" % (page, e))
+    if check:
+        if new != old:
+            sys.exit("gen_param_tables: %s is out of date with the key tables and the solver registry; run "
+                     "scripts/gen_param_tables.py" % page)
+    elif new != old:
+        open(page, "w").write(new)

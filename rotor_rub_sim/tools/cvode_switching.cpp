@@ -53,10 +53,9 @@ constexpr double kOnSurface_s = 10.0 * core::kEventTimeTolerance_s;
 // graze. The whole step would not do either: the restart is at order 1, whose
 // error constant is far larger than that of the order the step was chosen
 // for; 0.1 is the cut CVODE itself makes after an error test failure.
-// Measured (Adams, rtol 1e-8): the same cost as CVODE's estimate within the
-// +-5 % that rounding alone moves the step count (paper scene: 6812 against
-// 7009 steps), and closer agreement with the core where impacts amplify
-// differences (rolling scene: 8.4e-7 m against 4.1e-6 m).
+// Against CVODE's own estimate: the same cost, and closer agreement with the
+// core where impacts amplify differences (docs/benchmarks.md, "Timings the
+// other pages rest on").
 constexpr double kRestartStepFactor = 0.1;
 // The gap's rounding: delta - C from positions of size |r_r| + |r_s| + C
 // carries a few eps of that; this many eps of it is the noise floor below

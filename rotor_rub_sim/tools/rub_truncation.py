@@ -56,7 +56,6 @@ PROG = "rub_truncation.py"
 MAX_MODES = 20  # rotor_planar_modes' range: [1, 20]
 QUANTITIES = ("first_contact", "max_force", "orbit_station", "orbit_probe")
 DEFAULT_MODES = (1, 2, 4, 8, 16)
-METHODS = ("penalty", "switching", "iteration")
 
 
 class BadInput(Exception):
@@ -285,7 +284,7 @@ def main(argv=None):
     ap.add_argument("--quantities", nargs="+", metavar="Q", default=list(QUANTITIES),
                     help="the quantities judged, any of %s (default: all); the others are printed, not judged"
                          % " ".join(QUANTITIES))
-    ap.add_argument("--method", help="contact method, one of %s (default: the scene's)" % " ".join(METHODS))
+    ap.add_argument("--method", help="contact method, one the runner accepts (default: the scene's)")
     ap.add_argument("--set", action="append", default=[], type=key_value, metavar="KEY=VALUE",
                     help="a scene key for every run (rotor_rub_run --set), repeatable; not rotor_planar_modes")
     ap.add_argument("--rate", type=number_in(0.0, 1e7, True, "Hz"),
@@ -304,15 +303,26 @@ def main(argv=None):
         return e.status
 
 
+def runner_methods(runner):
+    """The contact methods the runner accepts: its key table's `method` line
+    (rotor_rub_run --list-keys: 'method  default ...  accepted one of A B C')."""
+    keys = subprocess.run([runner, "--list-keys"], check=True, capture_output=True, text=True).stdout
+    for line in keys.splitlines():
+        if line.startswith("method ") and "accepted one of" in line:
+            return line.split("accepted one of", 1)[1].split()
+    raise BadInput("RUNNER: '%s --list-keys' names no method key" % runner)
+
+
 def study(a):
     for q in a.quantities:
         if q not in QUANTITIES:
             raise BadInput("--quantities: value '%s' is not accepted; accepted: any of %s" % (q, " ".join(QUANTITIES)))
     quantities = list(dict.fromkeys(a.quantities))
-    if a.method is not None and a.method not in METHODS:
-        raise BadInput("--method: value '%s' is not accepted; accepted: one of %s" % (a.method, " ".join(METHODS)))
     if not (os.path.isfile(a.runner) and os.access(a.runner, os.X_OK)):
         raise BadInput("RUNNER: value '%s' is not an executable file; accepted: the path of rotor_rub_run" % a.runner)
+    if a.method is not None and a.method not in runner_methods(a.runner):
+        raise BadInput("--method: value '%s' is not accepted; accepted: one of %s"
+                       % (a.method, " ".join(runner_methods(a.runner))))
     modal = a.modal or os.path.join(os.path.dirname(os.path.abspath(a.runner)), "rotor_rub_modal")
     if not (os.path.isfile(modal) and os.access(modal, os.X_OK)):
         raise BadInput("--modal: value '%s' is not an executable file; accepted: the path of rotor_rub_modal" % modal)

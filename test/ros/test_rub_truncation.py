@@ -82,6 +82,11 @@ class Recommendation(unittest.TestCase):
         self.assertIn("--modes: value 2 is not below the reference (2 planar modes); accepted: integers in [1, 1]",
                       r.stderr)
 
+    def test_a_method_the_runner_does_not_offer_is_refused_naming_those_it_does(self):
+        r = tool("--scene", SEAL, "--method", "spring")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--method: value 'spring' is not accepted; accepted: one of penalty switching iteration", r.stderr)
+
 
 class Logic(unittest.TestCase):
     @classmethod

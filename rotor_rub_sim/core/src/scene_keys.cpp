@@ -134,7 +134,7 @@ KeyEntry choice(std::string key, const std::array<Enum, N>& all, std::string des
 }
 
 // Which keys a running machine may change, and why the others may not
-// (live_parameters.hpp states what a change does to the state).
+// (Simulation::change_parameters states what a change does to the state).
 void mark_live(SceneKeyInfo& info) {
   // A cracked shaft, blade loss (magnitude and phase), a loosened support,
   // thermal growth or seal wear, a casing that moves, the contact's state,
@@ -232,7 +232,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(text("rotor_file", "a rotor file's path (docs/rotors.md), or empty",
                      "a flexible rotor in place of the Jeffcott: shaft, disks, bearings, unbalances, rub station "
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
-                     "rotor_radius_m are then the file's); the penalty method on dopri5, rosenbrock4 or rk4",
+                     "rotor_radius_m are then the file's); every method, on its integrators of --list-solvers",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "

@@ -14,12 +14,12 @@ namespace rotor_rub::core {
 // that is as accurate as dopri5 there (the paper run-up's work-precision
 // sweep, docs/benchmarks.md). dop853's error norm is an RMS over the state
 // where dopri5's takes the largest component, so at the same rtol its error
-// is larger: at rtol 1e-3 2.7e-4 m (13 % of the clearance) where dopri5's is
-// 7e-6 m; from rtol 1e-4 down it is faster than dopri5 at the same rtol
-// and at equal error. So switching and iteration run dop853 up to rtol 1e-4
-// and dopri5 above. Penalty runs rosenbrock4 at every rtol (faster than
-// dopri5 on the stiff contact spring, at equal or better accuracy; the
-// figures: docs/benchmarks.md).
+// is larger, by far at rtol 1e-3; from rtol 1e-4 down it is faster than
+// dopri5 at the same rtol and at equal error. So switching and iteration run
+// dop853 up to rtol 1e-4 and dopri5 above. Penalty runs rosenbrock4 at every
+// rtol (faster than dopri5 on the stiff contact spring, at equal or better
+// accuracy). The figures: docs/benchmarks.md, "Timings the other pages rest
+// on".
 // Why the other pairs are not offered: the rigid methods locate events on a
 // dense output of their own (dopri5's, or the Hermite one of rkf78 and
 // dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
