@@ -53,6 +53,7 @@ class ContactMethod {
 
   /// The last accepted step's interval [s]: sample() answers inside it.
   virtual double step_begin() const = 0;
+  /// The end of the last accepted step [s] (see step_begin()).
   virtual double step_end() const = 0;
 
   /// The physical state at t_s in [step_begin(), step_end()].
@@ -67,6 +68,7 @@ class ContactMethod {
   /// The cost so far; mutable_stats() lets the Simulation add its own
   /// (the output's time, the wall time).
   virtual const RunStats& stats() const = 0;
+  /// The same, writable (see stats()).
   virtual RunStats& mutable_stats() = 0;
 };
 

@@ -31,18 +31,24 @@ enum class StatorModel { kElastic, kRigid };
 /// state under a speed controller (ModelParameters::drive_model).
 enum class DriveModel { kPrescribed, kMotor };
 
-/// Every value of each enum, in the order --help lists them.
+/// Every method, in the order --help lists them (the paper's).
 inline constexpr std::array<Method, 3> kAllMethods{Method::kPenalty, Method::kSwitching, Method::kIteration};
+/// Every integrator, `auto` first, in the order --help lists them.
 inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,        Integrator::kDopri5,
                                                            Integrator::kRosenbrock4, Integrator::kRk4,
                                                            Integrator::kRkf78,       Integrator::kDop853};
+/// Every stator model, in the order --help lists them.
 inline constexpr std::array<StatorModel, 2> kAllStatorModels{StatorModel::kElastic, StatorModel::kRigid};
+/// Every drive model, in the order --help lists them.
 inline constexpr std::array<DriveModel, 2> kAllDriveModels{DriveModel::kPrescribed, DriveModel::kMotor};
 
-/// The name of a value, as scene files, --help and the outputs write it.
+/// The method's name, as scene files, --help and the outputs write it.
 const char* to_string(Method m);
+/// The integrator's name (`auto` for kAuto), as scene files and --help write it.
 const char* to_string(Integrator i);
+/// The stator model's name: elastic, rigid.
 const char* to_string(StatorModel s);
+/// The drive model's name: prescribed, motor.
 const char* to_string(DriveModel d);
 /// The value of `all` whose to_string is s (any enum with a to_string and a
 /// kAll array: these, the event kinds, the node's end_action). Throws
@@ -57,10 +63,13 @@ Enum value_named(const std::array<Enum, N>& all, const std::string& s, const cha
   throw std::invalid_argument(std::string(what) + " '" + s + "' is not accepted; accepted: " + accepted);
 }
 
-/// Throw std::invalid_argument naming the accepted names.
+/// The method named s; throws std::invalid_argument naming the accepted names.
 Method method_from_string(const std::string& s);
+/// The integrator named s (`auto` too); throws as method_from_string.
 Integrator integrator_from_string(const std::string& s);
+/// The stator model named s; throws as method_from_string.
 StatorModel stator_model_from_string(const std::string& s);
+/// The drive model named s; throws as method_from_string.
 DriveModel drive_model_from_string(const std::string& s);
 
 // ---- Physical model ---------------------------------------------------------
@@ -77,13 +86,13 @@ struct ModelParameters {
   /// keyphasor's notch: the mass centre lies along phi + beta (0: the
   /// notch's direction, the paper's unbalance).
   double unbalance_phase_rad = 0.0;
-  StatorModel stator_model = StatorModel::kElastic;
-  double stator_mass_kg = 0.86;               ///< m_s (elastic stator)
-  double stator_stiffness_N_per_m = 38166.0;  ///< k_s: its supports' (elastic stator)
-  double stator_damping_N_s_per_m = 3.61;     ///< b_s: its supports' (elastic stator)
-  double clearance_m = 2.0e-3;                ///< C: radial clearance
-  double friction_coefficient = 0.1;          ///< f: Coulomb (stick and slip, contact_law.hpp)
-  double restitution = 0.0;                   ///< normal coefficient of restitution, 0 = plastic
+  StatorModel stator_model = StatorModel::kElastic;  ///< elastic (the paper's) or rigid
+  double stator_mass_kg = 0.86;                      ///< m_s (elastic stator)
+  double stator_stiffness_N_per_m = 38166.0;         ///< k_s: its supports' (elastic stator)
+  double stator_damping_N_s_per_m = 3.61;            ///< b_s: its supports' (elastic stator)
+  double clearance_m = 2.0e-3;                       ///< C: radial clearance
+  double friction_coefficient = 0.1;                 ///< f: Coulomb (stick and slip, contact_law.hpp)
+  double restitution = 0.0;                          ///< normal coefficient of restitution, 0 = plastic
   /// Impacts whose rebound velocity falls below this settle into sustained
   /// contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;
@@ -126,14 +135,14 @@ struct SpeedProfileParameters {
 /// How a scene is integrated: the method, the integrator and their
 /// tolerances and budgets.
 struct SolverSettings {
-  Method method = Method::kSwitching;
-  Integrator integrator = Integrator::kAuto;
-  double rtol = 1.0e-6;            ///< relative tolerance per step
-  double atol = 1.0e-9;            ///< applies to every state component (m and m/s)
-  double initial_step_s = 1.0e-5;  ///< the first trial step
-  double fixed_step_s = 1.0e-6;    ///< integrator rk4 only: the fixed step h
-  double min_step_s = 1.0e-14;     ///< below it a run is declared stalled
-  long max_steps = 20'000'000;     ///< accepted + rejected step budget
+  Method method = Method::kSwitching;         ///< where contact is handled (numerics.md)
+  Integrator integrator = Integrator::kAuto;  ///< the registry's pair with method; auto: its pick
+  double rtol = 1.0e-6;                       ///< relative tolerance per step
+  double atol = 1.0e-9;                       ///< applies to every state component (m and m/s)
+  double initial_step_s = 1.0e-5;             ///< the first trial step
+  double fixed_step_s = 1.0e-6;               ///< integrator rk4 only: the fixed step h
+  double min_step_s = 1.0e-14;                ///< below it a run is declared stalled
+  long max_steps = 20'000'000;                ///< accepted + rejected step budget
   /// Wall-time budget of the integration (cost, not simulated time): a run
   /// that spends it fails as timed_out instead of hanging a sweep or a node.
   double max_wall_time_s = 600.0;
@@ -161,14 +170,14 @@ struct SolverSettings {
 /// once-per-revolution pattern fixed to the shaft (mechanical/electrical
 /// runout), noise Gaussian with a fixed seed.
 struct ProbeParameters {
-  double rate_hz = 0.0;  ///< 0: no probe signals
-  double x_angle_rad = 0.25 * 3.14159265358979323846;
-  double y_angle_rad = 0.75 * 3.14159265358979323846;
-  double sensitivity_V_per_m = 7874.0;  ///< 200 mV/mil (API 670)
-  double noise_V = 0.0;                 ///< standard deviation
-  long noise_seed = 1;
-  double runout_m = 0.0;
-  double runout_phase_rad = 0.0;
+  double rate_hz = 0.0;                                ///< 0: no probe signals
+  double x_angle_rad = 0.25 * 3.14159265358979323846;  ///< the X probe's direction from +x
+  double y_angle_rad = 0.75 * 3.14159265358979323846;  ///< the Y probe's direction from +x
+  double sensitivity_V_per_m = 7874.0;                 ///< 200 mV/mil (API 670)
+  double noise_V = 0.0;                                ///< standard deviation
+  long noise_seed = 1;                                 ///< the noise's seed: the same signals every run
+  double runout_m = 0.0;                               ///< the runout pattern's amplitude
+  double runout_phase_rad = 0.0;                       ///< the runout pattern's phase on the shaft
 };
 
 // ---- A flexible rotor (docs/rotors.md) ---------------------------------------
@@ -188,11 +197,11 @@ struct RotorSettings {
 /// (scene_keys.hpp names every key). Simulation validates it
 /// (validate_scene).
 struct Scene {
-  ModelParameters model;
-  RotorSettings rotor;
-  SpeedProfileParameters speed;
-  SolverSettings solver;
-  ProbeParameters probes;
+  ModelParameters model;           ///< the rotor, stator, contact and drive
+  RotorSettings rotor;             ///< a flexible rotor's file and reduction, or none
+  SpeedProfileParameters speed;    ///< the drive's speed profile
+  SolverSettings solver;           ///< the method, the integrator, tolerances and budgets
+  ProbeParameters probes;          ///< the proximity probes' signals
   double end_time_s = 4.0;         ///< the run's simulated end
   double output_rate_hz = 1000.0;  ///< the samples' rate in simulated time
 };

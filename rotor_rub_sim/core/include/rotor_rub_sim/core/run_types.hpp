@@ -30,22 +30,22 @@ inline double event_time_resolution_s(double t_s) {
 
 /// The physical state at one instant, whatever the method's internal state.
 struct Sample {
-  double t_s = 0.0;
-  Kinematics kin;
-  DriveState drive;
-  double normal_force_N = 0.0;
-  double friction_force_N = 0.0;  ///< signed along the tangent t, on the rotor
-  Vec2 contact_force_on_rotor_N = Vec2::Zero();
-  double penetration_m = 0.0;  ///< delta - C: < 0 is the gap
-  double sliding_velocity_m_per_s = 0.0;
-  bool in_contact = false;
+  double t_s = 0.0;                              ///< the sample's time [s]
+  Kinematics kin;                                ///< rotor and stator positions and velocities, in the casing's frame
+  DriveState drive;                              ///< the spin: angle, speed, acceleration, motor torque
+  double normal_force_N = 0.0;                   ///< F_n >= 0 on the rotor, along -n
+  double friction_force_N = 0.0;                 ///< signed along the tangent t, on the rotor
+  Vec2 contact_force_on_rotor_N = Vec2::Zero();  ///< -F_n n + F_t t, in x and y
+  double penetration_m = 0.0;                    ///< delta - C: < 0 is the gap
+  double sliding_velocity_m_per_s = 0.0;         ///< the contact point's relative speed along t
+  bool in_contact = false;                       ///< the rotor on the bore (or pressed into it: penalty)
   /// In contact and sticking (rolling, v_slide held at 0): the rigid methods'
   /// stick regime; the penalty method's creep band |c_t v_slide| < f F_n.
   bool sticking = false;
   /// The drive's torque on the rotor (the motor's, or what an ideal
   /// prescribed drive applies) and the rub's, R_r F_t [N m] (model.hpp).
   double drive_torque_N_m = 0.0;
-  double friction_torque_N_m = 0.0;
+  double friction_torque_N_m = 0.0;  ///< the rub's torque on the spin, R_r F_t
   /// What the proximity probes read, in the casing's frame [m]: the rotor's
   /// centre, or a flexible rotor's displacement at its probe node
   /// (RotorSettings::probe_node), which need not be the rub station.
@@ -57,8 +57,8 @@ struct Sample {
 /// is the state's rotor position; Simulation::shaft_node_z_m says where the
 /// nodes sit along the shaft).
 struct ShaftSample {
-  double t_s = 0.0;
-  std::vector<Vec2> node_displacement_m;
+  double t_s = 0.0;                       ///< the instant [s]
+  std::vector<Vec2> node_displacement_m;  ///< per node, in node order
 };
 
 /// What a contact event is.
@@ -86,23 +86,25 @@ inline const char* to_string(EventKind k) {
 
 /// A located contact event (ContactMethod::step, SimulationObserver::on_event).
 struct ContactEvent {
-  double t_s = 0.0;  ///< the located time [s]
-  EventKind kind = EventKind::kTouchdown;
-  double normal_velocity_m_per_s = 0.0;  ///< closing speed at touchdown/graze
-  double impulse_N_s = 0.0;              ///< impact impulse (rigid methods)
+  double t_s = 0.0;                        ///< the located time [s]
+  EventKind kind = EventKind::kTouchdown;  ///< touchdown, lift-off or graze
+  double normal_velocity_m_per_s = 0.0;    ///< closing speed at touchdown/graze
+  double impulse_N_s = 0.0;                ///< impact impulse (rigid methods)
 };
 
 /// The cost of a run. wall_time_s is the integration's own time.
 struct RunStats {
-  long steps = 0;            ///< accepted steps
-  long rejected_steps = 0;   ///< rejected by error control or by a method rule
-  long rhs_evals = 0;        ///< right-hand-side (derivative) evaluations
-  long jacobian_evals = 0;   ///< stiff integrator only
-  long root_iterations = 0;  ///< root-finder function evaluations (events, forces)
-  long touchdowns = 0, liftoffs = 0, grazes = 0;
+  long steps = 0;                 ///< accepted steps
+  long rejected_steps = 0;        ///< rejected by error control or by a method rule
+  long rhs_evals = 0;             ///< right-hand-side (derivative) evaluations
+  long jacobian_evals = 0;        ///< stiff integrator only
+  long root_iterations = 0;       ///< root-finder function evaluations (events, forces)
+  long touchdowns = 0;            ///< events of each kind
+  long liftoffs = 0;              ///< events of each kind
+  long grazes = 0;                ///< events of each kind
   long restarts = 0;              ///< integrator restarts (events, profile breaks, projections)
   long friction_transitions = 0;  ///< rigid methods: slip -> stick, stick -> slip, slip reversals
-  double wall_time_s = 0.0;
+  double wall_time_s = 0.0;       ///< spent in advance_to [s] (the construction excluded)
   double rhs_time_s = 0.0;        ///< profile_cost only: in derivative evaluation, iteration included
   double iteration_time_s = 0.0;  ///< profile_cost only: in the normal force iteration
   double event_time_s = 0.0;      ///< profile_cost only: event scan, location and handling (impact law), no RHS
@@ -119,6 +121,8 @@ struct RunStats {
 /// (non-penetration of a rigid method, the friction cone, dissipative friction,
 /// finiteness; see invariants.hpp): a defect made loud, never an `ok` run.
 enum class FailureClass { kStalled, kDiverged, kNotConverged, kTimedOut, kInvariantViolated };
+/// The class's name in the outputs: stalled, diverged, not_converged,
+/// timed_out, invariant_violated.
 inline const char* to_string(FailureClass c) {
   switch (c) {
     case FailureClass::kStalled:
@@ -157,10 +161,11 @@ inline int exit_status(FailureClass c) {
 /// A failed run: thrown by the methods, caught by the simulation loop.
 class MethodFailure : public std::runtime_error {
  public:
+  /// A failure of class c at t_s, what naming the cause.
   MethodFailure(FailureClass c, double t_s, const std::string& what)
       : std::runtime_error(what), failure_class(c), time_s(t_s) {}
-  FailureClass failure_class;
-  double time_s;
+  FailureClass failure_class;  ///< what kind of failure
+  double time_s;               ///< where it happened [s]
 };
 
 /// Shared guard of the adaptive integrators: a run that spends its step

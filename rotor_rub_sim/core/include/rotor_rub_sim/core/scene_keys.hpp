@@ -20,20 +20,22 @@ class SceneError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// One scene key as the key table describes it (scene_keys(): --help,
+/// --list-keys, the template, docs/node.md).
 struct SceneKeyInfo {
-  std::string key;
-  std::string accepted;     ///< human-readable accepted range or names
-  std::string description;  ///< one line, with the unit
-  std::string default_value;
+  std::string key;            ///< the key as scene files and rosparams name it
+  std::string accepted;       ///< human-readable accepted range or names
+  std::string description;    ///< one line, with the unit
+  std::string default_value;  ///< the default as text (as scene_values writes it)
   /// A number's accepted bounds (the open or closed ends `accepted` states;
   /// +-infinity where unbounded); NaN for a choice of names.
   double min_value = std::numeric_limits<double>::quiet_NaN();
-  double max_value = std::numeric_limits<double>::quiet_NaN();
-  bool is_integer = false;
-  /// May change while a run goes on (live_parameters.hpp); otherwise
+  double max_value = std::numeric_limits<double>::quiet_NaN();  ///< see min_value
+  bool is_integer = false;                                      ///< a whole number (step counts, seeds, modes)
+  /// May change while a run goes on (Simulation::change_parameters); otherwise
   /// live_refusal says why not.
   bool live = false;
-  std::string live_refusal;
+  std::string live_refusal;  ///< why a key that is not live cannot change while a run goes on
 };
 
 /// The shortest text that reads back as the same double: how a number is

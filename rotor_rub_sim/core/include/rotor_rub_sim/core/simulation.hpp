@@ -36,25 +36,28 @@ class SimulationObserver {
   /// only when wants_keyphasor(); in time order with the samples. The mark at
   /// the start angle itself (t = 0) is not one.
   virtual bool wants_keyphasor() const { return false; }
+  /// A keyphasor mark's state (see wants_keyphasor()).
   virtual void on_keyphasor(const Sample& /*s*/) {}
   /// The proximity probes' samples: the state at k / scene.probes.rate_hz
   /// (k >= 1) from the dense output, called only when wants_probes() and the
   /// rate is > 0; in time order with the samples (probes.hpp reads them).
   virtual bool wants_probes() const { return false; }
+  /// A probe sample's state (see wants_probes()).
   virtual void on_probe_sample(const Sample& /*s*/) {}
   /// A flexible rotor's deflected shaft (every node's lateral displacement)
   /// at k / shaft_rate_hz() (k >= 1) from the dense output, called only for a
   /// scene with a rotor_file and a rate > 0; in time order with the samples.
   virtual double shaft_rate_hz() const { return 0.0; }
+  /// The shaft's nodes at one instant (see shaft_rate_hz()).
   virtual void on_shaft_sample(const ShaftSample& /*s*/) {}
 };
 
 /// How a run failed: the class (run_types.hpp), the simulated time and a
 /// message naming what went wrong.
 struct RunFailure {
-  FailureClass failure_class;
-  double time_s;  ///< where the failing step began or the invariant broke [s]
-  std::string message;
+  FailureClass failure_class;  ///< what kind of failure (its name: to_string)
+  double time_s;               ///< where the failing step began or the invariant broke [s]
+  std::string message;         ///< what went wrong, with the value and its limit
 };
 
 /// A scene's run, advanced by the caller: the loop around one ContactMethod
@@ -161,9 +164,9 @@ Scene with_live_changes(const Scene& running, const std::map<std::string, std::s
 
 /// A whole run's outcome (run_scene).
 struct RunResult {
-  RunStats stats;
-  std::vector<ContactEvent> events;  ///< every event, in time order
-  std::optional<RunFailure> failure;
+  RunStats stats;                     ///< the run's cost (steps, evaluations, wall time)
+  std::vector<ContactEvent> events;   ///< every event, in time order
+  std::optional<RunFailure> failure;  ///< empty for a run that reached end_time_s
 };
 /// Runs the whole scene from 0 to end_time_s, delivering to observer, and
 /// returns its cost, events and failure, if any. Throws SceneError for a

@@ -23,12 +23,12 @@ using ContactMethodFactory = std::unique_ptr<ContactMethod> (*)(const Scene&);
 
 /// One method on one integrator.
 struct SolverEntry {
-  Method method;
-  Integrator integrator;
+  Method method;          ///< the contact method
+  Integrator integrator;  ///< a concrete integrator (never kAuto)
   /// `auto` resolves to this row's integrator for rtol up to this value
   /// (the method's first such row in the table); 0: never.
   double auto_up_to_rtol;
-  ContactMethodFactory make;
+  ContactMethodFactory make;  ///< builds the method for a validated scene
   /// When to use it, one line (--list-solvers, docs/numerics.md).
   const char* note;
 };
