@@ -9,12 +9,14 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/dense_rk4.hpp"
 #include "rotor_rub_sim/core/dense_rodasp.hpp"
+#include "rotor_rub_sim/core/parameters.hpp"
 
 namespace rotor_rub {
 namespace {
@@ -137,6 +139,24 @@ class IntegratorNames {
   }
 };
 TYPED_TEST_SUITE(DenseIntegrator, Integrators, IntegratorNames);
+
+template <class... Case>
+std::set<std::string> case_names(::testing::Types<Case...>) {
+  return {Case::kName...};
+}
+
+// The suite has a case for every concrete integrator (the step and dense
+// orders of each) and for nothing else: a new integrator fails here until
+// its case is in Integrators. (rosenbrock4's case is RODASP, which that name
+// runs.)
+TEST(DenseIntegratorSuite, HasACaseForEveryIntegrator) {
+  const std::set<std::string> covered = case_names(Integrators{});
+  std::set<std::string> integrators;
+  for (const core::Integrator i : core::kAllIntegrators) {
+    if (i != core::Integrator::kAuto) integrators.insert(core::to_string(i));
+  }
+  EXPECT_EQ(covered, integrators);
+}
 
 TYPED_TEST(DenseIntegrator, StepAndDenseOutputConvergeWithTheirOrders) {
   // h = 0.3 and 0.15 (the period is 2 pi): in the asymptotic range of every
