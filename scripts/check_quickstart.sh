@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
 # Runs the README's quick start verbatim: the first ```bash block under
 # "## Quick start", in bash with -e, from the repository root, within a wall
-# bound; then checks what it promises (the bag, the pictures). Needs the built
-# workspace (scripts/build.sh) and ROS master port 11311 free.
+# bound; then checks what it promises (the bag, the four pictures). Then the
+# headless commands of "## Quick start" and "## A flexible rotor" (their
+# indented `rosrun` lines), verbatim, in a scratch directory whose config/ is
+# the repository's, so that their output files land there; and checks the
+# files they name. Needs the built workspace (scripts/build.sh) and ROS master
+# port 11311 free.
 #   scripts/check_quickstart.sh
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -17,6 +21,21 @@ timeout --kill-after=10 240 bash -e -c "$BLOCK"
 rc=$?
 [ $rc -eq 0 ] || { echo "check_quickstart: the quick start exited $rc" >&2; exit 1; }
 test -s /tmp/quick_start.bag || { echo "check_quickstart: no /tmp/quick_start.bag" >&2; exit 1; }
-n=$(find /tmp/quick_start -name '*.png' -size +1k 2>/dev/null | wc -l)
-[ "$n" -gt 0 ] || { echo "check_quickstart: plot_run.py drew no picture into /tmp/quick_start" >&2; exit 1; }
-echo "check_quickstart: ok ($n pictures)"
+for png in displacement orbit force_speed waterfall; do
+  test -s "/tmp/quick_start/$png.png" || { echo "check_quickstart: plot_run.py drew no $png.png into /tmp/quick_start" >&2; exit 1; }
+done
+
+CMDS="$(awk '/^## (Quick start|A flexible rotor)$/ {q = 1; next} /^## / {q = 0} q && /^    rosrun / {sub(/^    /, ""); print}' "$ROOT/README.md")"
+[ -n "$CMDS" ] || { echo "check_quickstart: no indented rosrun commands under '## Quick start' and '## A flexible rotor'" >&2; exit 1; }
+echo "$CMDS"
+SCRATCH="$(mktemp -d)"
+trap 'rm -rf "$SCRATCH"' EXIT
+ln -s "$ROOT/config" "$SCRATCH/config"
+timeout --kill-after=10 120 bash -e -c "export PATH=/usr/bin:\$PATH; source '$ROOT/scripts/workspace.sh'; \
+  source \"\$WS/devel/setup.bash\"; cd '$SCRATCH'; $CMDS"
+rc=$?
+[ $rc -eq 0 ] || { echo "check_quickstart: the headless commands exited $rc" >&2; exit 1; }
+for f in $(echo "$CMDS" | grep -o -- '--\(csv\|summary\) [^ ]*' | cut -d' ' -f2); do
+  test -s "$SCRATCH/$f" || { echo "check_quickstart: the headless commands wrote no $f" >&2; exit 1; }
+done
+echo "check_quickstart: ok (the bag, four pictures, $(echo "$CMDS" | wc -l) headless commands)"

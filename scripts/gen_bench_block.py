@@ -3,16 +3,52 @@
 <!-- BEGIN GENERATED: bench --> and <!-- END GENERATED: bench -->: the date,
 the machine, the command, and the bench's "cheapest within" tables (each
 method and integrator's cheapest run within an error bound, CVODE's ratio)
-as rotor_rub_bench printed them. scripts/make_charts.sh calls it after the
-bench, so the page's headline figures are the last run's, never typed in.
+as rotor_rub_bench printed them, and the speed bars read off them (the
+switching method within 1e-7 m in at most 1.1 ms with its 1 kHz samples;
+CVODE at least 10x its time within 1e-6 m). scripts/make_charts.sh calls it
+after the bench, so the page's headline figures are the last run's, never
+typed in.
 
 With a fourth argument NAME, the block <!-- BEGIN GENERATED: NAME --> ...
 instead (the flexible rotor's CVODE comparison: flexible_cvode).
 
 usage: gen_bench_block.py BENCH_OUTPUT.txt COMMAND docs/benchmarks.md [NAME]"""
+import re
 import sys
 
 from doc_blocks import machine, now_utc, write_block
+
+BAR_SWITCHING_MS = 1.1  # the switching method within 1e-7 m, with its 1 kHz samples
+BAR_CVODE_RATIO = 10.0  # CVODE's time over ours within 1e-6 m, both quiet
+
+
+def section(lines, bound):
+    """The lines of the 'cheapest within BOUND m' table."""
+    head = next((i for i, l in enumerate(lines) if l.startswith("cheapest within %s m" % bound)), None)
+    if head is None:
+        return []
+    out = []
+    for l in lines[head + 1:]:
+        if not l.strip() or l.startswith("cheapest within"):
+            break
+        out.append(l)
+    return out
+
+
+def bars(lines):
+    """The speed bars' verdicts, from the 1e-07 and 1e-06 tables."""
+    walls = [float(m.group(1)) for l in section(lines, "1e-07")
+             for m in [re.match(r"\s*switching \S+\s+rtol\s+\S+\s+([0-9.]+) /", l)] if m]
+    ratio = [float(m.group(1)) for l in section(lines, "1e-06")
+             for m in [re.search(r"CVODE .*: ([0-9.]+)x both quiet", l)] if m]
+    if not walls or not ratio:
+        sys.exit("gen_bench_block: the bench output has no switching row within 1e-07 m or no CVODE ratio "
+                 "within 1e-06 m")
+    verdict = lambda ok: "met" if ok else "**not met**"
+    return ["The speed bars in this run: the switching method within 1e-7 m with its 1 kHz samples in "
+            "%.3f ms (bar %.1f ms): %s; CVODE %.1fx its time within 1e-6 m, both quiet (bar %.0fx): %s."
+            % (min(walls), BAR_SWITCHING_MS, verdict(min(walls) <= BAR_SWITCHING_MS), ratio[0], BAR_CVODE_RATIO,
+               verdict(ratio[0] >= BAR_CVODE_RATIO))]
 
 bench_txt, command, page = sys.argv[1:4]
 name = sys.argv[4] if len(sys.argv) > 4 else "bench"
@@ -23,4 +59,6 @@ if start is None:
 end = next((i for i, l in enumerate(lines) if l.startswith("paper (MATLAB")), len(lines))
 block = ["Written by `scripts/gen_bench_block.py` on %s UTC, on %s:" % (now_utc(), machine()), "",
          "    " + command, ""] + ["    " + l if l else "" for l in lines[start:end]]
+if name == "bench":
+    block += [""] + bars(lines)
 write_block(page, name, block, "gen_bench_block")

@@ -128,16 +128,22 @@ timed "checks: clang syntax check's cases" check "scripts/clang_syntax_check.py:
 # The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
 timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
   bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
-# The docs' parameter tables are the key tables' (scripts/gen_param_tables.py).
+# The docs' parameter and solver tables are the key tables' and the registry's (scripts/gen_param_tables.py).
 BIN="$WS/devel/lib/rotor_rub_sim"
-timed "checks: docs tables" check "docs: docs/node.md's parameter tables match the key tables" \
+timed "checks: docs tables" check "docs: docs/node.md's parameter tables and docs/numerics.md's solver table match the key tables and the registry" \
   /usr/bin/python3 "$ROOT/scripts/gen_param_tables.py" --check "$BIN/rotor_rub_run" "$BIN/rotor_rub_sim_node" \
-  "$ROOT/docs/node.md"
+  "$ROOT/docs/node.md" "$ROOT/docs/numerics.md"
+# The core's API reference (rosdoc.yaml's headers) builds without a doxygen warning:
+# every public declaration documented (scripts/api_docs.sh).
+timed "checks: API reference" check "doxygen: the core's public headers build warning-free, every member documented" \
+  bash -c "'$ROOT/scripts/api_docs.sh' '$WS/api' > '$WS/api_docs.log' 2>&1"
 timed "checks: benchmark tables" check "docs: docs/benchmarks.md's tables match the CSVs in docs/data" \
   /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --check --data "$ROOT/docs/data" --page "$ROOT/docs/benchmarks.md" \
   bench_rows table2 penalty_stiffness stick_slip
 timed "checks: benchmark tables' cases" check "scripts/gen_bench_tables.py: a moved figure fails its check, stamps, errors" \
   bash -c "'$ROOT/test/tools/test_gen_bench_tables.sh' > '$WS/gen_bench_tables_test.log' 2>&1"
+timed "checks: bench block's cases" check "scripts/gen_bench_block.py: the bench's tables and the speed bars' verdicts, errors" \
+  bash -c "'$ROOT/test/tools/test_gen_bench_block.sh' > '$WS/gen_bench_block_test.log' 2>&1"
 timed "checks: phase table's cases" check "scripts/gen_phase_block.py: the test command's phases as a table, errors" \
   bash -c "'$ROOT/test/tools/test_gen_phase_block.sh' > '$WS/gen_phase_block_test.log' 2>&1"
 # The README's quick start, verbatim (scripts/check_quickstart.sh).
