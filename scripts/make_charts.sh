@@ -5,6 +5,7 @@
 # --plot-only).
 #   scripts/make_charts.sh              full sweeps (a few minutes on 2 cores) -> docs/
 #   scripts/make_charts.sh --quick DIR  the small CI grid, 1.5 s of the scene -> DIR (docs/ untouched)
+#   scripts/make_charts.sh --bench-only the bench alone (its block, its rows' table), charts redrawn
 #   scripts/make_charts.sh --plot-only  redraw docs/ from docs/data/ and out/traces/
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -13,8 +14,9 @@ OUTDIR="$ROOT/docs"
 case "${1:-}" in
   --quick) MODE=quick; OUTDIR="${2:?--quick needs an output directory}" ;;
   --plot-only) MODE=plot ;;
+  --bench-only) MODE=bench ;;
   "") ;;
-  *) echo "usage: $0 [--quick DIR | --plot-only]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--quick DIR | --bench-only | --plot-only]" >&2; exit 2 ;;
 esac
 "$ROOT/scripts/build.sh" > /dev/null
 source "$ROOT/scripts/workspace.sh"
@@ -37,7 +39,7 @@ if [ "$MODE" != plot ]; then
     "$BIN/rotor_rub_sweep" --scene "$SCENE" --set method=switching --set rtol=1e-6 --set atol=1e-9 \
       --set friction_coefficient=0,0.3 --set eccentricity_m=3e-4,4e-4 --repeats 1 "${REF[@]}" "${EXTRA[@]}" \
       --out "$DATA/parameter_study.csv" --no-progress
-  else
+  elif [ "$MODE" = full ]; then
     echo "work-precision sweep (config/sweeps/work_precision.yaml)"
     "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/work_precision.yaml" --repeats 3 "${REF[@]}" \
       --out "$DATA/work_precision.csv"
@@ -61,14 +63,18 @@ if [ "$MODE" != plot ]; then
     /usr/bin/python3 "$ROOT/scripts/gen_bench_block.py" "$ROOT/docs/bench_paper_runup.txt" \
       "rosrun rotor_rub_sim rotor_rub_bench --repeats 7 --error-rate 20000" "$ROOT/docs/benchmarks.md"
   fi
-  # Table 2: one run at a time so that the shares and times are not disturbed.
-  "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \
-    --profile "${REF[@]}" "${EXTRA[@]}" --out "$DATA/paper_table2.csv" --no-progress
-  # Stick and slip at constant speed, every method and integrator, one run at a time.
-  STICK_SLIP=(--repeats 3)
-  [ "$MODE" = quick ] && STICK_SLIP=(--repeats 1 --set end_time_s=0.1)
-  "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/stick_slip_cost.yaml" --jobs 1 "${REF[@]}" \
-    "${STICK_SLIP[@]}" --out "$DATA/stick_slip_cost.csv" --no-progress
+  TABLES=(bench_rows)
+  if [ "$MODE" != bench ]; then
+    TABLES+=(table2 stick_slip)
+    # Table 2: one run at a time so that the shares and times are not disturbed.
+    "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/paper_table2.yaml" --repeats 5 --jobs 1 \
+      --profile "${REF[@]}" "${EXTRA[@]}" --out "$DATA/paper_table2.csv" --no-progress
+    # Stick and slip at constant speed, every method and integrator, one run at a time.
+    STICK_SLIP=(--repeats 3)
+    [ "$MODE" = quick ] && STICK_SLIP=(--repeats 1 --set end_time_s=0.1)
+    "$BIN/rotor_rub_sweep" --scene "$SCENE" --grid "$ROOT/config/sweeps/stick_slip_cost.yaml" --jobs 1 "${REF[@]}" \
+      "${STICK_SLIP[@]}" --out "$DATA/stick_slip_cost.csv" --no-progress
+  fi
   # The tables of docs/benchmarks.md from the runs just made (quick: into a
   # copy of the page in the output directory, docs/ untouched).
   PAGE="$ROOT/docs/benchmarks.md"
@@ -76,10 +82,9 @@ if [ "$MODE" != plot ]; then
     cp "$PAGE" "$OUTDIR/benchmarks.md"
     PAGE="$OUTDIR/benchmarks.md"
   fi
-  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$PAGE" bench_rows table2 \
-    stick_slip
+  /usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py" --measured-now --data "$DATA" --page "$PAGE" "${TABLES[@]}"
 fi
-if [ "$MODE" != plot ] || [ ! -f "$TRACES/reference.csv" ]; then
+if { [ "$MODE" != plot ] && [ "$MODE" != bench ]; } || [ ! -f "$TRACES/reference.csv" ]; then
   # Time series for the force and trajectory charts, at 20 kHz: the reference
   # and the three methods at the scene's tolerances (rtol 1e-6, atol 1e-9).
   RATE=20000
