@@ -99,9 +99,9 @@ struct RunStats {
   long rhs_evals = 0;             ///< right-hand-side (derivative) evaluations
   long jacobian_evals = 0;        ///< stiff integrator only
   long root_iterations = 0;       ///< root-finder function evaluations (events, forces)
-  long touchdowns = 0;            ///< events of each kind
-  long liftoffs = 0;              ///< events of each kind
-  long grazes = 0;                ///< events of each kind
+  long touchdowns = 0;            ///< touchdown events located
+  long liftoffs = 0;              ///< lift-off events located
+  long grazes = 0;                ///< graze events located
   long restarts = 0;              ///< integrator restarts (events, profile breaks, projections)
   long friction_transitions = 0;  ///< rigid methods: slip -> stick, stick -> slip, slip reversals
   double wall_time_s = 0.0;       ///< spent in advance_to [s] (the construction excluded)
