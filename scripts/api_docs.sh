@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Builds the C++ API reference of the ROS-free core with doxygen: the main
 # page and the public headers rosdoc.yaml lists (the ones a library user
-# includes), HTML into OUTDIR (default $WS/api/html). Fails on any doxygen
-# warning, an undocumented public member among them, so the check in
-# scripts/run_tests.sh keeps every public declaration documented.
+# includes), HTML into OUTDIR/html (OUTDIR default $WS/api). Fails on any
+# doxygen warning, an undocumented public member among them (doxygen does not
+# warn about enumerators), so the check in scripts/run_tests.sh keeps the
+# public declarations documented.
 #   scripts/api_docs.sh [OUTDIR]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -20,7 +21,8 @@ for n in $names; do
   inputs+=("$f")
 done
 mkdir -p "$OUT"
-doxygen - > "$OUT/doxygen.log" 2> "$OUT/warnings.txt" <<DOXYFILE
+rc=0
+doxygen - > "$OUT/doxygen.log" 2> "$OUT/warnings.txt" <<DOXYFILE || rc=$?
 PROJECT_NAME = "rotor_rub_sim: the ROS-free core"
 INPUT = ${inputs[*]}
 STRIP_FROM_PATH = $ROOT/rotor_rub_sim/core/include
@@ -31,9 +33,9 @@ QUIET = YES
 WARN_IF_UNDOCUMENTED = YES
 WARN_NO_PARAMDOC = NO
 DOXYFILE
-if [ -s "$OUT/warnings.txt" ]; then
+if [ $rc -ne 0 ] || [ -s "$OUT/warnings.txt" ]; then
   cat "$OUT/warnings.txt" >&2
-  echo "api_docs: $(wc -l < "$OUT/warnings.txt") doxygen warnings (above)" >&2
+  echo "api_docs: doxygen exited $rc with $(wc -l < "$OUT/warnings.txt") lines of warnings (above)" >&2
   exit 1
 fi
 echo "api_docs: $OUT/html/index.html"

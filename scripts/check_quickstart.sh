@@ -19,13 +19,16 @@ cd "$ROOT"
 # group: a launch that hangs ends with its nodes and its master.
 timeout --kill-after=10 240 bash -e -c "$BLOCK"
 rc=$?
+[ $rc -ne 124 ] || { echo "check_quickstart: the quick start did not end within 240 s" >&2; exit 1; }
 [ $rc -eq 0 ] || { echo "check_quickstart: the quick start exited $rc" >&2; exit 1; }
 test -s /tmp/quick_start.bag || { echo "check_quickstart: no /tmp/quick_start.bag" >&2; exit 1; }
 for png in displacement orbit force_speed waterfall; do
   test -s "/tmp/quick_start/$png.png" || { echo "check_quickstart: plot_run.py drew no $png.png into /tmp/quick_start" >&2; exit 1; }
 done
 
-CMDS="$(awk '/^## (Quick start|A flexible rotor)$/ {q = 1; next} /^## / {q = 0} q && /^    rosrun / {sub(/^    /, ""); print}' "$ROOT/README.md")"
+# Each indented command from its `rosrun` line through its continuation lines (a trailing \).
+CMDS="$(awk '/^## (Quick start|A flexible rotor)$/ {q = 1; next} /^## / {q = 0}
+  q && (/^    rosrun / || c) {l = $0; sub(/^    /, "", l); print l; c = (l ~ /\\$/)}' "$ROOT/README.md")"
 [ -n "$CMDS" ] || { echo "check_quickstart: no indented rosrun commands under '## Quick start' and '## A flexible rotor'" >&2; exit 1; }
 echo "$CMDS"
 SCRATCH="$(mktemp -d)"
@@ -34,6 +37,7 @@ ln -s "$ROOT/config" "$SCRATCH/config"
 timeout --kill-after=10 120 bash -e -c "export PATH=/usr/bin:\$PATH; source '$ROOT/scripts/workspace.sh'; \
   source \"\$WS/devel/setup.bash\"; cd '$SCRATCH'; $CMDS"
 rc=$?
+[ $rc -ne 124 ] || { echo "check_quickstart: the headless commands did not end within 120 s" >&2; exit 1; }
 [ $rc -eq 0 ] || { echo "check_quickstart: the headless commands exited $rc" >&2; exit 1; }
 for f in $(echo "$CMDS" | grep -o -- '--\(csv\|summary\) [^ ]*' | cut -d' ' -f2); do
   test -s "$SCRATCH/$f" || { echo "check_quickstart: the headless commands wrote no $f" >&2; exit 1; }

@@ -5,7 +5,7 @@
 # --plot-only).
 #   scripts/make_charts.sh              full sweeps (a few minutes on 2 cores) -> docs/
 #   scripts/make_charts.sh --quick DIR  the small CI grid, 1.5 s of the scene -> DIR (docs/ untouched)
-#   scripts/make_charts.sh --bench-only the bench alone (its block, its rows' table), charts redrawn
+#   scripts/make_charts.sh --bench-only the bench alone (its block, its rows' table), its chart redrawn
 #   scripts/make_charts.sh --plot-only  redraw docs/ from docs/data/ and out/traces/
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
@@ -97,4 +97,8 @@ if { [ "$MODE" != plot ] && [ "$MODE" != bench ]; } || [ ! -f "$TRACES/reference
   done
 fi
 STAMP="scene config/paper_runup.yaml; $(nproc) cores; $(date -u +%Y-%m-%d); made by scripts/make_charts.sh ${1:-}"
-/usr/bin/python3 "$ROOT/scripts/plot_charts.py" --data "$DATA" --traces "$TRACES" --out "$OUTDIR" --stamp "$STAMP"
+# --bench-only: only the chart the bench's CSV feeds, the others' data unchanged.
+ONLY=()
+[ "$MODE" = bench ] && ONLY=(--work-precision-only)
+/usr/bin/python3 "$ROOT/scripts/plot_charts.py" --data "$DATA" --traces "$TRACES" --out "$OUTDIR" --stamp "$STAMP" \
+  "${ONLY[@]}"

@@ -252,11 +252,16 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--stamp", required=True)
     ap.add_argument("--clearance", type=float, default=2e-3)
+    ap.add_argument("--work-precision-only", action="store_true",
+                    help="only the work-precision chart (the one the bench's CSV feeds)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     wp = read_csv(os.path.join(a.data, "work_precision.csv"))
     bench_csv = os.path.join(a.data, "bench.csv")  # rotor_rub_bench --csv, when there
     work_precision(wp, a.out, a.stamp, read_csv(bench_csv) if os.path.exists(bench_csv) else ())
+    if a.work_precision_only:
+        print("chart written to", a.out)
+        return
     names = ["switching", "iteration", "penalty"]
     for line in contact_force(a.traces, names, a.out, a.stamp):
         print(line)

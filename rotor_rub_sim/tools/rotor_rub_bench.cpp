@@ -12,6 +12,7 @@
 // (clock reads around every derivative evaluation, force iteration, event
 // scan, restart and output inflate its total, not its shares much).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -172,11 +173,10 @@ int main(int argc, char** argv) {
   std::string csv_path;
   // The rows: every method on each of its registry's integrators but rk4 (its
   // fixed step has no tolerance to sweep), switching first (the headline
-  // rows), then CVODE.
-  std::vector<Method> method_order{Method::kSwitching};
-  for (const Method m : kAllMethods) {
-    if (m != Method::kSwitching) method_order.push_back(m);
-  }
+  // rows), the rigid methods before the penalty one, then CVODE. A method
+  // added to kAllMethods fails the size check until it has its place here.
+  constexpr std::array<Method, 3> method_order{Method::kSwitching, Method::kIteration, Method::kPenalty};
+  static_assert(method_order.size() == kAllMethods.size(), "rotor_rub_bench: a method without its rows");
   std::vector<std::string> row_names;
   std::string methods_help = "which rows:";
   for (const Method m : method_order) {
