@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,22 +31,48 @@ namespace {
 
 // The runs are held at tight tolerances, so that a step-size decision that a
 // last-bit difference flips moves the figures by far less than the checks'
-// bounds, while a change of the physics moves them by far more. Measured: the
-// contact's sin/cos pair from libm instead of libmvec (angle_pair.cpp built
-// without ROTOR_RUB_HAVE_LIBMVEC) moved positions by at most 8.4e-14 m and
-// event times by 3.3e-12 s at rtol 1e-10 / atol 1e-13, every count and kind
-// the same; at rtol 1e-6 / atol 1e-9 the same swap flipped step decisions:
-// positions moved by up to 6.5e-9 m and a gravity run's event sequence
-// changed. Not yet robust to the free flight's sin/cos from another libm:
-// the iteration and penalty methods' event times move by up to 1.1e-8 s
-// there, and one bouncing cascade's length by an event (docs/testing.md,
-// "Golden runs").
+// bounds, while a change of the physics moves them by far more. The bounds
+// come from two swaps of last bits, each measured on every case
+// (docs/testing.md, "Golden runs"): the contact's sin/cos pair from libm
+// instead of libmvec, and the free flight's unbalance direction from libmvec
+// instead of libm. At rtol 1e-6 / atol 1e-9 the first flipped step decisions
+// (positions moved by up to 6.5e-9 m, a gravity run's event sequence
+// changed); at rtol 1e-10 / atol 1e-13 what moved is below.
 constexpr double kRtol = 1e-10;
 constexpr double kAtol_m = 1e-13;
-constexpr double kPositionTol_m = 1e-12;
-// Event times are the worse conditioned (a graze's or a lift-off's time moves
-// by a position's change over a small rate): 3x the measured 3.3e-12 s.
-constexpr double kEventTimeTol_s = 1e-11;
+
+// Per method, about ten times what the swaps moved. Switching locates its
+// events as roots of smooth functions of its dense output: positions moved by
+// at most 1.7e-12 m, events by 3.3e-12 s (its bound there: 3x). The iteration
+// method's events are where an iterated force or the gap crosses zero, the
+// penalty method's where the spring engages and lets go, both slowly at a
+// graze or a lift-off: events moved by up to 3.8e-9 s (iteration) and
+// 1.1e-8 s (penalty), positions by up to 4.6e-12 and 9.8e-12 m.
+struct Bounds {
+  double position_m;
+  double event_time_s;
+};
+Bounds bounds_for(core::Method m) {
+  switch (m) {
+    case core::Method::kSwitching:
+      return {1e-11, 1e-11};
+    case core::Method::kIteration:
+    case core::Method::kPenalty:
+      return {1e-10, 1e-7};
+  }
+  throw std::logic_error("bounds_for: not a Method");
+}
+// A rebound cascade (restitution > 0) closes ever slower until a rebound
+// settles (contact_law.hpp), and which graze is the last one before the
+// settling touchdown is decided by the settle threshold and the last bits:
+// the rigid scene's cascade on iteration / dop853 had one graze more in one
+// build (closing at 2.06e-6 m/s) than in the other. So a graze closing slower
+// than this is not counted, and the event that ends such a tail is compared
+// within kCascadeEnd_s: the cascade's remaining flights (in that scene the
+// bounces from 1.6e-5 m/s on last 8.7e-6 s together; the two builds' ends
+// lay 5.4e-7 s apart).
+constexpr double kSlowGraze_m_per_s = 1e-5;
+constexpr double kCascadeEnd_s = 1e-5;
 // A graze within this time after a lift-off is the rounding's (it came and
 // went with the last bit: 3e-15 and 1.9e-14 s after their lift-offs in the
 // gravity scene at rtol 1e-6): not counted, not compared. Any other event
@@ -66,10 +93,15 @@ const GoldenScene kScenes[] = {
      "friction_coefficient=0.8,target_speed_rad_per_s=400,acceleration_rad_per_s2=200,end_time_s=2.5"},
 };
 
+struct KeptEvent {
+  double t_s = 0.0;
+  std::string kind;
+  bool ends_slow_cascade = false;  // the run's own, not in the file (compared within kCascadeEnd_s)
+};
 struct Figures {
   long samples = 0, marks = 0, events = 0;
-  std::vector<std::pair<double, std::string>> kept_events;  // (t, kind)
-  std::vector<std::vector<double>> checkpoints;             // t, x_r, y_r, x_s, y_s
+  std::vector<KeptEvent> kept_events;
+  std::vector<std::vector<double>> checkpoints;  // t, x_r, y_r, x_s, y_s
 };
 
 struct Recorder : test::Collect {
@@ -95,16 +127,26 @@ Figures run_case(const GoldenScene& g, const test::Solver& solver) {
   f.samples = static_cast<long>(rec.samples.size());
   f.marks = rec.marks;
   std::vector<core::ContactEvent> events;
+  std::vector<bool> ends_slow_cascade;
+  bool after_slow_graze = false;
   for (std::size_t i = 0; i < rec.events.size(); ++i) {
-    const bool rounding_graze = i > 0 && rec.events[i].kind == core::EventKind::kGraze &&
-                                rec.events[i - 1].kind == core::EventKind::kLiftoff &&
-                                rec.events[i].t_s - rec.events[i - 1].t_s < kSameInstant_s;
-    if (!rounding_graze) events.push_back(rec.events[i]);
+    const core::ContactEvent& e = rec.events[i];
+    const bool graze = e.kind == core::EventKind::kGraze;
+    const bool rounding_graze = i > 0 && graze && rec.events[i - 1].kind == core::EventKind::kLiftoff &&
+                                e.t_s - rec.events[i - 1].t_s < kSameInstant_s;
+    if (rounding_graze) continue;
+    if (graze && std::abs(e.normal_velocity_m_per_s) < kSlowGraze_m_per_s) {
+      after_slow_graze = true;
+      continue;
+    }
+    events.push_back(e);
+    ends_slow_cascade.push_back(after_slow_graze);
+    after_slow_graze = false;
   }
   f.events = static_cast<long>(events.size());
   for (std::size_t i = 0; i < events.size(); ++i) {
     if (i < kEventsKept || i + 1 == events.size()) {
-      f.kept_events.emplace_back(events[i].t_s, core::to_string(events[i].kind));
+      f.kept_events.push_back({events[i].t_s, core::to_string(events[i].kind), ends_slow_cascade[i]});
     }
   }
   const auto every = static_cast<std::size_t>(std::lround(kCheckpointEvery_s * scene.output_rate_hz));
@@ -123,8 +165,8 @@ std::string key_of(const GoldenScene& g, const test::Solver& s) {
 void write(std::ostream& os, const std::string& key, const Figures& f) {
   char buf[200];
   os << "case " << key << " samples " << f.samples << " marks " << f.marks << " events " << f.events << "\n";
-  for (const auto& [t, kind] : f.kept_events) {
-    std::snprintf(buf, sizeof buf, "event %.17g %s\n", t, kind.c_str());
+  for (const KeptEvent& e : f.kept_events) {
+    std::snprintf(buf, sizeof buf, "event %.17g %s\n", e.t_s, e.kind.c_str());
     os << buf;
   }
   for (const auto& c : f.checkpoints) {
@@ -151,7 +193,7 @@ std::map<std::string, Figures> read(std::istream& in) {
       double t = 0.0;
       std::string kind;
       ls >> t >> kind;
-      cur->kept_events.emplace_back(t, kind);
+      cur->kept_events.push_back({t, kind, false});
     } else if (tag == "at" && cur) {
       std::vector<double> c(5);
       for (double& v : c) ls >> v;
@@ -171,8 +213,8 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
     std::ofstream os(test::source_path(kGoldenFile));
     os << "# Written by test_golden.cpp (ROTOR_RUB_WRITE_GOLDEN=1): per scene, method and integrator at rtol 1e-10,\n"
           "# atol 1e-13: the counts of samples, keyphasor marks and events (but a graze within 1e-12 s after a\n"
-          "# lift-off), the first events and the last, and the rotor's and stator's positions every 0.25 s.\n"
-          "# Held to 1e-12 m and 1e-11 s (test_golden.cpp says why).\n";
+          "# lift-off, and a graze closing slower than 1e-5 m/s), the first events and the last, and the rotor's\n"
+          "# and stator's positions every 0.25 s. Held to bounds per method (test_golden.cpp says which and why).\n";
     for (const GoldenScene& g : kScenes) {
       for (const test::Solver& s : solvers) write(os, key_of(g, s), run_case(g, s));
     }
@@ -196,17 +238,26 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
       ++cases;
       EXPECT_EQ(got.samples, want.samples) << key;
       EXPECT_EQ(got.marks, want.marks) << key;
-      ASSERT_EQ(got.events, want.events) << key;
-      ASSERT_EQ(got.kept_events.size(), want.kept_events.size()) << key;
-      for (std::size_t i = 0; i < want.kept_events.size(); ++i) {
-        EXPECT_EQ(got.kept_events[i].second, want.kept_events[i].second) << key << " event " << i;
-        EXPECT_NEAR(got.kept_events[i].first, want.kept_events[i].first, kEventTimeTol_s) << key << " event " << i;
+      EXPECT_EQ(got.events, want.events) << key;
+      if (got.kept_events.size() != want.kept_events.size()) {
+        ADD_FAILURE() << key << ": " << got.kept_events.size() << " events kept, the file " << want.kept_events.size();
+        continue;
       }
-      ASSERT_EQ(got.checkpoints.size(), want.checkpoints.size()) << key;
+      const Bounds bounds = bounds_for(s.method);
+      for (std::size_t i = 0; i < want.kept_events.size(); ++i) {
+        const KeptEvent& e = got.kept_events[i];
+        EXPECT_EQ(e.kind, want.kept_events[i].kind) << key << " event " << i;
+        EXPECT_NEAR(e.t_s, want.kept_events[i].t_s, e.ends_slow_cascade ? kCascadeEnd_s : bounds.event_time_s)
+            << key << " event " << i;
+      }
+      if (got.checkpoints.size() != want.checkpoints.size()) {
+        ADD_FAILURE() << key << ": " << got.checkpoints.size() << " checkpoints, the file " << want.checkpoints.size();
+        continue;
+      }
       for (std::size_t i = 0; i < want.checkpoints.size(); ++i) {
         EXPECT_EQ(got.checkpoints[i][0], want.checkpoints[i][0]) << key;  // k / rate: exact
         for (int c = 1; c < 5; ++c) {
-          EXPECT_NEAR(got.checkpoints[i][c], want.checkpoints[i][c], kPositionTol_m)
+          EXPECT_NEAR(got.checkpoints[i][c], want.checkpoints[i][c], bounds.position_m)
               << key << " t " << want.checkpoints[i][0] << " column " << c;
         }
       }
