@@ -41,9 +41,9 @@ namespace {
 constexpr double kRtol = 1e-10;
 constexpr double kAtol_m = 1e-13;
 
-// Per method, about ten times what the swaps moved. Switching locates its
+// Per method, 3 to 26 times what the swaps moved. Switching locates its
 // events as roots of smooth functions of its dense output: positions moved by
-// at most 1.7e-12 m, events by 3.3e-12 s (its bound there: 3x). The iteration
+// at most 1.7e-12 m, events by 3.3e-12 s (its bounds: 6x and 3x). The iteration
 // method's events are where an iterated force or the gap crosses zero, the
 // penalty method's where the spring engages and lets go, both slowly at a
 // graze or a lift-off: events moved by up to 3.8e-9 s (iteration) and
