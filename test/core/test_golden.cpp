@@ -66,17 +66,20 @@ Bounds bounds_for(core::Method m) {
 // settles (contact_law.hpp), and which graze is the last one before the
 // settling touchdown is decided by the settle threshold and the last bits:
 // the rigid scene's cascade on iteration / dop853 had one graze more in one
-// build (closing at 2.06e-6 m/s) than in the other. So a graze closing slower
-// than this is not counted, and the event that ends such a tail is compared
-// within kCascadeEnd_s: the cascade's remaining flights (in that scene the
-// bounces from 1.6e-5 m/s on last 8.7e-6 s together; the two builds' ends
-// lay 5.4e-7 s apart).
+// build (closing at 2.06e-6 m/s) than in the other, its settling touchdown
+// 5.4e-7 s later. So the grazes closing slower than kSlowGraze_m_per_s are
+// counted apart and their count held to within kSlowGrazeSlack; the event
+// that ends such a tail is always kept and held to kCascadeEnd_s (4x the
+// measured 5.4e-7 s) where the file marks it too. A settle threshold 4x off
+// drops two of those grazes (switching on dop853) and moves the touchdown by
+// 1.9e-6 s; the test fails it in four of the five cascades.
 constexpr double kSlowGraze_m_per_s = 1e-5;
-constexpr double kCascadeEnd_s = 1e-5;
+constexpr long kSlowGrazeSlack = 1;
+constexpr double kCascadeEnd_s = 2e-6;
 // A graze within this time after a lift-off is the rounding's (it came and
 // went with the last bit: 3e-15 and 1.9e-14 s after their lift-offs in the
-// gravity scene at rtol 1e-6): not counted, not compared. Any other event
-// counts.
+// gravity scene at rtol 1e-6): not counted, not compared. Every other event
+// counts: among the events, or among the slow grazes.
 constexpr double kSameInstant_s = 1e-12;
 constexpr double kCheckpointEvery_s = 0.25;
 constexpr std::size_t kEventsKept = 12;  // the first ones, and the last
@@ -96,10 +99,10 @@ const GoldenScene kScenes[] = {
 struct KeptEvent {
   double t_s = 0.0;
   std::string kind;
-  bool ends_slow_cascade = false;  // the run's own, not in the file (compared within kCascadeEnd_s)
+  bool ends_slow_cascade = false;  // written as "event T KIND cascade_end"
 };
 struct Figures {
-  long samples = 0, marks = 0, events = 0;
+  long samples = 0, marks = 0, events = 0, slow_grazes = 0;
   std::vector<KeptEvent> kept_events;
   std::vector<std::vector<double>> checkpoints;  // t, x_r, y_r, x_s, y_s
 };
@@ -136,6 +139,7 @@ Figures run_case(const GoldenScene& g, const test::Solver& solver) {
                                 e.t_s - rec.events[i - 1].t_s < kSameInstant_s;
     if (rounding_graze) continue;
     if (graze && std::abs(e.normal_velocity_m_per_s) < kSlowGraze_m_per_s) {
+      ++f.slow_grazes;
       after_slow_graze = true;
       continue;
     }
@@ -145,7 +149,7 @@ Figures run_case(const GoldenScene& g, const test::Solver& solver) {
   }
   f.events = static_cast<long>(events.size());
   for (std::size_t i = 0; i < events.size(); ++i) {
-    if (i < kEventsKept || i + 1 == events.size()) {
+    if (i < kEventsKept || i + 1 == events.size() || ends_slow_cascade[i]) {
       f.kept_events.push_back({events[i].t_s, core::to_string(events[i].kind), ends_slow_cascade[i]});
     }
   }
@@ -164,9 +168,11 @@ std::string key_of(const GoldenScene& g, const test::Solver& s) {
 
 void write(std::ostream& os, const std::string& key, const Figures& f) {
   char buf[200];
-  os << "case " << key << " samples " << f.samples << " marks " << f.marks << " events " << f.events << "\n";
+  os << "case " << key << " samples " << f.samples << " marks " << f.marks << " events " << f.events << " slow_grazes "
+     << f.slow_grazes << "\n";
   for (const KeptEvent& e : f.kept_events) {
-    std::snprintf(buf, sizeof buf, "event %.17g %s\n", e.t_s, e.kind.c_str());
+    std::snprintf(buf, sizeof buf, "event %.17g %s%s\n", e.t_s, e.kind.c_str(),
+                  e.ends_slow_cascade ? " cascade_end" : "");
     os << buf;
   }
   for (const auto& c : f.checkpoints) {
@@ -187,13 +193,13 @@ std::map<std::string, Figures> read(std::istream& in) {
     if (tag == "case") {
       std::string name, method, integrator, w;
       Figures f;
-      ls >> name >> method >> integrator >> w >> f.samples >> w >> f.marks >> w >> f.events;
+      ls >> name >> method >> integrator >> w >> f.samples >> w >> f.marks >> w >> f.events >> w >> f.slow_grazes;
       cur = &(out[name + " " + method + " " + integrator] = f);
     } else if (tag == "event" && cur) {
       double t = 0.0;
-      std::string kind;
-      ls >> t >> kind;
-      cur->kept_events.push_back({t, kind, false});
+      std::string kind, mark;
+      ls >> t >> kind >> mark;
+      cur->kept_events.push_back({t, kind, mark == "cascade_end"});
     } else if (tag == "at" && cur) {
       std::vector<double> c(5);
       for (double& v : c) ls >> v;
@@ -212,9 +218,10 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
   if (std::getenv("ROTOR_RUB_WRITE_GOLDEN") != nullptr) {
     std::ofstream os(test::source_path(kGoldenFile));
     os << "# Written by test_golden.cpp (ROTOR_RUB_WRITE_GOLDEN=1): per scene, method and integrator at rtol 1e-10,\n"
-          "# atol 1e-13: the counts of samples, keyphasor marks and events (but a graze within 1e-12 s after a\n"
-          "# lift-off, and a graze closing slower than 1e-5 m/s), the first events and the last, and the rotor's\n"
-          "# and stator's positions every 0.25 s. Held to bounds per method (test_golden.cpp says which and why).\n";
+          "# atol 1e-13: the counts of samples, keyphasor marks, events (but a graze within 1e-12 s after a\n"
+          "# lift-off) and, apart, of grazes closing slower than 1e-5 m/s; the first events, the last, and any\n"
+          "# that ends a cascade of those; the rotor's and stator's positions every 0.25 s. Held to bounds per\n"
+          "# method (test_golden.cpp says which and why).\n";
     for (const GoldenScene& g : kScenes) {
       for (const test::Solver& s : solvers) write(os, key_of(g, s), run_case(g, s));
     }
@@ -239,6 +246,8 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
       EXPECT_EQ(got.samples, want.samples) << key;
       EXPECT_EQ(got.marks, want.marks) << key;
       EXPECT_EQ(got.events, want.events) << key;
+      EXPECT_LE(std::abs(got.slow_grazes - want.slow_grazes), kSlowGrazeSlack)
+          << key << ": the grazes closing slower than kSlowGraze_m_per_s";
       if (got.kept_events.size() != want.kept_events.size()) {
         ADD_FAILURE() << key << ": " << got.kept_events.size() << " events kept, the file " << want.kept_events.size();
         continue;
@@ -246,9 +255,12 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
       const Bounds bounds = bounds_for(s.method);
       for (std::size_t i = 0; i < want.kept_events.size(); ++i) {
         const KeptEvent& e = got.kept_events[i];
-        EXPECT_EQ(e.kind, want.kept_events[i].kind) << key << " event " << i;
-        EXPECT_NEAR(e.t_s, want.kept_events[i].t_s, e.ends_slow_cascade ? kCascadeEnd_s : bounds.event_time_s)
-            << key << " event " << i;
+        const KeptEvent& w = want.kept_events[i];
+        EXPECT_EQ(e.kind, w.kind) << key << " event " << i;
+        EXPECT_EQ(e.ends_slow_cascade, w.ends_slow_cascade) << key << " event " << i << " ends a slow cascade";
+        // The loose bound only where both the run and the file say the event ends a cascade.
+        const bool cascade_end = e.ends_slow_cascade && w.ends_slow_cascade;
+        EXPECT_NEAR(e.t_s, w.t_s, cascade_end ? kCascadeEnd_s : bounds.event_time_s) << key << " event " << i;
       }
       if (got.checkpoints.size() != want.checkpoints.size()) {
         ADD_FAILURE() << key << ": " << got.checkpoints.size() << " checkpoints, the file " << want.checkpoints.size();
@@ -263,5 +275,7 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
       }
     }
   }
-  EXPECT_EQ(cases, static_cast<int>(std::size(kScenes) * solvers.size()));
+  // Every pair run had figures, and the file holds no pair that is no longer run.
+  EXPECT_GT(cases, 0);
+  EXPECT_EQ(cases, static_cast<int>(golden.size()));
 }
