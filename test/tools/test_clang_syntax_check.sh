@@ -6,11 +6,9 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 CHECK="$ROOT/scripts/clang_syntax_check.py"
-T="$(mktemp -d)"
-trap 'rm -rf "$T"' EXIT
+source "$ROOT/test/tools/cases.sh"
 mkdir -p "$T/src" "$T/b/CMakeFiles/t.dir"
 cd "$T" || exit 1
-source "$ROOT/test/tools/cases.sh"
 
 printf 'int main() { return 0; }\n' > src/good.cpp
 printf 'int main() { int unused; return 0; }\n' > src/warned.cpp

@@ -7,8 +7,6 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 GEN=(/usr/bin/python3 "$ROOT/scripts/gen_bench_block.py")
-T="$(mktemp -d)"
-trap 'rm -rf "$T"' EXIT
 source "$ROOT/test/tools/cases.sh"
 
 # The bench's output as rotor_rub_bench prints it: the full table, then the

@@ -8,11 +8,9 @@ set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 GEN=(/usr/bin/python3 "$ROOT/scripts/gen_bench_tables.py")
 BLOCKS=(bench_rows table2 penalty_stiffness stick_slip)
-T="$(mktemp -d)"
-trap 'rm -rf "$T"' EXIT
+source "$ROOT/test/tools/cases.sh"
 cp -r "$ROOT/docs/data" "$T/data"
 cp "$ROOT/docs/benchmarks.md" "$T/page.md"
-source "$ROOT/test/tools/cases.sh"
 
 expect "the committed page matches the committed CSVs" "${GEN[@]}" --check --data "$T/data" --page "$T/page.md" "${BLOCKS[@]}"
 

@@ -6,8 +6,6 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 GEN=(/usr/bin/python3 "$ROOT/scripts/gen_phase_block.py")
-T="$(mktemp -d)"
-trap 'rm -rf "$T"' EXIT
 source "$ROOT/test/tools/cases.sh"
 
 # The phase log's format as scripts/run_tests.sh writes it.

@@ -19,8 +19,6 @@ for e in json.load(open(sys.argv[1])):
         break
 PY
 )
-T="$(mktemp -d)"
-trap 'rm -rf "$T"' EXIT
 source "$(dirname "$0")/cases.sh"
 has_flag() { printf '%s\n' "${FLAGS[@]}" | grep -q -- "$1"; }
 expect "the core's units are built with ASan and UBSan" has_flag '^-fsanitize=address,undefined$'
