@@ -34,7 +34,7 @@ struct Forced {
   }
   // The Hermite dense output's x'' in closed form (else a central difference,
   // whose rounding would floor the errors measured here).
-  static constexpr bool kClosedFormSecondDerivative = true;
+  static constexpr bool kOwnEndDerivatives = true;
   int end_derivatives(const State& x, double t, State& dx, State& ddx) const {
     (*this)(x, dx, t);
     ddx[0] = dx[1];

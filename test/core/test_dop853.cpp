@@ -69,7 +69,7 @@ struct Riccati {
 using State2 = Eigen::Vector2d;
 struct Forced {
   // The Hermite dense output's second derivative by central differences.
-  static constexpr bool kClosedFormSecondDerivative = false;
+  static constexpr bool kOwnEndDerivatives = false;
   void operator()(const State2& x, State2& dx, double t) const {
     dx[0] = x[1];
     dx[1] = -x[0] + std::cos(2.0 * t);

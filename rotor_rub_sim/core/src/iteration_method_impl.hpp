@@ -180,9 +180,9 @@ class ContactForceSolver {
 template <int kStatorDof, bool kMotor, bool kFlexible>
 struct IterationSystem {
   using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
-  // The jerk for the Hermite dense output: the central difference (the
-  // contact force is a root, its rate no closed form).
-  static constexpr bool kClosedFormSecondDerivative = false;
+  // The jerk for the Hermite dense output (DenseHighOrder): a difference
+  // (the contact force is a root, its rate no closed form), end_derivatives.
+  static constexpr bool kOwnEndDerivatives = true;
   const JeffcottModel* model = nullptr;
   const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
   const ContactForceSolver* solver = nullptr;
@@ -200,7 +200,39 @@ struct IterationSystem {
     return solver->solve(k, d, g, free, mode, false, t, *iterations);
   }
 
-  void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
+  void operator()(const typename L::State& x, typename L::State& dxdt, double t) const { derivative(x, dxdt, t); }
+
+  // The derivative and its rate along the solution at a step's end: the
+  // central difference of the derivative along (dxdt, 1) over
+  // kHermiteJerkStep_s, but kept to the end's side of a release. Engaged,
+  // the force is clamped at zero where nothing needs to press (a kink): a
+  // difference across it is the clamp's, not the end's (a dop853 step that
+  // ended 0.57 us before a lift-off had its interpolant bent 1.7e-9 m into
+  // the stator mid-step, both ends on the bore). Where one side's point is
+  // pressed and the end is not, or the other way round, the second-order
+  // one-sided difference on the end's side is taken (one evaluation more).
+  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
+    constexpr double h = kHermiteJerkStep_s;
+    typename L::State before, after, far;
+    const bool pressed = derivative(x, dxdt, t) > 0.0;
+    const bool pressed_before = derivative(x - h * dxdt, before, t - h) > 0.0;
+    const bool pressed_after = derivative(x + h * dxdt, after, t + h) > 0.0;
+    if (pressed_after != pressed && pressed_before == pressed) {
+      derivative(x - 2.0 * h * dxdt, far, t - 2.0 * h);
+      ddx = (3.0 * dxdt - 4.0 * before + far) / (2.0 * h);
+      return 4;
+    }
+    if (pressed_before != pressed && pressed_after == pressed) {
+      derivative(x + 2.0 * h * dxdt, far, t + 2.0 * h);
+      ddx = (4.0 * after - far - 3.0 * dxdt) / (2.0 * h);
+      return 4;
+    }
+    ddx = (after - before) / (2.0 * h);
+    return 3;
+  }
+
+  // The derivative; returns the normal force [N] (0 free or released).
+  double derivative(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
     const DriveState reference = segment.at(t);
@@ -223,6 +255,7 @@ struct IterationSystem {
       flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
     }
     free_derivative<L>(*model, k, reference, a, dxdt);
+    return f.normal_N;
   }
 };
 

@@ -74,7 +74,7 @@ struct FreeFlightSystem {
   // derivative evaluations): under the prescribed drive the free forces are
   // linear in the state (model.hpp), so x'' is the derivative's own linear
   // map applied to dxdt, plus the unbalance's rate.
-  static constexpr bool kClosedFormSecondDerivative = !kMotor;
+  static constexpr bool kOwnEndDerivatives = !kMotor;
   int end_derivatives(const State& x, double t, State& dxdt, State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
@@ -142,7 +142,7 @@ struct ContactSystem {
   }
   // The derivative and the jerk in closed form (constrained_dynamics.hpp)
   // at a step's end from one evaluation.
-  static constexpr bool kClosedFormSecondDerivative = !kMotor;
+  static constexpr bool kOwnEndDerivatives = !kMotor;
   int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
     ProfileScope scope(rhs_time_s);
     const DriveState reference = segment.at(t);

@@ -18,7 +18,9 @@
 // prescribed drive: from the step end's own evaluation, no extra one), else
 // a central difference of the derivative along the solution's tangent, two
 // derivative evaluations per step: 15 per step in all for rkf78, where 13
-// buy the step (14 for dop853, where 12 do).
+// buy the step (14 for dop853, where 12 do). A system whose derivative has a
+// kink near a step's end computes its own (the iteration method's engaged
+// regime: its force is clamped at zero past a lift-off).
 // Interpolation error for a motion of amplitude A and angular frequency w
 // over a step h: A (w h)^8 / 10321920 in position (4e-10 A at w h = 0.5,
 // 1e-7 A at w h = 1; the quintic without the jerk would be A (w h)^6 /
@@ -40,6 +42,14 @@
 #include "rotor_rub_sim/core/step_ends.hpp"
 
 namespace rotor_rub::core {
+
+// The difference's step for the state's second derivative [s] (where no
+// closed form is known): a central difference's truncation error is
+// (kHermiteJerkStep_s w)^2 / 6 of the jerk (1.5e-8 at 300 rad/s); its
+// rounding error 1e-16 |x| / (kHermiteJerkStep_s |x'|) (1e-9 for a contact
+// angle of 3000 rad turning at 300 rad/s; a one-sided 1e-9 s difference lost
+// 1e-6 there, which moved a steady rub's F_n by 1e-6).
+inline constexpr double kHermiteJerkStep_s = 1e-6;
 
 // A state layout's (model.hpp, constrained_dynamics.hpp) second-order
 // pairs {q, v = q'}: its kDof positions, each followed kDof places later by
@@ -117,14 +127,6 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   static_assert(State::RowsAtCompileTime == (Layout::kFlexibleRotor ? Eigen::Dynamic : Layout::kSize),
                 "fixed size but a flexible rotor's modal block");
   static constexpr int kStagesPerAttempt = Engine::kStagesPerAttempt;
-  // The central difference's step for the state's second derivative [s]
-  // (where no closed form is known: under a motor drive):
-  // its truncation error is (kJerkStep_s w)^2 / 6 of the jerk (1.5e-8 at
-  // 300 rad/s); its rounding error 1e-16 |x| / (kJerkStep_s |x'|) (1e-9 for
-  // a contact angle of 3000 rad turning at 300 rad/s; a one-sided 1e-9 s
-  // difference lost 1e-6 there, which moved a steady rub's F_n by 1e-6).
-  static constexpr double kJerkStep_s = 1e-6;
-
   DenseHighOrder(double atol, double rtol, double min_step_s, long max_steps)
       : Ends(min_step_s, max_steps), engine_(atol, rtol) {}
 
@@ -210,24 +212,25 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   std::array<bool, State::MaxRowsAtCompileTime> first_order_{};
   // The derivative dx/dt at a step's end and the state's second derivative
   // d(dx/dt)/dt along the solution: the central difference of the
-  // derivative along (dx/dt, 1) (kJerkStep_s). A system that knows its
-  // second derivative in closed form (kClosedFormSecondDerivative,
-  // end_derivatives(x, t, dxdt, ddx) returning the derivative evaluations it
-  // spent: free flight and contact under the prescribed drive) gives both
-  // from one evaluation instead, the second exact. Returns the derivative
-  // evaluations spent.
+  // derivative along (dx/dt, 1) (kHermiteJerkStep_s). A system that computes
+  // its own (kOwnEndDerivatives, end_derivatives(x, t, dxdt, ddx) returning
+  // the derivative evaluations it spent) gives both instead: in closed form
+  // from one evaluation (free flight and contact under the prescribed
+  // drive), or by a difference that keeps to one side of a kink (the
+  // iteration method's engaged regime). Returns the derivative evaluations
+  // spent.
   template <class System>
   static int end_derivatives(System& sys, const State& x, double t_s, State& dxdt, State& ddx) {
-    // Every system states it (kClosedFormSecondDerivative, true or false):
-    // a missing or misspelled flag fails to compile.
-    if constexpr (System::kClosedFormSecondDerivative) {
+    // Every system states it (kOwnEndDerivatives, true or false): a missing
+    // or misspelled flag fails to compile.
+    if constexpr (System::kOwnEndDerivatives) {
       return sys.end_derivatives(x, t_s, dxdt, ddx);
     } else {
       sys(x, dxdt, t_s);
       State before, after;
-      sys(State(x - kJerkStep_s * dxdt), before, t_s - kJerkStep_s);
-      sys(State(x + kJerkStep_s * dxdt), after, t_s + kJerkStep_s);
-      ddx = (after - before) / (2.0 * kJerkStep_s);
+      sys(State(x - kHermiteJerkStep_s * dxdt), before, t_s - kHermiteJerkStep_s);
+      sys(State(x + kHermiteJerkStep_s * dxdt), after, t_s + kHermiteJerkStep_s);
+      ddx = (after - before) / (2.0 * kHermiteJerkStep_s);
       return 3;
     }
   }
