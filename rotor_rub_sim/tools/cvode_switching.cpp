@@ -532,8 +532,11 @@ class CvodeSwitching {
         return;
       }
     }
-    e.kind = EventKind::kGraze;
-    out_.events_found.push_back(e);
+    // Neither closing nor pressed: no contact (the core's methods), unrecorded.
+    if (g.normal_velocity_m_per_s > 0.0) {
+      e.kind = EventKind::kGraze;
+      out_.events_found.push_back(e);
+    }
     enter_free(te, k, modal);
   }
 

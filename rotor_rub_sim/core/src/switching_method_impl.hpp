@@ -620,6 +620,13 @@ class SwitchingMethod final : public ContactMethod {
       }
     }
     next_regime_ = sustained ? Regime::kContact : Regime::kFree;
+    // At the bore, but neither closing nor pressed: no contact, as in the
+    // iteration method. Right after a lift-off the gap opens as the cube of
+    // the time and stays below its own rounding for microseconds, so its
+    // sign can flip back: such a crossing (closing speed 0, came 4e-16 to
+    // 1.2e-10 s after its lift-off under other last bits) restarts the free
+    // flight, unrecorded.
+    if (!sustained && !(g.normal_velocity_m_per_s > 0.0)) return;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     events.push_back(e);
   }
