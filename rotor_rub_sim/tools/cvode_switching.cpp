@@ -533,7 +533,7 @@ class CvodeSwitching {
       }
     }
     // Neither closing nor pressed: no contact (the core's methods), unrecorded.
-    if (g.normal_velocity_m_per_s > 0.0) {
+    if (core::closes(g, k)) {
       e.kind = EventKind::kGraze;
       out_.events_found.push_back(e);
     }

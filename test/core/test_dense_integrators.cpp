@@ -35,7 +35,7 @@ struct Forced {
   // The Hermite dense output's x'' in closed form (else a central difference,
   // whose rounding would floor the errors measured here).
   static constexpr bool kOwnEndDerivatives = true;
-  int end_derivatives(const State& x, double t, State& dx, State& ddx) const {
+  int end_derivatives(const State& x, double t, core::StepEnd /*end*/, State& dx, State& ddx) const {
     (*this)(x, dx, t);
     ddx[0] = dx[1];
     ddx[1] = -dx[0] - 2.0 * std::sin(2.0 * t);

@@ -204,31 +204,32 @@ struct IterationSystem {
 
   // The derivative and its rate along the solution at a step's end: the
   // central difference of the derivative along (dxdt, 1) over
-  // kHermiteJerkStep_s, but kept to the end's side of a release. Engaged,
-  // the force is clamped at zero where nothing needs to press (a kink): a
-  // difference across it is the clamp's, not the end's (a dop853 step that
+  // kHermiteJerkStep_s, but from the step's side of a release. Engaged, the
+  // force is clamped at zero where nothing needs to press (a kink): a
+  // difference across it is the clamp's, not the step's (a dop853 step that
   // ended 0.57 us before a lift-off had its interpolant bent 1.7e-9 m into
-  // the stator mid-step, both ends on the bore). Where one side's point is
-  // pressed and the end is not, or the other way round, the second-order
-  // one-sided difference on the end's side is taken (one evaluation more).
-  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
+  // the stator mid-step, both ends on the bore). Where the two points differ
+  // in being pressed, the second-order one-sided difference into the step
+  // is taken (one evaluation more).
+  int end_derivatives(const typename L::State& x, double t, StepEnd end, typename L::State& dxdt,
+                      typename L::State& ddx) const {
     constexpr double h = kHermiteJerkStep_s;
     typename L::State before, after, far;
-    const bool pressed = derivative(x, dxdt, t) > 0.0;
+    derivative(x, dxdt, t);
     const bool pressed_before = derivative(x - h * dxdt, before, t - h) > 0.0;
     const bool pressed_after = derivative(x + h * dxdt, after, t + h) > 0.0;
-    if (pressed_after != pressed && pressed_before == pressed) {
+    if (pressed_before == pressed_after) {
+      ddx = (after - before) / (2.0 * h);
+      return 3;
+    }
+    if (end == StepEnd::kEnd) {
       derivative(x - 2.0 * h * dxdt, far, t - 2.0 * h);
       ddx = (3.0 * dxdt - 4.0 * before + far) / (2.0 * h);
-      return 4;
-    }
-    if (pressed_before != pressed && pressed_after == pressed) {
+    } else {
       derivative(x + 2.0 * h * dxdt, far, t + 2.0 * h);
       ddx = (4.0 * after - far - 3.0 * dxdt) / (2.0 * h);
-      return 4;
     }
-    ddx = (after - before) / (2.0 * h);
-    return 3;
+    return 4;
   }
 
   // The derivative; returns the normal force [N] (0 free or released).

@@ -75,7 +75,7 @@ struct FreeFlightSystem {
   // linear in the state (model.hpp), so x'' is the derivative's own linear
   // map applied to dxdt, plus the unbalance's rate.
   static constexpr bool kOwnEndDerivatives = !kMotor;
-  int end_derivatives(const State& x, double t, State& dxdt, State& ddx) const {
+  int end_derivatives(const State& x, double t, StepEnd /*end*/, State& dxdt, State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
@@ -143,7 +143,8 @@ struct ContactSystem {
   // The derivative and the jerk in closed form (constrained_dynamics.hpp)
   // at a step's end from one evaluation.
   static constexpr bool kOwnEndDerivatives = !kMotor;
-  int end_derivatives(const typename L::State& x, double t, typename L::State& dxdt, typename L::State& ddx) const {
+  int end_derivatives(const typename L::State& x, double t, StepEnd /*end*/, typename L::State& dxdt,
+                      typename L::State& ddx) const {
     ProfileScope scope(rhs_time_s);
     const DriveState reference = segment.at(t);
     const Result r = dynamics.evaluate(x, reference);
@@ -620,13 +621,11 @@ class SwitchingMethod final : public ContactMethod {
       }
     }
     next_regime_ = sustained ? Regime::kContact : Regime::kFree;
-    // At the bore, but neither closing nor pressed: no contact, as in the
-    // iteration method. Right after a lift-off the gap opens as the cube of
-    // the time and stays below its own rounding for microseconds, so its
-    // sign can flip back: such a crossing (closing speed 0, came 4e-16 to
-    // 1.2e-10 s after its lift-off under other last bits) restarts the free
-    // flight, unrecorded.
-    if (!sustained && !(g.normal_velocity_m_per_s > 0.0)) return;
+    // At the bore, but neither closing (closes(), contact_law.hpp) nor
+    // pressed: no contact, as in the iteration method. Such a crossing (the
+    // gap's rounding right after a lift-off: under other last bits 4e-16 to
+    // 1.2e-10 s after it) restarts the free flight, unrecorded.
+    if (!sustained && !closes(g, k_at)) return;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     events.push_back(e);
   }

@@ -119,6 +119,18 @@ inline double penalty_friction_N(double friction_coefficient, double normal_forc
 
 // ---- Rigid methods: impact, settling, stick and slip -----------------------
 
+// Whether the rotor closes on the bore at a located gap crossing: v_n above
+// the rounding of the state's velocities. A lift-off leaves the two bodies
+// with v_n = 0 to about 1e-16 of their speeds (the projection), and right
+// after it the gap opens as the cube of the time, below its own rounding for
+// microseconds: its sign can flip back with v_n = 0 or 7e-18 m/s (other last
+// bits, 6e-11 s after a lift-off). kClosingRounding is 1e-12 of the speeds
+// (4500 epsilon); a rebound cascade's slowest grazes close at 1e-6 m/s.
+inline constexpr double kClosingRounding = 1e-12;
+inline bool closes(const ContactGeometry& g, const Kinematics& k) {
+  return g.normal_velocity_m_per_s > kClosingRounding * (k.rotor_vel.norm() + k.stator_vel.norm());
+}
+
 struct ImpactResult {
   double normal_impulse_N_s = 0.0;
   double closing_velocity_m_per_s = 0.0;  // v_n before the impact

@@ -51,6 +51,10 @@ namespace rotor_rub::core {
 // 1e-6 there, which moved a steady rub's F_n by 1e-6).
 inline constexpr double kHermiteJerkStep_s = 1e-6;
 
+// Which end of a step an instant is: a system that computes its own end
+// derivatives (kOwnEndDerivatives) may take them from the step's side.
+enum class StepEnd { kStart, kEnd };
+
 // A state layout's (model.hpp, constrained_dynamics.hpp) second-order
 // pairs {q, v = q'}: its kDof positions, each followed kDof places later by
 // its velocity, a motor drive's spin angle and speed, and a flexible
@@ -135,7 +139,7 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
     if (x.size() != size_) set_pairs(static_cast<int>(x.size()));
     x_new_ = x_old_ = x;
     t_new_ = t_old_ = t_s;
-    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, dxdt_new_, ddx_new_);
+    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, StepEnd::kStart, dxdt_new_, ddx_new_);
     dxdt_old_ = dxdt_new_;
     ddx_old_ = ddx_new_;
     dt_ = dt_s;
@@ -160,7 +164,7 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
     ++stats.steps;
     if (!x_new_.allFinite()) throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
     // The dense output's end derivatives; the first is the next step's first stage.
-    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, dxdt_new_, ddx_new_);
+    stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, StepEnd::kEnd, dxdt_new_, ddx_new_);
     polynomial();
   }
 
@@ -213,18 +217,18 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
   // The derivative dx/dt at a step's end and the state's second derivative
   // d(dx/dt)/dt along the solution: the central difference of the
   // derivative along (dx/dt, 1) (kHermiteJerkStep_s). A system that computes
-  // its own (kOwnEndDerivatives, end_derivatives(x, t, dxdt, ddx) returning
+  // its own (kOwnEndDerivatives, end_derivatives(x, t, end, dxdt, ddx) returning
   // the derivative evaluations it spent) gives both instead: in closed form
   // from one evaluation (free flight and contact under the prescribed
   // drive), or by a difference that keeps to one side of a kink (the
   // iteration method's engaged regime). Returns the derivative evaluations
   // spent.
   template <class System>
-  static int end_derivatives(System& sys, const State& x, double t_s, State& dxdt, State& ddx) {
+  static int end_derivatives(System& sys, const State& x, double t_s, StepEnd end, State& dxdt, State& ddx) {
     // Every system states it (kOwnEndDerivatives, true or false): a missing
     // or misspelled flag fails to compile.
     if constexpr (System::kOwnEndDerivatives) {
-      return sys.end_derivatives(x, t_s, dxdt, ddx);
+      return sys.end_derivatives(x, t_s, end, dxdt, ddx);
     } else {
       sys(x, dxdt, t_s);
       State before, after;
