@@ -505,7 +505,8 @@ class CvodeSwitching {
     ContactEvent e;
     e.t_s = te;
     bool settles = true, at_rest = false;
-    if (g.normal_velocity_m_per_s > 0.0) {
+    const bool closing = core::closes(g, k);
+    if (closing) {
       core::ImpactResult ir;
       if constexpr (kFlexible) {
         core::ModalVector modal_acc(flexible_->modal_size());
@@ -533,7 +534,7 @@ class CvodeSwitching {
       }
     }
     // Neither closing nor pressed: no contact (the core's methods), unrecorded.
-    if (core::closes(g, k)) {
+    if (closing) {
       e.kind = EventKind::kGraze;
       out_.events_found.push_back(e);
     }

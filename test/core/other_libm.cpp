@@ -5,7 +5,9 @@
 // the same answer, as from any libm). That is what another libm build is
 // allowed to do: glibc promises no correct rounding, and other libms round
 // these functions differently. Exact results stay exact (0, +-1, integers,
-// infinities, NaN); sqrt is correctly rounded everywhere and left alone.
+// infinities, NaN, an exact power), atan2 stays within [-pi, pi]; sqrt is
+// correctly rounded everywhere and left alone. (Where libmvec itself falls
+// back to the scalar sin or cos, a lane is moved twice: still one libm.)
 //
 // test_golden.cpp runs under it (CMakeLists.txt: golden_other_libm): the
 // golden runs must hold across libm builds. At exit it says on stderr how
@@ -22,10 +24,6 @@ namespace {
 
 std::uint64_t g_seed = 1;
 unsigned long g_results = 0, g_moved = 0;
-
-__attribute__((constructor)) void read_seed() {
-  if (const char* s = std::getenv("ROTOR_RUB_LIBM_SEED")) g_seed = std::strtoull(s, nullptr, 10);
-}
 __attribute__((destructor)) void report() {
   std::fprintf(stderr, "other_libm: seed %llu: %lu of %lu results moved by one ulp\n",
                static_cast<unsigned long long>(g_seed), g_moved, g_results);
@@ -75,16 +73,11 @@ using Unary = double (*)(double);
 using Binary = double (*)(double, double);
 using Lanes = __m128d (*)(__m128d);
 
-double unary(const char* name, Unary& f, double x, std::uint64_t tag) {
-  if (f == nullptr) f = system_function<Unary>(name);
-  return moved(f(x), mix(bits_of(x)) ^ tag);
-}
-double binary(const char* name, Binary& f, double x, double y, std::uint64_t tag) {
-  if (f == nullptr) f = system_function<Binary>(name);
+double unary(Unary f, double x, std::uint64_t tag) { return moved(f(x), mix(bits_of(x)) ^ tag); }
+double binary(Binary f, double x, double y, std::uint64_t tag) {
   return moved(f(x, y), mix(bits_of(x) ^ mix(bits_of(y))) ^ tag);
 }
-__m128d lanes(const char* name, Lanes& f, __m128d x, std::uint64_t tag) {
-  if (f == nullptr) f = system_function<Lanes>(name);
+__m128d lanes(Lanes f, __m128d x, std::uint64_t tag) {
   double in[2], out[2];
   _mm_storeu_pd(in, x);
   _mm_storeu_pd(out, f(x));
@@ -93,28 +86,59 @@ __m128d lanes(const char* name, Lanes& f, __m128d x, std::uint64_t tag) {
   return _mm_loadu_pd(out);
 }
 
-Unary g_sin, g_cos, g_atan, g_exp, g_log;
+// The system's functions, resolved once before any call (no lazy lookup
+// for two threads to race on).
+Unary g_sin, g_cos, g_atan, g_exp, g_log, g_log10, g_cbrt;
 Binary g_atan2, g_pow, g_hypot;
 Lanes g_sin2, g_cos2;
 void (*g_sincos)(double, double*, double*);
+long double (*g_powl)(long double, long double);
+constexpr double kPi = 3.141592653589793;  // atan2's largest result
+
+__attribute__((constructor)) void resolve() {
+  if (const char* s = std::getenv("ROTOR_RUB_LIBM_SEED")) g_seed = std::strtoull(s, nullptr, 10);
+  g_sin = system_function<Unary>("sin");
+  g_cos = system_function<Unary>("cos");
+  g_atan = system_function<Unary>("atan");
+  g_exp = system_function<Unary>("exp");
+  g_log = system_function<Unary>("log");
+  g_log10 = system_function<Unary>("log10");
+  g_cbrt = system_function<Unary>("cbrt");
+  g_atan2 = system_function<Binary>("atan2");
+  g_pow = system_function<Binary>("pow");
+  g_hypot = system_function<Binary>("hypot");
+  g_sin2 = system_function<Lanes>("_ZGVbN2v_sin");
+  g_cos2 = system_function<Lanes>("_ZGVbN2v_cos");
+  g_sincos = system_function<void (*)(double, double*, double*)>("sincos");
+  g_powl = system_function<long double (*)(long double, long double)>("powl");
+}
 
 }  // namespace
 
 extern "C" {
-double sin(double x) { return unary("sin", g_sin, x, 1); }
-double cos(double x) { return unary("cos", g_cos, x, 2); }
-double atan(double x) { return unary("atan", g_atan, x, 3); }
-double exp(double x) { return unary("exp", g_exp, x, 4); }
-double log(double x) { return unary("log", g_log, x, 5); }
-double atan2(double y, double x) { return binary("atan2", g_atan2, y, x, 6); }
-double pow(double x, double y) { return binary("pow", g_pow, x, y, 7); }
-double hypot(double x, double y) { return binary("hypot", g_hypot, x, y, 8); }
+double sin(double x) { return unary(g_sin, x, 1); }
+double cos(double x) { return unary(g_cos, x, 2); }
+double atan(double x) { return unary(g_atan, x, 3); }
+double exp(double x) { return unary(g_exp, x, 4); }
+double log(double x) { return unary(g_log, x, 5); }
+double log10(double x) { return unary(g_log10, x, 9); }
+double cbrt(double x) { return unary(g_cbrt, x, 10); }
+double atan2(double y, double x) {
+  const double r = binary(g_atan2, y, x, 6);
+  return r > kPi ? kPi : r < -kPi ? -kPi : r;
+}
+// An exact power (pow(x, 2), pow(2, -3)) stays exact, as in every libm.
+double pow(double x, double y) {
+  const double r = g_pow(x, y);
+  if (static_cast<long double>(r) == g_powl(x, y)) return r;
+  return binary(g_pow, x, y, 7);
+}
+double hypot(double x, double y) { return binary(g_hypot, x, y, 8); }
 void sincos(double x, double* s, double* c) {
-  if (g_sincos == nullptr) g_sincos = system_function<void (*)(double, double*, double*)>("sincos");
   g_sincos(x, s, c);
   *s = moved(*s, mix(bits_of(x)) ^ 1);
   *c = moved(*c, mix(bits_of(x)) ^ 2);
 }
-__m128d _ZGVbN2v_sin(__m128d x) { return lanes("_ZGVbN2v_sin", g_sin2, x, 1); }
-__m128d _ZGVbN2v_cos(__m128d x) { return lanes("_ZGVbN2v_cos", g_cos2, x, 2); }
+__m128d _ZGVbN2v_sin(__m128d x) { return lanes(g_sin2, x, 1); }
+__m128d _ZGVbN2v_cos(__m128d x) { return lanes(g_cos2, x, 2); }
 }

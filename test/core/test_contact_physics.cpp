@@ -590,7 +590,8 @@ TEST_P(ContactEvents, EveryGrazeCloses) {
     for (const core::ContactEvent& e : r.out.events) {
       if (e.kind != core::EventKind::kGraze) continue;
       ++grazes;
-      EXPECT_GT(e.normal_velocity_m_per_s, 0.0) << "rtol " << rtol << ": a graze at t " << e.t_s << " s";
+      // The scene's grazes close at 0.02 m/s or faster; the rounding's at 1e-17.
+      EXPECT_GT(e.normal_velocity_m_per_s, 1e-6) << "rtol " << rtol << ": a graze at t " << e.t_s << " s";
     }
     EXPECT_GT(grazes, 0) << rtol;  // the scene grazes
   }

@@ -138,7 +138,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
       // output, and the steps redone to end on them, carry it into the
       // trajectory: there the runs agree to 3e-9 m (1.1e-9 measured; at this
       // rtol 1e-6 other last bits moved golden runs by up to 6.5e-9 m,
-      // docs/testing.md; 0 on dopri5, 6.6e-15 where the jerk is in closed
+      // test_golden.cpp; 0 on dopri5, 6.6e-15 where the jerk is in closed
       // form).
       const bool differenced_jerk =
           solver.method == core::Method::kIteration && solver.integrator == core::Integrator::kDop853;

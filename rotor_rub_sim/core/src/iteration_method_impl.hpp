@@ -219,7 +219,12 @@ struct IterationSystem {
   // ended 0.57 us before a lift-off had its interpolant bent 1.7e-9 m into
   // the stator mid-step, both ends on the bore). Where the two points differ
   // in being pressed, the second-order one-sided difference into the step
-  // is taken (one evaluation more).
+  // is taken (one evaluation more): at a step's end the pressed side, also
+  // where the end lies on the kink itself (a step redone to end on its
+  // lift-off, whose own force may round to either side). At a step's start
+  // with a lift-off less than kHermiteJerkStep_s ahead it is the released
+  // side; that step is cut at the lift-off, shorter than 1 us, where the
+  // jerk's weight (h^3) leaves nothing to see.
   int end_derivatives(const typename L::State& x, double t, StepEnd end, typename L::State& dxdt,
                       typename L::State& ddx) const {
     constexpr double h = kHermiteJerkStep_s;
@@ -290,6 +295,7 @@ class IterationMethod final : public ContactMethod {
         model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
+        min_step_s_(scene.solver.min_step_s),
         initial_step_s_(scene.solver.initial_step_s),
         gap_tolerance_m_(scene.solver.atol),
         guard_(scene.solver.max_events_per_ms) {
@@ -398,8 +404,12 @@ class IterationMethod final : public ContactMethod {
         return;
       }
       if (t_liftoff == valid_end_) {
-        if (t_liftoff < integrator_.t_new() && !redo_step_to(t_liftoff)) {
-          end_engaged_step(events);  // error control cut the redone step short
+        // Redone only where the span is a step the integrator may take: a
+        // lift-off within min_step_s of the step's start is interpolated over
+        // that span, too short for the kink to matter.
+        const bool redo = t_liftoff < integrator_.t_new() && t_liftoff - integrator_.t_old() >= min_step_s_;
+        if (redo && !redo_step_to(t_liftoff) && pressing_at(valid_end_) > 0.0) {
+          end_engaged_step(events);  // error control cut the redone step short, still pressed
           return;
         }
         lift_off_at(valid_end_, events);
@@ -422,7 +432,7 @@ class IterationMethod final : public ContactMethod {
     ContactEvent e;
     e.t_s = valid_end_;
     bool settles = true, at_rest = false;
-    if (g.normal_velocity_m_per_s > 0.0) {
+    if (closes(g, k)) {
       const JeffcottModel::FreeLoads free = loads(k, modal, d);
       const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, free, k);
       // A motor's spin jumps with the impact, and the modes with it (dxi' = h_xi dw).
@@ -668,7 +678,8 @@ class IterationMethod final : public ContactMethod {
   // lift-off one was 6.3e-12 m into the stator under other last bits, rtol
   // 1e-10, the limit 3e-12 m). Redone, the state there is integrated on the
   // pressed side. Returns false when error control cut the redone step short
-  // of t_s (it then ends where it got to).
+  // of t_s (it then ends where it got to). The first try counts as a
+  // rejected step (RunStats), as a method's own rejection does.
   bool redo_step_to(double t_s) {
     const double dt_s = t_s - integrator_.t_old();
     integrator_.retreat(dt_s, stats_);
@@ -809,6 +820,7 @@ class IterationMethod final : public ContactMethod {
   ContactForceSolver solver_;
   IterationSystem<kStatorDof, kMotor, kFlexible> system_;
   Dense integrator_;
+  double min_step_s_;
   double initial_step_s_;
   double gap_tolerance_m_;
   ChatterGuard guard_;

@@ -588,7 +588,8 @@ class SwitchingMethod final : public ContactMethod {
     ContactEvent e;
     e.t_s = te;
     bool settles = true, at_rest = false;
-    if (g.normal_velocity_m_per_s > 0.0) {
+    const bool closing = closes(g, k_at);
+    if (closing) {
       ImpactResult ir;
       if constexpr (kFlexible) {
         ModalVector modal_acc(flexible_->modal_size());
@@ -625,7 +626,7 @@ class SwitchingMethod final : public ContactMethod {
     // pressed: no contact, as in the iteration method. Such a crossing (the
     // gap's rounding right after a lift-off: under other last bits 4e-16 to
     // 1.2e-10 s after it) restarts the free flight, unrecorded.
-    if (!sustained && !closes(g, k_at)) return;
+    if (!sustained && !closing) return;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     events.push_back(e);
   }

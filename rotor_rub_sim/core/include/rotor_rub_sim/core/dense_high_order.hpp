@@ -20,7 +20,8 @@
 // derivative evaluations per step: 15 per step in all for rkf78, where 13
 // buy the step (14 for dop853, where 12 do). A system whose derivative has a
 // kink near a step's end computes its own (the iteration method's engaged
-// regime: its force is clamped at zero past a lift-off).
+// regime: its force is clamped at zero past a lift-off; three evaluations
+// where a kink is within the difference's reach).
 // Interpolation error for a motion of amplitude A and angular frequency w
 // over a step h: A (w h)^8 / 10321920 in position (4e-10 A at w h = 0.5,
 // 1e-7 A at w h = 1; the quintic without the jerk would be A (w h)^6 /
