@@ -36,8 +36,8 @@ namespace {
 // atol 1e-9 a libm's sin/cos pair flipped step decisions: positions moved by
 // up to 6.5e-9 m, a gravity run's event sequence changed). Each method as
 // tight as it runs well: switching at rtol 1e-12, the iteration and penalty
-// methods at 1e-11 (the iteration method stalls at 1e-12); atol 1e-3 m of
-// rtol, as the orbits are millimetres.
+// methods at 1e-11 (the iteration method has stalled at 1e-12: numerics.md);
+// atol 1e-3 m of rtol, as the orbits are millimetres.
 //
 // The bounds, 3.3x to 5.6x what eight libms with other last bits moved
 // (test/core/other_libm.cpp, seeds 1 to 8, every case; docs/testing.md,
