@@ -178,8 +178,9 @@ class ContactForceSolver {
   // to rtol of itself a root near 1e-20 N took a bracket from zero past the
   // iteration budget (not_converged at a lift-off under other last bits,
   // rtol 1e-11); at 1e-6 of the loads it converges, and away from zero
-  // nothing moves (at the loads themselves the Jeffcott and its rotor-file
-  // twin drifted apart by 1.2e-9 m, beyond test_flexible_rotor_runs' 1e-9).
+  // nothing moves (at the loads themselves, on dop853, the Jeffcott and its
+  // rotor-file twin drifted 1.2e-9 m apart where they had agreed to
+  // 2.6e-10 m: test_flexible_rotor_runs).
   static double normal_scale_N(const Loads& free) { return 1e-6 * (free.rotor_N.norm() + free.stator_N.norm()); }
 
   const JeffcottModel* model_;
