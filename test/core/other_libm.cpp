@@ -19,6 +19,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
+#include <utility>
 
 namespace {
 
@@ -97,16 +99,19 @@ constexpr double kPi = 3.141592653589793;  // atan2's largest result
 
 __attribute__((constructor)) void resolve() {
   if (const char* s = std::getenv("ROTOR_RUB_LIBM_SEED")) g_seed = std::strtoull(s, nullptr, 10);
-  g_sin = system_function<Unary>("sin");
-  g_cos = system_function<Unary>("cos");
-  g_atan = system_function<Unary>("atan");
-  g_exp = system_function<Unary>("exp");
-  g_log = system_function<Unary>("log");
-  g_log10 = system_function<Unary>("log10");
-  g_cbrt = system_function<Unary>("cbrt");
-  g_atan2 = system_function<Binary>("atan2");
-  g_pow = system_function<Binary>("pow");
-  g_hypot = system_function<Binary>("hypot");
+  for (const auto& [f, name] : {std::pair<Unary*, const char*>{&g_sin, "sin"},
+                                {&g_cos, "cos"},
+                                {&g_atan, "atan"},
+                                {&g_exp, "exp"},
+                                {&g_log, "log"},
+                                {&g_log10, "log10"},
+                                {&g_cbrt, "cbrt"}}) {
+    *f = system_function<Unary>(name);
+  }
+  for (const auto& [f, name] :
+       {std::pair<Binary*, const char*>{&g_atan2, "atan2"}, {&g_pow, "pow"}, {&g_hypot, "hypot"}}) {
+    *f = system_function<Binary>(name);
+  }
   g_sin2 = system_function<Lanes>("_ZGVbN2v_sin");
   g_cos2 = system_function<Lanes>("_ZGVbN2v_cos");
   g_sincos = system_function<void (*)(double, double*, double*)>("sincos");
