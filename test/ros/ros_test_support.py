@@ -90,7 +90,8 @@ def launch_monitored(args, ns, listeners, before_resume=lambda: None):
     (a Collector) has connected, so none misses the run's first messages (a
     latched topic gives a late subscriber only its last one); before_resume()
     runs while the node waits (faults injected there land at their stamps).
-    A launch that fails fails the caller."""
+    A launch that fails fails the caller. Returns the launch's output (the
+    simulator's and the monitor's logs)."""
     from rotor_rub_msgs.msg import SolverStats
     from std_srvs.srv import Trigger
     stats = Collector("/%s/solver_stats" % ns, SolverStats)
@@ -105,7 +106,19 @@ def launch_monitored(args, ns, listeners, before_resume=lambda: None):
         rospy.ServiceProxy("/%s/resume" % ns, Trigger)()
         out, _ = proc.communicate(timeout=600)
         assert proc.returncode == 0, out[-3000:]
+        return out
     finally:
         if proc.poll() is None:
             proc.kill()
         stats.sub.unregister()
+
+
+def wait_last_verdict(alarms, end_s, launch_output):
+    """The monitor's verdicts up to the one stamped at the run's end (within
+    a 0.1 s verdict period); on a timeout, the failure carries the launch's
+    log (the monitor's errors, which streams it heard)."""
+    try:
+        return alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= end_s - 0.1,
+                               "the monitor's last verdict")
+    except AssertionError as e:
+        raise AssertionError("%s; the launch's output, its end:\n%s" % (e, launch_output[-4000:]))

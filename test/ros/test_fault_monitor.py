@@ -25,7 +25,7 @@ from rotor_rub_msgs.msg import ContactEvent, Fault, RubAlarm  # noqa: E402
 from rotor_rub_msgs.srv import InjectFault
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ros_test_support import Collector, launch_monitored, temp_prefix  # noqa: E402
+from ros_test_support import Collector, launch_monitored, temp_prefix, wait_last_verdict  # noqa: E402
 
 CONFIG = os.path.join(rospkg.RosPack().get_path("rotor_rub_sim"), "config")
 SPEED = 60.0
@@ -79,10 +79,9 @@ class FaultRun(object):
                 assert res.accepted, res.reason
 
         try:
-            launch_monitored(["controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag], ns,
+            out = launch_monitored(["controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag], ns,
                              [alarms], inject_faults)
-            self.alarms = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= END_S - 0.1,
-                                          "the monitor's last verdict")
+            self.alarms = wait_last_verdict(alarms, END_S, out)
         finally:
             alarms.sub.unregister()
         with rosbag.Bag(self.bag) as b:

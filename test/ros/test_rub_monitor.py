@@ -26,7 +26,7 @@ import rospy
 import rostest
 from rotor_rub_msgs.msg import ContactEvent, RubAlarm
 
-from ros_test_support import Collector, find_binary, launch_monitored, temp_prefix
+from ros_test_support import Collector, find_binary, launch_monitored, temp_prefix, wait_last_verdict
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "rotor_rub_sim", "examples"))
 import machine_rub_detector  # noqa: E402
@@ -93,12 +93,10 @@ class Run(object):
         alarms = Collector("/rotor_rub_sim/rub_monitor/alarm", RubAlarm)
         try:
             # Resumed once this subscriber has connected: it hears every verdict.
-            launch_monitored(["controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
+            out = launch_monitored(["controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
                               "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
                              "rotor_rub_sim", [alarms])
-            end = end_time(scene)
-            self.alarms = alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= end - 0.1,
-                                          "the monitor's last verdict")
+            self.alarms = wait_last_verdict(alarms, end_time(scene), out)
         finally:
             alarms.sub.unregister()
         self.last = self.alarms[-1]
