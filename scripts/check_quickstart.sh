@@ -4,7 +4,7 @@
 # bound; then checks what it promises (the bag, the four pictures). Then the
 # headless commands of "## Quick start" and "## A flexible rotor" (their
 # indented `rosrun` lines), verbatim, in a scratch directory whose config/ is
-# the repository's, so that their output files land there; and checks the
+# the repository's (a relative output file lands there); and checks the
 # files they name. Needs the built workspace (scripts/build.sh) and ROS master
 # port 11311 free.
 #   scripts/check_quickstart.sh
@@ -31,6 +31,10 @@ CMDS="$(awk '/^## (Quick start|A flexible rotor)$/ {q = 1; next} /^## / {q = 0}
   q && (/^    rosrun / || c) {l = $0; sub(/^    /, "", l); print l; c = (l ~ /\\$/)}' "$ROOT/README.md")"
 [ -n "$CMDS" ] || { echo "check_quickstart: no indented rosrun commands under '## Quick start' and '## A flexible rotor'" >&2; exit 1; }
 echo "$CMDS"
+# The files they name (--csv, --summary); an absolute one is removed first,
+# so a file left by an earlier run does not pass for theirs.
+OUTPUTS="$(echo "$CMDS" | grep -o -- '--\(csv\|summary\) [^ ]*' | cut -d' ' -f2)"
+for f in $OUTPUTS; do case "$f" in /*) rm -f "$f" ;; esac; done
 SCRATCH="$(mktemp -d)"
 trap 'rm -rf "$SCRATCH"' EXIT
 ln -s "$ROOT/config" "$SCRATCH/config"
@@ -39,7 +43,8 @@ timeout --kill-after=10 120 bash -e -c "export PATH=/usr/bin:\$PATH; source '$RO
 rc=$?
 [ $rc -ne 124 ] || { echo "check_quickstart: the headless commands did not end within 120 s" >&2; exit 1; }
 [ $rc -eq 0 ] || { echo "check_quickstart: the headless commands exited $rc" >&2; exit 1; }
-for f in $(echo "$CMDS" | grep -o -- '--\(csv\|summary\) [^ ]*' | cut -d' ' -f2); do
-  test -s "$SCRATCH/$f" || { echo "check_quickstart: the headless commands wrote no $f" >&2; exit 1; }
+for f in $OUTPUTS; do
+  case "$f" in /*) ;; *) f="$SCRATCH/$f" ;; esac  # a relative name lands in the scratch directory
+  test -s "$f" || { echo "check_quickstart: the headless commands wrote no $f" >&2; exit 1; }
 done
 echo "check_quickstart: ok (the bag, four pictures, $(echo "$CMDS" | wc -l) headless commands)"
