@@ -38,7 +38,7 @@ const char* to_string(FaultKind k) {
     case FaultKind::kSupportLoosening:
       return "support_loosening";
   }
-  return "?";
+  throw std::logic_error("to_string: not a FaultKind");
 }
 
 void check_fault(const Fault& f) {

@@ -201,7 +201,7 @@ const char* to_string(ModeWhirl w) {
     case ModeWhirl::kMixed:
       return "mixed";
   }
-  return "?";
+  throw std::logic_error("to_string: not a ModeWhirl");
 }
 
 namespace {

@@ -133,15 +133,13 @@ std::string solver_table_text() {
     method = e.method;
     std::string when = "-";
     if (e.auto_up_to_rtol > auto_from) {
-      std::ostringstream range;
       if (auto_from == 0.0 && e.auto_up_to_rtol >= kAnyRtol) {
-        range << "any rtol";
+        when = "any rtol";
       } else if (auto_from == 0.0) {
-        range << "rtol <= " << e.auto_up_to_rtol;
+        when = "rtol <= " + rtol_text(e.auto_up_to_rtol);
       } else {
-        range << "rtol > " << auto_from;
+        when = "rtol > " + rtol_text(auto_from);
       }
-      when = range.str();
       auto_from = e.auto_up_to_rtol;
     }
     os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 13) << pad(when, 15) << e.note << '\n';

@@ -136,7 +136,7 @@ inline const char* to_string(FailureClass c) {
     case FailureClass::kInvariantViolated:
       return "invariant_violated";
   }
-  return "?";
+  throw std::logic_error("to_string: not a FailureClass");
 }
 
 /// The process exit status of a run that failed, shared by the runner and the
