@@ -8,6 +8,7 @@
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
+#include "sweep_grid.hpp"
 #include "test_support.hpp"
 
 namespace rotor_rub {
@@ -77,6 +78,25 @@ TEST(SolverRegistry, EveryRowIsOfferedOnceAndEveryOtherPairRefused) {
       }
     }
   }
+}
+
+// The work-precision chart (docs/studies.md) draws every pair the registry
+// offers with a tolerance to sweep (rk4 steps at a fixed size): its grid
+// names each of them and no other, so a row added to the registry fails here
+// until the chart's sweep has it.
+TEST(SolverRegistry, TheWorkPrecisionGridHasEveryAdaptivePair) {
+  auto name = [](Method m, Integrator i) { return std::string(core::to_string(m)) + "/" + core::to_string(i); };
+  std::set<std::string> grid;
+  const auto docs = tools::read_grid_file(test::source_path("config/sweeps/work_precision.yaml"));
+  for (const tools::SweepRun& run : tools::expand_grid(docs, {})) {
+    grid.insert(name(core::method_from_string(run.overrides.at("method")),
+                     core::integrator_from_string(run.overrides.at("integrator"))));
+  }
+  std::set<std::string> offered;
+  for (const core::SolverEntry& e : core::solver_registry()) {
+    if (e.integrator != Integrator::kRk4) offered.insert(name(e.method, e.integrator));
+  }
+  EXPECT_EQ(grid, offered);
 }
 
 TEST(SolverRegistry, EveryRowRunsThePaperScenesFirstContact) {
