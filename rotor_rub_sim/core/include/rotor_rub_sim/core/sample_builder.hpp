@@ -14,16 +14,14 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
                           const ContactGeometry& g, const Vec2& unbalance_dir, double normal_force_N,
                           double tangential_force_N, bool in_contact, const JeffcottModel::FreeLoads* loads = nullptr) {
   // A motor's spin acceleration depends on the contact forces: the drive
-  // state d carries the reference's until here. (Kept in a local until the
-  // end: a lane read back from the Sample just written stalls the store
-  // forwarding.)
-  DriveState drive = d;
+  // state d carries the reference's until here.
+  Sample s;
+  s.drive = d;
   if (m.motor()) {
-    drive.accel_rad_per_s2 =
+    s.drive.accel_rad_per_s2 =
         m.accelerations(d, g, loads ? *loads : m.free_loads(k, d, unbalance_dir), normal_force_N, tangential_force_N)
             .spin_rad_per_s2;
   }
-  Sample s;
   s.t_s = t_s;
   s.kin = k;
   s.kin.rotor_pos += m.frame_shift();  // the casing's frame (a rigid stator's offset)
@@ -35,9 +33,8 @@ inline Sample make_sample(const JeffcottModel& m, double t_s, const Kinematics& 
   s.normal_force_N = normal_force_N;
   s.contact_force_on_rotor_N = JeffcottModel::contact_force_on_rotor(g, normal_force_N, tangential_force_N);
   s.friction_force_N = tangential_force_N;
-  s.drive_torque_N_m = m.drive_torque_N_m(k, drive, g, unbalance_dir, normal_force_N, tangential_force_N);
+  s.drive_torque_N_m = m.drive_torque_N_m(k, s.drive, g, unbalance_dir, normal_force_N, tangential_force_N);
   s.friction_torque_N_m = m.friction_torque_N_m(tangential_force_N);
-  s.drive = drive;
   return s;
 }
 
