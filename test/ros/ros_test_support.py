@@ -121,4 +121,4 @@ def wait_last_verdict(alarms, end_s, launch_output):
         return alarms.wait_for(lambda ms: ms and ms[-1].header.stamp.to_sec() >= end_s - 0.1,
                                "the monitor's last verdict")
     except AssertionError as e:
-        raise AssertionError("%s; the launch's output, its end:\n%s" % (e, launch_output[-4000:]))
+        raise AssertionError("%s; the launch's output, its end:\n%s" % (e, launch_output[-4000:])) from None

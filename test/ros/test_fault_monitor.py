@@ -79,8 +79,8 @@ class FaultRun(object):
                 assert res.accepted, res.reason
 
         try:
-            out = launch_monitored(["controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag], ns,
-                             [alarms], inject_faults)
+            out = launch_monitored(["controller:=false", "scene:=" + scene(), "record:=true", "bag:=" + self.bag],
+                                   ns, [alarms], inject_faults)
             self.alarms = wait_last_verdict(alarms, END_S, out)
         finally:
             alarms.sub.unregister()

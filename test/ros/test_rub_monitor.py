@@ -94,8 +94,8 @@ class Run(object):
         try:
             # Resumed once this subscriber has connected: it hears every verdict.
             out = launch_monitored(["controller:=false", "scene:=" + scene, "record:=true", "bag:=" + self.bag,
-                              "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V] + list(args),
-                             "rotor_rub_sim", [alarms])
+                                    "probe_rate_hz:=%g" % PROBE_RATE_HZ, "probe_noise_V:=%g" % PROBE_NOISE_V]
+                                   + list(args), "rotor_rub_sim", [alarms])
             self.alarms = wait_last_verdict(alarms, end_time(scene), out)
         finally:
             alarms.sub.unregister()

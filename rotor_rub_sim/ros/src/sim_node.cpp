@@ -494,7 +494,7 @@ void SimNode::check_end_or_failure() {
     set_status(Status::kFailed);
   } else if (config_.end_action != EndAction::kContinue && sim_->time() >= scene_.end_time_s) {
     set_status(Status::kFinished);
-    ROS_INFO("reached end_time_s = %g s: %lu states, %lu events published; achieved real-time factor %.3g",
+    ROS_INFO("reached end_time_s = %g s: %lu states, %lu events published; achieved real-time factor %.2f",
              scene_.end_time_s, static_cast<unsigned long>(states_published_),
              static_cast<unsigned long>(events_published_), achieved_real_time_factor());
   }
