@@ -165,6 +165,9 @@ enum EventFunction { kGap = 0, kSlipEnd = 1, kBreakaway = 2, kEventFunctions = 3
 struct EventValues {
   std::array<double, kEventFunctions> value;
   std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
+  // In contact, the rate of the unbalance's angle in the contact frame,
+  // phi' - psi' [rad/s] (kMaxScanAngle_rad); NaN in free flight.
+  double forcing_rate_rad_per_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
@@ -318,6 +321,7 @@ class SwitchingMethod final : public ContactMethod {
       free_int_.do_step(free_sys_, stats_);
       scan(free_int_.t_old(), std::min(free_int_.t_new(), t_limit_s), events);
     } else {
+      contact_int_.limit_dt(kScanPoints * kMaxScanAngle_rad / std::abs(values_end_.forcing_rate_rad_per_s));
       contact_int_.do_step(contact_sys_, stats_);
       scan(contact_int_.t_old(), std::min(contact_int_.t_new(), t_limit_s), events);
       record_contact_quality(valid_end_);
@@ -440,32 +444,43 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
-    const auto c = contact_sys_.dynamics.evaluate(x, d);
+    const auto& dynamics = contact_sys_.dynamics;
+    const auto c = dynamics.evaluate(x, d);
+    const double f = model_.parameters().friction_coefficient;
+    v.forcing_rate_rad_per_s = c.drive.speed_rad_per_s - x[CL::kAngleRate];
     v.value[kGap] = -c.normal_force_N;
-    const FrictionMode& mode = contact_sys_.dynamics.mode;
-    if (mode.stick) {
-      v.value[kBreakaway] = std::abs(c.stick_force_N) - model_.parameters().friction_coefficient * c.normal_force_N;
+    if (dynamics.mode.stick) {
+      v.value[kBreakaway] = std::abs(c.stick_force_N) - f * c.normal_force_N;
     } else if (model_.has_friction()) {
-      v.value[kSlipEnd] = -mode.slip_sign * c.sliding_velocity_m_per_s;
-      v.rate[kSlipEnd] = -mode.slip_sign * c.sliding_acc_m_per_s2;
+      v.value[kSlipEnd] = -dynamics.mode.slip_sign * c.sliding_velocity_m_per_s;
+      v.rate[kSlipEnd] = -dynamics.mode.slip_sign * c.sliding_acc_m_per_s2;
+    }
+    if constexpr (!kMotor) {
+      // The forces' rates in closed form (a motor's: differenced in crossing()).
+      ModalVector modal_jerk(kFlexible ? flexible_->modal_size() : 0);
+      const auto q = dynamics.force_rates(x, c, d, modal_jerk);
+      v.rate[kGap] = -q.normal_N_per_s;
+      if (dynamics.mode.stick) {
+        v.rate[kBreakaway] = std::copysign(1.0, c.stick_force_N) * q.stick_N_per_s - f * q.normal_N_per_s;
+      }
     }
     return v;
   }
   double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
-  // The earliest event of [t0, t1], checked at the step's midpoint and end and
-  // located with TOMS 748 on the dense output. Four ways to a crossing:
+  // The earliest event of [t0, t1], checked at kScanPoints points spread
+  // evenly over the step and located with TOMS 748 on the dense
+  // output. Three ways to a crossing:
   // * a sign change between two points, of a function that has been seen
   //   strictly below zero since its regime began (armed);
   // * a function that starts its regime on its surface (a rebound, a slip
   //   from rest) with a known rate into its own side: the deflated function
   //   value / (t - t_start) has the rate's sign at t_start, so the crossing
   //   right after it is bracketed, however short the flight;
-  // * a graze between two points where the gap is negative at both: the gap's
-  //   rate falls through zero in between (a maximum), located, and the gap at
-  //   the maximum decides;
-  // * on a flexible rotor, the same for the lift-off and the breakaway in
-  //   contact, with a difference quotient for the rate (crossing()).
+  // * a crossing and back between two points where the function is negative
+  //   at both (a graze of the bore, a lift-off or breakaway that dips out and
+  //   back): its rate falls through zero in between (a maximum), located, and
+  //   the function at the maximum decides (crossing()).
   void scan(double t0, double t1, std::vector<ContactEvent>& events) {
     ProfileScope scope(event_time_s_);
     valid_begin_ = t0;
@@ -527,24 +542,17 @@ class SwitchingMethod final : public ContactMethod {
       auto h = [this, k](double t) { return event_value(k, t) / (t - regime_start_s_); };
       return locate_event(h, a, start_rate_[k], b, vb.value[k] / (b - a), stats_);
     }
-    if (k == kGap && regime_ == Regime::kFree && armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0 &&
-        va.rate[k] > 0.0 && vb.rate[k] < 0.0) {
-      auto falling_rate = [this](double t) { return -event_values(t).rate[kGap]; };
+    if (!(armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0)) return std::numeric_limits<double>::infinity();
+    if (std::isnan(va.rate[k]) || std::isnan(vb.rate[k])) {
+      // No rate in closed form (a motor's contact forces): a difference
+      // quotient on the dense output.
+      return locate_interior_crossing(f, a, va.value[k], b, vb.value[k], kInteriorRateStep * (b - a), stats_);
+    }
+    if (va.rate[k] > 0.0 && vb.rate[k] < 0.0) {
+      auto falling_rate = [this, k](double t) { return -event_values(t).rate[k]; };
       const double tm = locate_event(falling_rate, a, -va.rate[k], b, -vb.rate[k], stats_);
       const double gm = f(tm);
       if (gm >= 0.0) return locate_event(f, a, va.value[k], tm, gm, stats_);
-    }
-    if constexpr (kFlexible) {
-      // The same in a flexible rotor's contact: its modes ring the normal
-      // force, whose minima can dip below zero and back between two scan
-      // points (a grazing lift-off; seen at 16 planar modes on the seal
-      // example), and with it the cone f F_n below a stick force (a
-      // breakaway and back). The event values carry no rate for these: a
-      // difference quotient on the dense output.
-      const bool dips_with_the_force = k == kGap || k == kBreakaway;
-      if (dips_with_the_force && regime_ == Regime::kContact && armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0) {
-        return locate_interior_crossing(f, a, va.value[k], b, vb.value[k], kInteriorRateStep * (b - a), stats_);
-      }
     }
     return std::numeric_limits<double>::infinity();
   }

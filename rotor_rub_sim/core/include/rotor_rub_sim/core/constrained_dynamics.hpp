@@ -188,14 +188,64 @@ struct ConstrainedDynamics {
     }
   }
 
-  // The state's second derivative in closed form under the prescribed drive
-  // (the jerk of the Hermite dense output, dense_high_order.hpp), from the
-  // time derivatives of the quantities above along the motion, A constant on
-  // a speed segment: n' = psi' t, t' = -psi' n, r_r'' = r_s'' + C psi'' t -
+  // The rates of the contact forces along the motion under the prescribed
+  // drive (A constant on a speed segment), from the time derivatives of the
+  // quantities above: n' = psi' t, t' = -psi' n, r_r'' = r_s'' + C psi'' t -
   // C psi'^2 n, F_r' and F_s' from model.hpp's free force derivatives, and
   //   F_n'    = m ((F_r'.n + psi' F_r.t) / m_r - (F_s'.n + psi' F_s.t) / m_s + 2 C psi' psi'')
   //   free_t' = (F_r'.t - psi' F_r.n) / m_r - (F_s'.t - psi' F_s.n) / m_s
-  //   F_t'    = -f s F_n' (slip), -m free_t' (stick), 0 (no friction)
+  //   F_t'    = -f s F_n' (slip), -m free_t' (stick: the stick force's rate), 0 (no friction).
+  // The jerk below and the switching method's event rates share them (its
+  // scan finds a lift-off or a breakaway between two scan points by them).
+  // A flexible rotor's xi''' is written to modal_jerk.
+  struct ForceRates {
+    Vec2 stator_free_N_per_s = Vec2::Zero();  // F_s'
+    double normal_N_per_s = 0.0;              // F_n'
+    double free_tangential_m_per_s3 = 0.0;    // free_t'
+    double stick_N_per_s = 0.0;               // F_t,stick' = -m free_t'
+    double tangential_N_per_s = 0.0;          // F_t' in the current friction mode
+  };
+  template <class ModalJerk>
+  ForceRates force_rates(const State& x, const Result& r, const DriveState& reference,
+                         const Eigen::MatrixBase<ModalJerk>& modal_jerk) const {
+    static_assert(!kMotor, "the motor's spin couples: differenced instead");
+    const ModelParameters& p = model->parameters();
+    const double c = p.clearance_m, rate = x[L::kAngleRate], acc = r.angle_acc_rad_per_s2;
+    const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass();
+    const Vec2& n = r.normal;
+    const Vec2 t(-n.y(), n.x());
+    const Vec2 rotor_acc = r.stator_acc + c * acc * t - c * rate * rate * n;
+    Vec2 fr_rate;
+    if constexpr (kFlexible) {
+      const int m = modal_count<L>(x);
+      ModalState rates(2 * m);  // fixed capacity: no allocation
+      rates.head(m) = x.tail(m);
+      rates.tail(m) = r.modal_acc;
+      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir,
+                                          reference.speed_rad_per_s, reference.accel_rad_per_s2, modal_jerk);
+    } else {
+      fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
+    }
+    ForceRates q;
+    q.stator_free_N_per_s = model->stator_free_force_derivative(r.kin, r.stator_acc);
+    const Vec2 &fr = r.rotor_free_N, &fs = r.stator_free_N, &fs_rate = q.stator_free_N_per_s;
+    q.normal_N_per_s =
+        ((fr_rate.dot(n) + rate * fr.dot(t)) * imr - (fs_rate.dot(n) + rate * fs.dot(t)) * ims + 2.0 * c * rate * acc) *
+        model->effective_mass_kg();
+    q.free_tangential_m_per_s3 =
+        (fr_rate.dot(t) - rate * fr.dot(n)) * imr - (fs_rate.dot(t) - rate * fs.dot(n)) * ims;
+    q.stick_N_per_s = -q.free_tangential_m_per_s3 * model->effective_mass_kg();
+    if (mode.stick) {
+      q.tangential_N_per_s = q.stick_N_per_s;
+    } else if (model->has_friction()) {
+      q.tangential_N_per_s = -p.friction_coefficient * mode.slip_sign * q.normal_N_per_s;
+    }
+    return q;
+  }
+
+  // The state's second derivative in closed form under the prescribed drive
+  // (the jerk of the Hermite dense output, dense_high_order.hpp), from the
+  // force rates above:
   //   psi'''  = (free_t' + F_t' / m) / C
   //   r_s'''  = (F_s' + F_n' n + F_n psi' t - F_t' t + F_t psi' n) / m_s.
   void second_derivative(const State& x, const DriveState& reference, State& ddx) const {
@@ -203,44 +253,27 @@ struct ConstrainedDynamics {
   }
   // The same from the state's evaluation r = evaluate(x, reference).
   void second_derivative(const State& x, const Result& r, const DriveState& reference, State& ddx) const {
-    static_assert(!kMotor, "the motor's spin couples: differenced instead");
-    const ModelParameters& p = model->parameters();
-    const double c = p.clearance_m, rate = x[L::kAngleRate], acc = r.angle_acc_rad_per_s2;
-    const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
-    const Vec2& n = r.normal;
-    const Vec2 t(-n.y(), n.x());
-    const Vec2 rotor_acc = r.stator_acc + c * acc * t - c * rate * rate * n;
-    Vec2 fr_rate;
+    ForceRates q;
     if constexpr (kFlexible) {
       const int m = modal_count<L>(x);
       ddx.resize(x.size());
-      ModalState rates(2 * m);
-      rates.head(m) = x.tail(m);
-      rates.tail(m) = r.modal_acc;
       ddx.segment(L::kModal, m) = r.modal_acc;
-      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir, reference.speed_rad_per_s,
-                                          reference.accel_rad_per_s2, ddx.tail(m));
+      q = force_rates(x, r, reference, ddx.tail(m));
     } else {
-      fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
+      q = force_rates(x, r, reference, ModalVector());
     }
-    const Vec2 fs_rate = model->stator_free_force_derivative(r.kin, r.stator_acc);
-    const Vec2 &fr = r.rotor_free_N, &fs = r.stator_free_N;
-    const double fn_rate =
-        ((fr_rate.dot(n) + rate * fr.dot(t)) * imr - (fs_rate.dot(n) + rate * fs.dot(t)) * ims + 2.0 * c * rate * acc) *
-        model->effective_mass_kg();
-    const double free_t_rate = (fr_rate.dot(t) - rate * fr.dot(n)) * imr - (fs_rate.dot(t) - rate * fs.dot(n)) * ims;
-    double ft_rate = 0.0;
-    if (mode.stick) {
-      ft_rate = -free_t_rate * model->effective_mass_kg();
-    } else if (model->has_friction()) {
-      ft_rate = -p.friction_coefficient * mode.slip_sign * fn_rate;
-    }
-    ddx[L::kAngle] = acc;
-    ddx[L::kAngleRate] = (free_t_rate + ft_rate * im) * model->inv_clearance();
+    const double rate = x[L::kAngleRate];
+    const double ims = model->inv_stator_mass(), im = model->inv_rotor_mass() + ims;
+    const Vec2& n = r.normal;
+    const Vec2 t(-n.y(), n.x());
+    ddx[L::kAngle] = r.angle_acc_rad_per_s2;
+    ddx[L::kAngleRate] = (q.free_tangential_m_per_s3 + q.tangential_N_per_s * im) * model->inv_clearance();
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = r.stator_acc;
-      ddx.template segment<2>(L::kStatorVel) =
-          (fs_rate + fn_rate * n + r.normal_force_N * rate * t - ft_rate * t + r.tangential_force_N * rate * n) * ims;
+      ddx.template segment<2>(L::kStatorVel) = (q.stator_free_N_per_s + q.normal_N_per_s * n +
+                                                r.normal_force_N * rate * t - q.tangential_N_per_s * t +
+                                                r.tangential_force_N * rate * n) *
+                                               ims;
     }
   }
 

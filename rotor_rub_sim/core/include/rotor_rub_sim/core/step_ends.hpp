@@ -15,6 +15,10 @@ class StepEnds {
   double t_old() const { return t_old_; }
   double t_new() const { return t_new_; }
   double dt() const { return dt_; }  // the next step's proposal [s]
+  // Caps the next step's proposal (a NaN or infinite cap: none).
+  void limit_dt(double max_dt_s) {
+    if (dt_ > max_dt_s) dt_ = max_dt_s;
+  }
   const State& x_old() const { return x_old_; }
   const State& x_new() const { return x_new_; }
 
