@@ -596,25 +596,29 @@ class IterationMethod final : public ContactMethod {
     const double t0 = integrator_.t_old(), t1 = valid_end_;
     double prev_t = t0, prev_f = friction_event(t0);
     // At the step's start the function is either below zero (the regime
-    // holds), on its surface because the regime began there (slip from
-    // rest: the deflated function, whose value at t0 is the rate into the
-    // regime, brackets the first crossing), or above zero at a step that is
-    // not a regime's start: it jumped there at a drive change (the contact
-    // forces hold m e A and A R_r terms), and the transition is now.
-    bool deflated = false;
+    // holds), on its surface because the regime began there, or above zero
+    // at a step that is not a regime's start: it jumped there at a drive
+    // change (the contact forces hold m e A and A R_r terms), and the
+    // transition is now. On its surface with a rate into the regime (slip
+    // from rest), the deflated function, whose value at t0 is that rate,
+    // brackets the first crossing; with none (a breakaway, where the slip
+    // force equals the stick force and v_slide' = 0: the sliding departs
+    // quadratically), a sign change counts once the function has been
+    // below zero (armed, as the switching method's event functions are).
+    bool deflated = false, armed = true;
     double rate = 0.0;
     if (prev_f >= 0.0) {
       if (t0 != mode_start_s_) return t0;
       rate = friction_event_rate(t0);
-      if (!(rate < 0.0) || std::abs(prev_f) > -rate * kOnSurface_s) return kNone;  // the invariant checks decide
-      deflated = true;
+      deflated = rate < 0.0 && std::abs(prev_f) <= -rate * kOnSurface_s;
+      armed = deflated;
     }
     // The midpoint and the end of the step: an excursion out of the regime
     // and back between two of them would be missed (kScanPoints).
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const double fi = friction_event(ti);
-      if (fi >= 0.0) {
+      if (fi >= 0.0 && armed) {
         double te;
         if (deflated) {
           auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
@@ -624,6 +628,7 @@ class IterationMethod final : public ContactMethod {
         }
         return te;
       }
+      armed = armed || fi < 0.0;
       deflated = false;
       prev_t = ti;
       prev_f = fi;
@@ -720,6 +725,12 @@ class IterationMethod final : public ContactMethod {
     project_to_bore(k, g);
     FrictionMode next;
     if (system_.mode.stick) {
+      // Rolling ends at v_slide = 0: the step's drift of it is projected
+      // out, as at a held step's end, so the slip starts on its surface
+      // (locate_friction_transition's deflated start) and not up to the
+      // drift on its far side, where a reversal in the slip's first step went
+      // unseen (test_transitions.cpp, iteration on dop853 at rtol 1e-4).
+      hold_rolling(k, model_.contact_geometry(k, d));
       const ContactForceSolver probe = solver_;
       long unused = 0;
       const ContactForces f = probe.solve(k, d, g, loads(k, modal, d), system_.mode, true, te, unused);

@@ -221,8 +221,8 @@ struct ConstrainedDynamics {
       ModalState rates(2 * m);  // fixed capacity: no allocation
       rates.head(m) = x.tail(m);
       rates.tail(m) = r.modal_acc;
-      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir,
-                                          reference.speed_rad_per_s, reference.accel_rad_per_s2, modal_jerk);
+      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir, reference.speed_rad_per_s,
+                                          reference.accel_rad_per_s2, modal_jerk);
     } else {
       fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
     }
@@ -232,8 +232,7 @@ struct ConstrainedDynamics {
     q.normal_N_per_s =
         ((fr_rate.dot(n) + rate * fr.dot(t)) * imr - (fs_rate.dot(n) + rate * fs.dot(t)) * ims + 2.0 * c * rate * acc) *
         model->effective_mass_kg();
-    q.free_tangential_m_per_s3 =
-        (fr_rate.dot(t) - rate * fr.dot(n)) * imr - (fs_rate.dot(t) - rate * fs.dot(n)) * ims;
+    q.free_tangential_m_per_s3 = (fr_rate.dot(t) - rate * fr.dot(n)) * imr - (fs_rate.dot(t) - rate * fs.dot(n)) * ims;
     q.stick_N_per_s = -q.free_tangential_m_per_s3 * model->effective_mass_kg();
     if (mode.stick) {
       q.tangential_N_per_s = q.stick_N_per_s;
@@ -270,10 +269,10 @@ struct ConstrainedDynamics {
     ddx[L::kAngleRate] = (q.free_tangential_m_per_s3 + q.tangential_N_per_s * im) * model->inv_clearance();
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = r.stator_acc;
-      ddx.template segment<2>(L::kStatorVel) = (q.stator_free_N_per_s + q.normal_N_per_s * n +
-                                                r.normal_force_N * rate * t - q.tangential_N_per_s * t +
-                                                r.tangential_force_N * rate * n) *
-                                               ims;
+      ddx.template segment<2>(L::kStatorVel) =
+          (q.stator_free_N_per_s + q.normal_N_per_s * n + r.normal_force_N * rate * t - q.tangential_N_per_s * t +
+           r.tangential_force_N * rate * n) *
+          ims;
     }
   }
 

@@ -35,7 +35,7 @@ double locate_event(F&& f, double t0, double f0, double t1, double f1, RunStats&
 // next regime with such a step). A held step turns that angle by at most
 // this much per scan interval, so that an interval holds at most one
 // extremum of the forces' first harmonic and the rates at its ends find it
-// (test_switching_transitions.cpp).
+// (test/core/test_transitions.cpp).
 inline constexpr double kMaxScanAngle_rad = 0.25 * 3.14159265358979323846;
 
 // locate_interior_crossing's difference step per interval b - a: small
