@@ -183,11 +183,12 @@ TEST(YamlValues, GridPseudoKeyArithmeticNamesTheBadValue) {
 
 // Every scene and grid the project ships reads without error.
 TEST(YamlValues, ShippedFilesRead) {
-  for (const char* scene : {"config/paper_runup.yaml", "config/scene_template.yaml"}) {
+  for (const char* scene : {"config/paper_runup.yaml", "config/scene_template.yaml", "config/dry_whirl_rundown.yaml"}) {
     EXPECT_NO_THROW(core::load_scene(test::source_path(scene))) << scene;
   }
-  for (const char* grid : {"config/sweeps/smoke.yaml", "config/sweeps/work_precision.yaml",
-                           "config/sweeps/paper_table2.yaml", "config/sweeps/parameter_study.yaml"}) {
+  for (const char* grid :
+       {"config/sweeps/smoke.yaml", "config/sweeps/work_precision.yaml", "config/sweeps/paper_table2.yaml",
+        "config/sweeps/parameter_study.yaml", "config/sweeps/transitions.yaml"}) {
     EXPECT_NO_THROW(tools::expand_grid(tools::read_grid_file(test::source_path(grid)), {})) << grid;
   }
 }

@@ -514,7 +514,8 @@ class IterationMethod final : public ContactMethod {
     ModalState modal;  // a flexible rotor's [xi; xi'] with kin
     bool engaged = false;
     FrictionMode mode;
-    bool new_mode = false;  // a friction regime begins here (touchdown, transition)
+    bool new_mode = false;        // a friction regime begins here (touchdown, transition)
+    bool from_breakaway = false;  // a slip that begins where rolling broke away
   };
 
   // The free loads of a state: the Jeffcott's from k, a flexible rotor's
@@ -601,10 +602,13 @@ class IterationMethod final : public ContactMethod {
     // change (the contact forces hold m e A and A R_r terms), and the
     // transition is now. On its surface with a rate into the regime (slip
     // from rest), the deflated function, whose value at t0 is that rate,
-    // brackets the first crossing; with none (a breakaway, where the slip
-    // force equals the stick force and v_slide' = 0: the sliding departs
-    // quadratically), a sign change counts once the function has been
-    // below zero (armed, as the switching method's event functions are).
+    // brackets the first crossing. Otherwise a sign change counts once the
+    // function has been below zero (armed, as the switching method's event
+    // functions are); a slip begun at a breakaway has no rate there (the
+    // slip force equals the stick force, v_slide' = 0), and one that slides
+    // and stops within the first interval is found by probing nearer the
+    // start for the slip's side (the switching method's crossing() does the
+    // same).
     bool deflated = false, armed = true;
     double rate = 0.0;
     if (prev_f >= 0.0) {
@@ -613,20 +617,33 @@ class IterationMethod final : public ContactMethod {
       deflated = rate < 0.0 && std::abs(prev_f) <= -rate * kOnSurface_s;
       armed = deflated;
     }
+    auto f = [this](double t) { return friction_event(t); };
     // The midpoint and the end of the step: an excursion out of the regime
     // and back between two of them would be missed (kScanPoints).
     for (int i = 1; i <= kScanPoints; ++i) {
       const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const double fi = friction_event(ti);
+      if (fi >= 0.0 && !armed && i == 1 && slip_from_breakaway_ && t0 == mode_start_s_) {
+        for (const double fraction : {1e-3, 1e-2, 1e-1, 0.5}) {
+          const double t = t0 + fraction * (ti - t0), ft = f(t);
+          if (ft < 0.0) return locate_event(f, t, ft, ti, fi, stats_);
+        }
+      }
       if (fi >= 0.0 && armed) {
-        double te;
         if (deflated) {
           auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
-          te = locate_event(h, t0, rate, ti, fi / (ti - t0), stats_);
-        } else {
-          te = locate_event([this](double t) { return friction_event(t); }, prev_t, prev_f, ti, fi, stats_);
+          return locate_event(h, t0, rate, ti, fi / (ti - t0), stats_);
         }
-        return te;
+        return locate_event(f, prev_t, prev_f, ti, fi, stats_);
+      }
+      if (system_.mode.stick && armed && prev_f < 0.0) {
+        // A breakaway out of the cone and back between two points (the
+        // forcing turns the stick force within a step: the transitions
+        // sweep, config/sweeps/transitions.yaml), by the function's maximum
+        // between them, its rate a difference quotient.
+        const double te =
+            locate_interior_crossing(f, prev_t, prev_f, ti, fi, kInteriorRateStep * (ti - prev_t), stats_);
+        if (te < kNone) return te;
       }
       armed = armed || fi < 0.0;
       deflated = false;
@@ -724,7 +741,8 @@ class IterationMethod final : public ContactMethod {
     const ContactGeometry g = model_.contact_geometry(k, d);
     project_to_bore(k, g);
     FrictionMode next;
-    if (system_.mode.stick) {
+    const bool breakaway = system_.mode.stick;
+    if (breakaway) {
       // Rolling ends at v_slide = 0: the step's drift of it is projected
       // out, as at a held step's end, so the slip starts on its surface
       // (locate_friction_transition's deflated start) and not up to the
@@ -738,7 +756,7 @@ class IterationMethod final : public ContactMethod {
     } else {
       next = mode_at(k, modal, d, true, te);
     }
-    defer({true, te, k, modal, true, next, true});
+    defer({true, te, k, modal, true, next, true, breakaway});
     return true;
   }
 
@@ -805,7 +823,10 @@ class IterationMethod final : public ContactMethod {
   void apply(Pending p) {
     system_.engaged = p.engaged;
     system_.mode = p.mode;
-    if (p.new_mode) mode_start_s_ = p.t_s;
+    if (p.new_mode) {
+      mode_start_s_ = p.t_s;
+      slip_from_breakaway_ = p.from_breakaway;
+    }
     if (p.engaged && p.mode.stick) {
       hold_rolling(p.kin, model_.contact_geometry(p.kin, model_.drive_at(p.kin, system_.segment.at(p.t_s))));
     }
@@ -827,6 +848,7 @@ class IterationMethod final : public ContactMethod {
   // is what its rate makes in this time.
   static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
   double mode_start_s_ = -1.0;                          // when the current friction regime began
+  bool slip_from_breakaway_ = false;                    // that regime is a slip begun at a breakaway
   std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
   JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
   ContactForceSolver solver_;
