@@ -1,10 +1,10 @@
 // Whole runs against their figures from a trusted build
-// (test/data/golden_runs.txt): four scenes (the paper's run-up; a rigid
+// (test/data/golden_runs.txt): five scenes (the paper's run-up; a rigid
 // stator with restitution 0.5 and f 0.3; gravity; f 0.8 far above the
-// critical speed) on every method and integrator of the registry (rk4 is
-// test_fixed_step's). A regression test fails when the physics or the
-// numerics move, not when a libm does: positions and event times are held to
-// tolerances, counts exactly. Bitwise equality is a promise within one build
+// critical speed; a dry-whirl run-down) on every method and integrator of
+// the registry (rk4 is test_fixed_step's). A regression test fails when the
+// physics or the numerics move, not when a libm does: positions and event
+// times are held to tolerances, counts exactly. Bitwise equality is a promise within one build
 // only (output-rate independence, determinism, lockstep: their own tests).
 //
 // ROTOR_RUB_WRITE_GOLDEN=1 test_core --gtest_filter='Golden.*' rewrites the
@@ -102,6 +102,8 @@ constexpr std::size_t kEventsKept = 12;  // the first ones, and the last
 struct GoldenScene {
   const char* name;
   const char* sets;  // scene keys over config/paper_runup.yaml, "-" for none
+  bool with_iteration = true;
+  bool runs(const test::Solver& s) const { return with_iteration || s.method != core::Method::kIteration; }
 };
 const GoldenScene kScenes[] = {
     {"paper", "-"},
@@ -109,6 +111,16 @@ const GoldenScene kScenes[] = {
     {"gravity", "gravity_m_per_s2=9.81,friction_coefficient=0.2,end_time_s=3"},
     {"above_critical_stick",
      "friction_coefficient=0.8,target_speed_rad_per_s=400,acceleration_rad_per_s2=200,end_time_s=2.5"},
+    // config/dry_whirl_rundown.yaml: rolling on a rigid stator that ends at
+    // the cone (issue 50), then a slide, a short stick and the lift-off.
+    // Without the iteration method: its rolling is projected back onto the
+    // bore after every step, and under other libms its positions here moved
+    // by up to 1.9e-12 m, 4x its bound (which its other scenes hold 4x
+    // inside); test_transitions.cpp holds its rolling to the closed form.
+    {"dry_whirl_rundown",
+     "stator_model=rigid,rotor_radius_m=0.002,friction_coefficient=0.5,initial_speed_rad_per_s=600,"
+     "acceleration_rad_per_s2=500,target_speed_rad_per_s=50,end_time_s=1.2",
+     false},
 };
 
 struct KeptEvent {
@@ -238,7 +250,8 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
           "# closing speeds; the rotor's and stator's positions every 0.25 s. Held to bounds per\n"
           "# method (test_golden.cpp says which and why).\n";
     for (const GoldenScene& g : kScenes) {
-      for (const test::Solver& s : solvers) write(os, key_of(g, s), run_case(g, s));
+      for (const test::Solver& s : solvers)
+        if (g.runs(s)) write(os, key_of(g, s), run_case(g, s));
     }
     ASSERT_TRUE(os.good());
     GTEST_SKIP() << "rewrote " << kGoldenFile;
@@ -249,6 +262,7 @@ TEST(Golden, RunsMatchTheirFiguresWithinTolerances) {
   int cases = 0;
   for (const GoldenScene& g : kScenes) {
     for (const test::Solver& s : solvers) {
+      if (!g.runs(s)) continue;
       const std::string key = key_of(g, s);
       const auto it = golden.find(key);
       if (it == golden.end()) {
