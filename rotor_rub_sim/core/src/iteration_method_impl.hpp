@@ -745,9 +745,8 @@ class IterationMethod final : public ContactMethod {
     if (breakaway) {
       // Rolling ends at v_slide = 0: the step's drift of it is projected
       // out, as at a held step's end, so the slip starts on its surface
-      // (locate_friction_transition's deflated start) and not up to the
-      // drift on its far side, where a reversal in the slip's first step went
-      // unseen (test_transitions.cpp, iteration on dop853 at rtol 1e-4).
+      // (locate_friction_transition) and not up to the drift on its far side
+      // (test_transitions.cpp, iteration on dop853 at rtol 1e-4).
       hold_rolling(k, model_.contact_geometry(k, d));
       const ContactForceSolver probe = solver_;
       long unused = 0;
