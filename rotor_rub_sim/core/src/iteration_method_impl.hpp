@@ -132,7 +132,18 @@ class ContactForceSolver {
     ContactForces f;
     const double r0 = distance_acceleration(k, d, g, free, 0.0, 0.0);
     ++iterations;
-    if (!(r0 > 0.0)) return f;  // separating without help: released
+    if (!(r0 > 0.0)) {
+      // Separating without help: released, no force. The stick force keeps
+      // its meaning, what rolling would need with F_n = 0: at a lift-off in
+      // stick it need not vanish, and the breakaway's function |F_t,stick| -
+      // f F_n must read it there, not a clamped zero, for the breakaway
+      // before the lift-off to be bracketed (the transitions sweep: f 1,
+      // elastic stator, 3 us before the lift-off).
+      if ((mode.stick || want_stick_force) && !model_->motor()) {
+        f.stick_N = stick_force(k, d, g, free, 0.0, t_s, iterations);
+      }
+      return f;
+    }
     if (model_->motor()) return solve_with_spin(k, d, g, free, mode, want_stick_force, t_s, iterations);
     // delta'' falls as F_n grows: solve -delta''(F_n) = 0 from F_n = 0.
     f.normal_N = normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, free, fn, 0.0); }, 0.0, -r0, t_s,
@@ -393,9 +404,10 @@ class IterationMethod final : public ContactMethod {
     // A lift-off or a friction transition is located even in a step cut
     // short by a drive change: after the restart it would no longer be seen
     // as a crossing. The earlier of the two ends the step.
-    // At a lift-off the forces vanish, so a stick regime's event function
-    // |F_t,stick| - f F_n is exactly 0 there too: a transition at the
-    // lift-off's own instant is the lift-off.
+    // At a lift-off F_n vanishes but the stick force rolling needs need not
+    // (ContactForceSolver::solve reads it there), so a breakaway just before
+    // the lift-off is located first; a transition at the lift-off's own
+    // instant is the lift-off.
     if (system_.engaged) {
       const double t_liftoff = locate_liftoff();
       if (t_liftoff < valid_end_) valid_end_ = t_liftoff;
