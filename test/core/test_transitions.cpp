@@ -92,7 +92,7 @@ std::optional<std::pair<double, double>> rolling_end_in_samples(const test::Run&
 // Samples at 100 kHz: the end of rolling read off them to 1e-5 s.
 constexpr double kSampleRate_hz = 1e5;
 constexpr double kSampleSpacing_s = 1.0 / kSampleRate_hz;
-// Well inside rolling (it begins at 0.07 s and ends near 1.005 s).
+// Well inside rolling (it begins at 0.07 s and ends near 1.0 s).
 constexpr double kRollingSample_s = 0.9;
 
 class RollingEnd : public ::testing::TestWithParam<std::tuple<test::Solver, double>> {};
