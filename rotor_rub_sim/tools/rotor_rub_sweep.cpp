@@ -106,9 +106,15 @@ SweepResult run_one(const tools::SweepRun& run, std::size_t total, const Values&
   core::ErrorObserver errors(*ref);
   core::run_scene(es, errors);
   r.errors = errors.finish();
-  if (r.status == "ok" && !(r.errors.max_rotor_m <= opt.inaccurate_above_m)) {
+  r.horizon_s = ref->horizon_s;
+  if (!ref->witness_failure_message.empty()) {
+    r.message += (r.message.empty() ? "" : "; ") + std::string("witness failed: ") + ref->witness_failure_message;
+  }
+  if (r.status == "ok" && !(r.errors.max_rotor_in_horizon_m <= opt.inaccurate_above_m)) {
     r.status = "inaccurate";
-    r.message = "max |r_r - r_r,ref| above --inaccurate-above";
+    r.message = std::isfinite(ref->horizon_s)
+                    ? "max |r_r - r_r,ref| before the horizon above --inaccurate-above"
+                    : "max |r_r - r_r,ref| above --inaccurate-above";
   }
   return r;
 }
@@ -225,6 +231,11 @@ Parsed parse(int argc, char** argv) {
                             ->type_name("M")
                             ->check(cli::number_in(0, 1))
                             ->capture_default_str());
+  run_options.push_back(app.add_flag(
+      "--witness", o.reference.witness,
+      "also run the iteration method on dop853 at the reference's tolerances; the runs are judged ('inaccurate') "
+      "only up to where its orbit and the reference's part by --inaccurate-above (column horizon_s): past it a "
+      "chaotic motion is not determined at that precision"));
   bool no_progress = false;
   run_options.push_back(
       app.add_flag("--no-progress", no_progress, "no progress bar (there is one on a terminal only)"));
@@ -254,6 +265,7 @@ Parsed parse(int argc, char** argv) {
     o.shard_count = sn;
   }
   o.reference.window_s = window_ms * 1e-3;
+  o.reference.horizon_apart_m = o.inaccurate_above_m;
   o.progress = !no_progress;
   if (o.scene_path.empty()) {
     try {

@@ -61,7 +61,7 @@ std::string sweep_csv_header() {
          "compared_samples,max_rotor_err_m,rms_rotor_err_m,max_stator_err_m,rms_stator_err_m,first_contact_s,"
          "first_contact_err_s,last_contact_end_s,last_contact_end_err_s,impulse_window_err_rel,"
          "impulse_windows_within_5pct,ref_peak_window_force_N,max_orbit_m,peak_normal_force_N,contact_time_s,stick_"
-         "time_s";
+         "time_s,horizon_s,max_rotor_err_in_horizon_m,max_event_err_s,event_mismatch_s";
 }
 
 void write_sweep_row(std::ostream& os, const SweepResult& r) {
@@ -89,7 +89,8 @@ void write_sweep_row(std::ostream& os, const SweepResult& r) {
      << ',' << num(e.first_contact_err_s) << ',' << num(e.last_contact_end_s) << ',' << num(e.last_contact_end_err_s)
      << ',' << num(e.impulse_window_err_rel) << ',' << num(e.impulse_windows_within_5pct) << ','
      << num(e.ref_peak_window_force_N) << ',' << num(e.max_orbit_m) << ',' << num(e.peak_normal_force_N) << ','
-     << num(e.contact_time_s) << ',' << num(e.stick_time_s) << '\n';
+     << num(e.contact_time_s) << ',' << num(e.stick_time_s) << ',' << num(r.horizon_s) << ','
+     << num(e.max_rotor_in_horizon_m) << ',' << num(e.max_event_err_s) << ',' << num(e.event_mismatch_s) << '\n';
 }
 
 void merge_sweep_csvs(const std::vector<std::string>& parts, std::ostream& out) {

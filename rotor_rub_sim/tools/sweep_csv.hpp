@@ -22,6 +22,7 @@ struct SweepResult {
   core::RunStats stats;                           // of a timed run
   double rhs_share = 0.0, iteration_share = 0.0;  // --profile only, else NaN
   core::RunErrors errors;
+  double horizon_s = 0.0;  // the reference's (infinite without --witness)
 };
 
 // The header line, without newline.

@@ -53,7 +53,7 @@ std::string core_build_stamp() {
 }
 
 // ---- the on-disk cache: a binary file per reference, its key inside ----
-constexpr uint32_t kCacheMagic = 0x52524631;  // "RRF1"
+constexpr uint32_t kCacheMagic = 0x52524632;  // "RRF2"
 
 template <class T>
 void put(std::ostream& os, const T& v) {
@@ -97,6 +97,9 @@ void save(const std::string& path, const std::string& key, const core::Reference
     put<uint8_t>(os, wc[k] ? 1 : 0);
   }
   put<uint8_t>(os, t.failed ? 1 : 0);
+  put(os, t.horizon_s);
+  put<uint64_t>(os, t.witness_failure_message.size());
+  os.write(t.witness_failure_message.data(), static_cast<std::streamsize>(t.witness_failure_message.size()));
   os.close();
   if (os) {
     std::rename(tmp.c_str(), path.c_str());  // atomic: a reader sees the old file or the whole new one
@@ -145,7 +148,9 @@ bool load(const std::string& path, const std::string& key, double window_s, core
   uint8_t failed = 0;
   if (!get(is, failed)) return false;
   t.failed = failed != 0;
-  return true;
+  if (!get(is, t.horizon_s) || !get(is, n) || n > (1u << 20)) return false;
+  t.witness_failure_message.assign(n, '\0');
+  return static_cast<bool>(is.read(t.witness_failure_message.data(), static_cast<std::streamsize>(n)));
 }
 
 }  // namespace
@@ -161,11 +166,19 @@ Values ReferenceStore::reference_values(const Values& run_values) const {
   return v;
 }
 
+Values ReferenceStore::witness_values(const Values& reference_values) {
+  Values v = reference_values;
+  v["method"] = "iteration";
+  v["integrator"] = "dop853";
+  return v;
+}
+
 std::shared_ptr<const core::ReferenceTrace> ReferenceStore::get(const Values& run_values) {
   const Values ref_values = reference_values(run_values);
   std::string key;
   for (const auto& [k, v] : ref_values) key += k + "=" + v + "\n";
   key += "window_s=" + num(settings_.window_s) + "\n";
+  if (settings_.witness) key += "witness_apart_m=" + num(settings_.horizon_apart_m) + "\n";
   key += "core_build=" + core_build_stamp() + "\n";
   std::shared_future<std::shared_ptr<const core::ReferenceTrace>> future;
   std::promise<std::shared_ptr<const core::ReferenceTrace>> promise;
@@ -202,6 +215,12 @@ std::shared_ptr<const core::ReferenceTrace> ReferenceStore::compute(const Values
   }
   const core::Scene scene = core::scene_from_values(ref_values);
   *trace = core::record_reference(scene, settings_.window_s);
+  if (settings_.witness) {
+    const core::ReferenceTrace witness =
+        core::record_reference(core::scene_from_values(witness_values(ref_values)), settings_.window_s);
+    trace->horizon_s = core::sensitivity_horizon_s(*trace, witness, settings_.horizon_apart_m);
+    trace->witness_failure_message = witness.failure_message;
+  }
   if (!path.empty()) save(path, key, *trace);
   return trace;
 }

@@ -20,6 +20,11 @@ struct ReferenceSettings {
   double atol = 1e-13;
   double sample_rate_hz = 20000.0;  // the grid the errors are measured on
   double window_s = 1e-3;           // impulse windows
+  // A witness: the iteration method on dop853 at the same tolerances, an
+  // independent event handling; where its orbit parts from the reference's by
+  // more than horizon_apart_m ends the horizon the runs are judged in.
+  bool witness = false;
+  double horizon_apart_m = 1e-4;
 };
 
 class ReferenceStore {
@@ -31,6 +36,8 @@ class ReferenceStore {
   // dopri5, the reference tolerances, sampled at sample_rate_hz; the
   // method-only keys (contact stiffness, integrator, budgets) dropped.
   Values reference_values(const Values& run_values) const;
+  // The witness's values for a reference's.
+  static Values witness_values(const Values& reference_values);
   // Computes (or loads) the reference once per distinct values; thread-safe.
   std::shared_ptr<const core::ReferenceTrace> get(const Values& run_values);
   const ReferenceSettings& settings() const { return settings_; }

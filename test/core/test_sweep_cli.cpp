@@ -95,10 +95,35 @@ TEST(SweepCli, RowsStatusesAndErrors) {
     EXPECT_EQ(num(rows[3], k), 0.0) << k;
   }
   EXPECT_EQ(num(rows[3], "impulse_windows_within_5pct"), 1.0);
+  EXPECT_EQ(num(rows[3], "max_event_err_s"), 0.0);
+  EXPECT_TRUE(std::isnan(num(rows[3], "event_mismatch_s"))) << "every touchdown and lift-off agrees";
+  // No witness: no horizon, the whole run judged.
+  for (const auto& row : rows) EXPECT_TRUE(std::isinf(num(row, "horizon_s")));
   // A run's own wall budget is not its reference's (issue 15: the reference
   // inherited it and failed with the run).
   EXPECT_EQ(rows[4].at("status"), "timed_out") << rows[4].at("message");
   EXPECT_EQ(rows[4].at("message").find("reference failed"), std::string::npos) << rows[4].at("message");
+}
+
+// With a witness (the iteration method at the reference's tolerances): on the
+// paper's run-up the two rigid methods agree to far below 1e-4 m, so the
+// horizon is the whole run and the runs are judged as without it.
+TEST(SweepCli, AWitnessThatAgreesLeavesNoHorizon) {
+  const Result r = sweep("--scene " + kScene +
+                         " --set method=switching --set rtol=1e-5 --set atol_per_rtol=1e-3 --set end_time_s=1.5"
+                         " --repeats 1 --jobs 1 --no-progress --error-rate 10000 --witness --out " +
+                         rotor_rub::test::tmp() + "sweep_witness.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = read_rows(rotor_rub::test::tmp() + "sweep_witness.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("status"), "ok") << rows[0].at("message");
+  EXPECT_TRUE(std::isinf(num(rows[0], "horizon_s")));
+  EXPECT_EQ(num(rows[0], "max_rotor_err_in_horizon_m"), num(rows[0], "max_rotor_err_m"));
+  // Every contact where the reference has it, within the 1 ms window (the
+  // later impacts of the rub drift by a fraction of it at rtol 1e-5).
+  EXPECT_TRUE(std::isnan(num(rows[0], "event_mismatch_s")));
+  EXPECT_GT(num(rows[0], "max_event_err_s"), 0.0);
+  EXPECT_LT(num(rows[0], "max_event_err_s"), 1e-3);
 }
 
 TEST(SweepCli, ShardsMergeIntoTheUnsplitResult) {

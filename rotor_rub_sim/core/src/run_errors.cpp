@@ -83,6 +83,15 @@ ReferenceTrace record_reference(const Scene& scene, double window_s) {
   return trace;
 }
 
+double sensitivity_horizon_s(const ReferenceTrace& reference, const ReferenceTrace& witness, double apart_m) {
+  const std::size_t n = std::min(reference.t_s.size(), witness.t_s.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!((witness.rotor_pos_m[i] - reference.rotor_pos_m[i]).norm() <= apart_m)) return reference.t_s[i];
+  }
+  if (witness.failed && n > 0) return witness.t_s[n - 1];
+  return std::numeric_limits<double>::infinity();
+}
+
 void ErrorObserver::on_sample(const Sample& s) {
   const std::size_t i = e_.samples;
   if (i >= ref_.t_s.size()) return;  // the reference failed earlier: compare the common prefix
@@ -92,6 +101,7 @@ void ErrorObserver::on_sample(const Sample& s) {
   const double dr = (s.kin.rotor_pos - ref_.rotor_pos_m[i]).norm();
   const double ds = (s.kin.stator_pos - ref_.stator_pos_m[i]).norm();
   e_.max_rotor_m = std::max(e_.max_rotor_m, dr);
+  if (s.t_s < ref_.horizon_s) e_.max_rotor_in_horizon_m = std::max(e_.max_rotor_in_horizon_m, dr);
   e_.max_stator_m = std::max(e_.max_stator_m, ds);
   sum_rotor2_ += dr * dr;
   sum_stator2_ += ds * ds;
@@ -104,6 +114,29 @@ void ErrorObserver::on_sample(const Sample& s) {
   last_sticking_ = s.sticking;
   windows_.add_sample(s.t_s, s.normal_force_N, s.in_contact);
   ++e_.samples;
+}
+
+void ErrorObserver::compare_events(const std::vector<ContactEvent>& run, RunErrors& e) const {
+  const auto contact_changes = [this](const std::vector<ContactEvent>& events) {
+    std::vector<ContactEvent> out;
+    for (const auto& ev : events) {
+      if (ev.kind != EventKind::kGraze && ev.t_s < ref_.horizon_s) out.push_back(ev);
+    }
+    return out;
+  };
+  const auto a = contact_changes(run), b = contact_changes(ref_.events);
+  // A failed run is compared over what it ran.
+  const double ran_to_s = e_.samples > 0 ? last_t_s_ : 0.0;
+  e.max_event_err_s = 0.0;
+  e.event_mismatch_s = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t k = 0; k < b.size() && b[k].t_s <= ran_to_s; ++k) {
+    if (k >= a.size() || a[k].kind != b[k].kind || std::abs(a[k].t_s - b[k].t_s) > windows_.window_s()) {
+      e.event_mismatch_s = b[k].t_s;
+      return;
+    }
+    e.max_event_err_s = std::max(e.max_event_err_s, std::abs(a[k].t_s - b[k].t_s));
+  }
+  if (a.size() > b.size() && a[b.size()].t_s <= ran_to_s) e.event_mismatch_s = a[b.size()].t_s;
 }
 
 void ErrorObserver::on_event(const ContactEvent& e) {
@@ -120,6 +153,7 @@ RunErrors ErrorObserver::finish() const {
   e.first_contact_err_s = e.first_contact_s - first_contact_s(ref_.events);
   e.last_contact_end_s = last_contact_end_s(events_);
   e.last_contact_end_err_s = e.last_contact_end_s - last_contact_end_s(ref_.events);
+  compare_events(events_, e);
 
   const auto& ri = ref_.windows.impulse_N_s();
   const auto& rc = ref_.windows.in_contact();

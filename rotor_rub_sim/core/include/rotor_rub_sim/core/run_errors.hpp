@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,19 @@ struct ReferenceTrace {
   ImpulseWindows windows;
   bool failed = false;
   std::string failure_message;
+  // Up to when the physics is determined at the reference's precision: where
+  // an independent run of the same physics (a witness) leaves the reference's
+  // orbit. Past it, a chaotic stick-slip amplifies any rounding, so a run that
+  // parts from the reference there is sensitive, not wrong. Infinite: no
+  // witness was run, or it never parted.
+  double horizon_s = std::numeric_limits<double>::infinity();
+  std::string witness_failure_message;  // a witness that failed ends the horizon at its failure
 };
+
+// The first sample time at which the witness's rotor is farther than
+// apart_m from the reference's (the witness's last sample time if it stopped
+// earlier, infinity if neither).
+double sensitivity_horizon_s(const ReferenceTrace& reference, const ReferenceTrace& witness, double apart_m);
 
 // Runs the reference scene and keeps its trace.
 ReferenceTrace record_reference(const Scene& scene, double window_s = 1e-3);
@@ -68,6 +81,16 @@ struct RunErrors {
   double first_contact_err_s = 0.0;  // minus the reference's (NaN if either has none)
   double last_contact_end_s = 0.0;
   double last_contact_end_err_s = 0.0;
+  // Within the reference's horizon (all of the run if it has none):
+  double max_rotor_in_horizon_m = 0.0;  // max |r_r - r_r,ref|
+  // The touchdowns and lift-offs, in order, against the reference's: the
+  // largest |t - t_ref| while they agree (same kind, within one impulse
+  // window), and the reference's time of the first one that does not (or the
+  // run's, for one in excess): a contact missed, added or displaced; NaN when
+  // every one agrees. Grazes are left out: a method may resolve a graze as a
+  // brief contact.
+  double max_event_err_s = 0.0;
+  double event_mismatch_s = 0.0;
   // max over windows where the reference is in contact of
   // |I_W - I_W,ref| / max_W I_W,ref: the windowed force error as a share of
   // the reference's peak windowed force.
@@ -94,6 +117,7 @@ class ErrorObserver : public SimulationObserver {
   RunErrors finish() const;
 
  private:
+  void compare_events(const std::vector<ContactEvent>& run, RunErrors& e) const;
   const ReferenceTrace& ref_;
   ImpulseWindows windows_;
   std::vector<ContactEvent> events_;
