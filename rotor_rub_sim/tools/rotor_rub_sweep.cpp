@@ -96,23 +96,24 @@ SweepResult run_one(const tools::SweepRun& run, std::size_t total, const Values&
   }
   // Error: the same run sampled on the reference's grid (a failed run
   // compares the samples it delivered).
-  const auto ref = refs.get(values);
+  const tools::Judged judged = refs.judge(values, r.scene.solver.atol);
+  const auto& ref = judged.reference;
   if (ref->failed) {
     if (r.status == "ok") r.status = "no_reference";
     r.message += (r.message.empty() ? "" : "; ") + std::string("reference failed: ") + ref->failure_message;
   }
   core::Scene es = r.scene;
   es.output_rate_hz = opt.reference.sample_rate_hz;
-  core::ErrorObserver errors(*ref);
+  core::ErrorObserver errors(*ref, judged.horizon_s);
   core::run_scene(es, errors);
   r.errors = errors.finish();
-  r.horizon_s = ref->horizon_s;
-  if (!ref->witness_failure_message.empty()) {
-    r.message += (r.message.empty() ? "" : "; ") + std::string("witness failed: ") + ref->witness_failure_message;
+  r.horizon_s = judged.horizon_s;
+  if (!judged.witness_failures.empty()) {
+    r.message += (r.message.empty() ? "" : "; ") + std::string("witness failed: ") + judged.witness_failures;
   }
   if (r.status == "ok" && !(r.errors.max_rotor_in_horizon_m <= opt.inaccurate_above_m)) {
     r.status = "inaccurate";
-    r.message = std::isfinite(ref->horizon_s)
+    r.message = std::isfinite(judged.horizon_s)
                     ? "max |r_r - r_r,ref| before the horizon above --inaccurate-above"
                     : "max |r_r - r_r,ref| above --inaccurate-above";
   }
@@ -233,9 +234,10 @@ Parsed parse(int argc, char** argv) {
                             ->capture_default_str());
   run_options.push_back(app.add_flag(
       "--witness", o.reference.witness,
-      "also run the iteration method on dop853 at the reference's tolerances; the runs are judged ('inaccurate') "
-      "only up to where its orbit and the reference's part by --inaccurate-above (column horizon_s): past it a "
-      "chaotic motion is not determined at that precision"));
+      "judge each run ('inaccurate', event columns) only up to where the first of these parts from the reference "
+      "by --inaccurate-above (column horizon_s): the reference with the bore moved by the run's atol, and the "
+      "switching and iteration methods on dop853 at the reference's tolerances; past it the motion is not "
+      "determined at the run's precision (chaos, grazing impacts)"));
   bool no_progress = false;
   run_options.push_back(
       app.add_flag("--no-progress", no_progress, "no progress bar (there is one on a terminal only)"));

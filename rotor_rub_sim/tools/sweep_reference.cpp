@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -53,7 +54,7 @@ std::string core_build_stamp() {
 }
 
 // ---- the on-disk cache: a binary file per reference, its key inside ----
-constexpr uint32_t kCacheMagic = 0x52524632;  // "RRF2"
+constexpr uint32_t kCacheMagic = 0x52524631;  // "RRF1"
 
 template <class T>
 void put(std::ostream& os, const T& v) {
@@ -97,9 +98,6 @@ void save(const std::string& path, const std::string& key, const core::Reference
     put<uint8_t>(os, wc[k] ? 1 : 0);
   }
   put<uint8_t>(os, t.failed ? 1 : 0);
-  put(os, t.horizon_s);
-  put<uint64_t>(os, t.witness_failure_message.size());
-  os.write(t.witness_failure_message.data(), static_cast<std::streamsize>(t.witness_failure_message.size()));
   os.close();
   if (os) {
     std::rename(tmp.c_str(), path.c_str());  // atomic: a reader sees the old file or the whole new one
@@ -148,9 +146,7 @@ bool load(const std::string& path, const std::string& key, double window_s, core
   uint8_t failed = 0;
   if (!get(is, failed)) return false;
   t.failed = failed != 0;
-  if (!get(is, t.horizon_s) || !get(is, n) || n > (1u << 20)) return false;
-  t.witness_failure_message.assign(n, '\0');
-  return static_cast<bool>(is.read(t.witness_failure_message.data(), static_cast<std::streamsize>(n)));
+  return true;
 }
 
 }  // namespace
@@ -166,19 +162,36 @@ Values ReferenceStore::reference_values(const Values& run_values) const {
   return v;
 }
 
-Values ReferenceStore::witness_values(const Values& reference_values) {
-  Values v = reference_values;
-  v["method"] = "iteration";
-  v["integrator"] = "dop853";
-  return v;
+Judged ReferenceStore::judge(const Values& run_values, double run_atol_m) {
+  Judged out;
+  const Values ref_values = reference_values(run_values);
+  out.reference = trace_of(ref_values);
+  if (!settings_.witness) return out;
+  // What the run's precision cannot tell apart: the bore moved by its atol.
+  Values moved = run_values;
+  const auto offset = run_values.find("stator_offset_x_m");
+  moved["stator_offset_x_m"] = num((offset == run_values.end() ? 0.0 : std::stod(offset->second)) + run_atol_m);
+  std::vector<std::pair<std::string, Values>> witnesses{{"the bore moved by the run's atol", reference_values(moved)}};
+  for (const char* method : {"switching", "iteration"}) {
+    Values v = ref_values;
+    v["method"] = method;
+    v["integrator"] = "dop853";
+    witnesses.emplace_back(std::string(method) + " on dop853", v);
+  }
+  for (const auto& [name, values] : witnesses) {
+    const auto w = trace_of(values);
+    out.horizon_s = std::min(out.horizon_s, core::sensitivity_horizon_s(*out.reference, *w, settings_.horizon_apart_m));
+    if (w->failed) {
+      out.witness_failures += (out.witness_failures.empty() ? "" : "; ") + name + ": " + w->failure_message;
+    }
+  }
+  return out;
 }
 
-std::shared_ptr<const core::ReferenceTrace> ReferenceStore::get(const Values& run_values) {
-  const Values ref_values = reference_values(run_values);
+std::shared_ptr<const core::ReferenceTrace> ReferenceStore::trace_of(const Values& ref_values) {
   std::string key;
   for (const auto& [k, v] : ref_values) key += k + "=" + v + "\n";
   key += "window_s=" + num(settings_.window_s) + "\n";
-  if (settings_.witness) key += "witness_apart_m=" + num(settings_.horizon_apart_m) + "\n";
   key += "core_build=" + core_build_stamp() + "\n";
   std::shared_future<std::shared_ptr<const core::ReferenceTrace>> future;
   std::promise<std::shared_ptr<const core::ReferenceTrace>> promise;
@@ -215,12 +228,6 @@ std::shared_ptr<const core::ReferenceTrace> ReferenceStore::compute(const Values
   }
   const core::Scene scene = core::scene_from_values(ref_values);
   *trace = core::record_reference(scene, settings_.window_s);
-  if (settings_.witness) {
-    const core::ReferenceTrace witness =
-        core::record_reference(core::scene_from_values(witness_values(ref_values)), settings_.window_s);
-    trace->horizon_s = core::sensitivity_horizon_s(*trace, witness, settings_.horizon_apart_m);
-    trace->witness_failure_message = witness.failure_message;
-  }
   if (!path.empty()) save(path, key, *trace);
   return trace;
 }

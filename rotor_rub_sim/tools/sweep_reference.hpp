@@ -5,10 +5,12 @@
 #pragma once
 
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "rotor_rub_sim/core/run_errors.hpp"
 #include "sweep_grid.hpp"
@@ -20,11 +22,16 @@ struct ReferenceSettings {
   double atol = 1e-13;
   double sample_rate_hz = 20000.0;  // the grid the errors are measured on
   double window_s = 1e-3;           // impulse windows
-  // A witness: the iteration method on dop853 at the same tolerances, an
-  // independent event handling; where its orbit parts from the reference's by
-  // more than horizon_apart_m ends the horizon the runs are judged in.
+  // Judge runs within a horizon (--witness): see ReferenceStore::judge.
   bool witness = false;
   double horizon_apart_m = 1e-4;
+};
+
+// A run's reference and the time up to which it is judged against it.
+struct Judged {
+  std::shared_ptr<const core::ReferenceTrace> reference;
+  double horizon_s = std::numeric_limits<double>::infinity();
+  std::string witness_failures;  // witnesses that failed (each ends the horizon at its failure)
 };
 
 class ReferenceStore {
@@ -36,13 +43,21 @@ class ReferenceStore {
   // dopri5, the reference tolerances, sampled at sample_rate_hz; the
   // method-only keys (contact stiffness, integrator, budgets) dropped.
   Values reference_values(const Values& run_values) const;
-  // The witness's values for a reference's.
-  static Values witness_values(const Values& reference_values);
-  // Computes (or loads) the reference once per distinct values; thread-safe.
-  std::shared_ptr<const core::ReferenceTrace> get(const Values& run_values);
+  // The reference, computed (or loaded) once per distinct values and shared
+  // across threads, and with settings().witness the horizon: where the first
+  // of these leaves its orbit by more than horizon_apart_m, the time from
+  // which two runs the run's precision cannot tell apart part (chaos,
+  // grazing), so that an error against the reference says nothing about the
+  // method: the reference with the bore moved by the run's atol (what the
+  // run's own precision amplifies), and the switching and iteration methods
+  // on dop853 at the reference's tolerances (another integrator, another
+  // event handling: what the reference's precision amplifies).
+  Judged judge(const Values& run_values, double run_atol_m);
   const ReferenceSettings& settings() const { return settings_; }
 
  private:
+  // The trace of final values (a reference's or a witness's), memoised; thread-safe.
+  std::shared_ptr<const core::ReferenceTrace> trace_of(const Values& ref_values);
   std::shared_ptr<const core::ReferenceTrace> compute(const Values& ref_values, const std::string& key);
   ReferenceSettings settings_;
   std::string cache_dir_;

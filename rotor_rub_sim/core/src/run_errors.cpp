@@ -101,7 +101,7 @@ void ErrorObserver::on_sample(const Sample& s) {
   const double dr = (s.kin.rotor_pos - ref_.rotor_pos_m[i]).norm();
   const double ds = (s.kin.stator_pos - ref_.stator_pos_m[i]).norm();
   e_.max_rotor_m = std::max(e_.max_rotor_m, dr);
-  if (s.t_s < ref_.horizon_s) e_.max_rotor_in_horizon_m = std::max(e_.max_rotor_in_horizon_m, dr);
+  if (s.t_s < horizon_s_) e_.max_rotor_in_horizon_m = std::max(e_.max_rotor_in_horizon_m, dr);
   e_.max_stator_m = std::max(e_.max_stator_m, ds);
   sum_rotor2_ += dr * dr;
   sum_stator2_ += ds * ds;
@@ -120,7 +120,7 @@ void ErrorObserver::compare_events(const std::vector<ContactEvent>& run, RunErro
   const auto contact_changes = [this](const std::vector<ContactEvent>& events) {
     std::vector<ContactEvent> out;
     for (const auto& ev : events) {
-      if (ev.kind != EventKind::kGraze && ev.t_s < ref_.horizon_s) out.push_back(ev);
+      if (ev.t_s < horizon_s_) out.push_back(ev);
     }
     return out;
   };

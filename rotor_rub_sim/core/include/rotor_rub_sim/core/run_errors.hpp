@@ -54,18 +54,16 @@ struct ReferenceTrace {
   ImpulseWindows windows;
   bool failed = false;
   std::string failure_message;
-  // Up to when the physics is determined at the reference's precision: where
-  // an independent run of the same physics (a witness) leaves the reference's
-  // orbit. Past it, a chaotic stick-slip amplifies any rounding, so a run that
-  // parts from the reference there is sensitive, not wrong. Infinite: no
-  // witness was run, or it never parted.
-  double horizon_s = std::numeric_limits<double>::infinity();
-  std::string witness_failure_message;  // a witness that failed ends the horizon at its failure
 };
 
 // The first sample time at which the witness's rotor is farther than
 // apart_m from the reference's (the witness's last sample time if it stopped
-// earlier, infinity if neither).
+// earlier, infinity if neither): with a witness that the reference's
+// precision cannot tell from it (the same physics computed otherwise, or
+// perturbed within a tolerance), the time up to which the motion is
+// determined at that precision. Past it a chaotic stick-slip or a run of
+// grazing impacts has amplified the difference, so a run that parts from the
+// reference there is sensitive, not wrong.
 double sensitivity_horizon_s(const ReferenceTrace& reference, const ReferenceTrace& witness, double apart_m);
 
 // Runs the reference scene and keeps its trace.
@@ -81,14 +79,14 @@ struct RunErrors {
   double first_contact_err_s = 0.0;  // minus the reference's (NaN if either has none)
   double last_contact_end_s = 0.0;
   double last_contact_end_err_s = 0.0;
-  // Within the reference's horizon (all of the run if it has none):
+  // Within the horizon the observer was given (all of the run by default):
   double max_rotor_in_horizon_m = 0.0;  // max |r_r - r_r,ref|
-  // The touchdowns and lift-offs, in order, against the reference's: the
-  // largest |t - t_ref| while they agree (same kind, within one impulse
-  // window), and the reference's time of the first one that does not (or the
-  // run's, for one in excess): a contact missed, added or displaced; NaN when
-  // every one agrees. Grazes are left out: a method may resolve a graze as a
-  // brief contact.
+  // The contact events (touchdowns, lift-offs, grazes: impacts that leave
+  // at once), in order, against the reference's: the largest |t - t_ref|
+  // while they agree (same kind, within one impulse window), and the
+  // reference's time of the first one that does not (or the run's, for one in
+  // excess): a contact missed, added, displaced or ended otherwise; NaN when
+  // every one agrees.
   double max_event_err_s = 0.0;
   double event_mismatch_s = 0.0;
   // max over windows where the reference is in contact of
@@ -110,7 +108,8 @@ struct RunErrors {
 // output_rate_hz); a sample off that grid throws std::invalid_argument.
 class ErrorObserver : public SimulationObserver {
  public:
-  explicit ErrorObserver(const ReferenceTrace& ref) : ref_(ref), windows_(ref.windows.window_s()) {}
+  explicit ErrorObserver(const ReferenceTrace& ref, double horizon_s = std::numeric_limits<double>::infinity())
+      : ref_(ref), horizon_s_(horizon_s), windows_(ref.windows.window_s()) {}
   void on_sample(const Sample& s) override;
   void on_event(const ContactEvent& e) override;
   // The measures, after the run.
@@ -119,6 +118,7 @@ class ErrorObserver : public SimulationObserver {
  private:
   void compare_events(const std::vector<ContactEvent>& run, RunErrors& e) const;
   const ReferenceTrace& ref_;
+  double horizon_s_;
   ImpulseWindows windows_;
   std::vector<ContactEvent> events_;
   RunErrors e_;
