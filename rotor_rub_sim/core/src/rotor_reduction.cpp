@@ -2,9 +2,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <complex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rotor_rub::core {
@@ -50,18 +52,21 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   }
   const Planes planes = planes_of(nodes);
   const int np = static_cast<int>(planes.x_plane.size());
-  // The x-z plane's stiffness of the basis: the shaft's (isotropic) with the
-  // bearings' kxx and kyy averaged, symmetric. In planar indices.
-  Eigen::MatrixXd k_plane(np, np), m_plane(np, np);
-  for (int a = 0; a < np; ++a) {
-    for (int b = 0; b < np; ++b) {
-      const int xa = planes.x_plane[a], xb = planes.x_plane[b], ya = planes.y_plane[a], yb = planes.y_plane[b];
-      const double sign = planes.twin_sign[a] * planes.twin_sign[b];
-      k_plane(a, b) = 0.5 * (m.K(xa, xb) + sign * m.K(ya, yb));
-      m_plane(a, b) = 0.5 * (m.M(xa, xb) + sign * m.M(ya, yb));
+  // Each plane's stiffness and mass in planar indices (the y-z plane's with
+  // its twin signs), symmetric: a static shape is the symmetric part's.
+  auto plane_block = [&](const Eigen::MatrixXd& x, bool y_plane) {
+    Eigen::MatrixXd out(np, np);
+    const auto& dofs = y_plane ? planes.y_plane : planes.x_plane;
+    for (int a = 0; a < np; ++a) {
+      for (int b = 0; b < np; ++b) {
+        const double sign = y_plane ? planes.twin_sign[a] * planes.twin_sign[b] : 1.0;
+        out(a, b) = sign * x(dofs[a], dofs[b]);
+      }
     }
-  }
-  k_plane = 0.5 * (k_plane + k_plane.transpose()).eval();
+    return Eigen::MatrixXd(0.5 * (out + out.transpose()));
+  };
+  const Eigen::MatrixXd k_x = plane_block(m.K, false), k_y = plane_block(m.K, true);
+  const Eigen::MatrixXd m_plane = 0.5 * (plane_block(m.M, false) + plane_block(m.M, true));
   // The station's x is planar index 2 * station_node; the interior is the rest.
   const int station = 2 * station_node;
   std::vector<int> interior;
@@ -69,36 +74,88 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
     if (a != station) interior.push_back(a);
   }
   const int ni = np - 1;
-  Eigen::MatrixXd k_ii(ni, ni), m_ii(ni, ni);
-  Eigen::VectorXd k_ib(ni);
-  for (int a = 0; a < ni; ++a) {
-    k_ib(a) = k_plane(interior[a], station);
-    for (int b = 0; b < ni; ++b) {
-      k_ii(a, b) = k_plane(interior[a], interior[b]);
-      m_ii(a, b) = m_plane(interior[a], interior[b]);
+  auto interior_block = [&](const Eigen::MatrixXd& x) {
+    Eigen::MatrixXd out(ni, ni);
+    for (int a = 0; a < ni; ++a) {
+      for (int b = 0; b < ni; ++b) out(a, b) = x(interior[a], interior[b]);
     }
-  }
-  const Eigen::LLT<Eigen::MatrixXd> k_ii_llt(k_ii);
-  // A pivot at roundoff is as singular as a negative one.
-  if (k_ii_llt.info() != Eigen::Success || !(k_ii_llt.rcond() > 1e-14)) {
-    throw std::invalid_argument("rub station: node " + std::to_string(station_node) +
-                                ": the rotor with its station held cannot stand (its stiffness is singular: a "
-                                "bearing is missing)");
-  }
-  // Planar basis: the constraint mode, then the fixed-interface modes.
+    return out;
+  };
+  const Eigen::MatrixXd m_ii = interior_block(m_plane);
+  // The static shape of a unit station displacement (the interior's part) in
+  // a plane of stiffness k.
+  auto constraint_shape = [&](const Eigen::MatrixXd& k, const char* plane) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(interior_block(k));
+    // A pivot at roundoff is as singular as a negative one.
+    if (llt.info() != Eigen::Success || !(llt.rcond() > 1e-14)) {
+      throw std::invalid_argument("rub station: node " + std::to_string(station_node) +
+                                  ": the rotor with its station held cannot stand in its " + plane +
+                                  " plane (its stiffness is singular: a bearing is missing)");
+    }
+    Eigen::VectorXd k_ib(ni);
+    for (int a = 0; a < ni; ++a) k_ib(a) = k(interior[a], station);
+    return Eigen::VectorXd(-llt.solve(k_ib));
+  };
+  const Eigen::VectorXd psi_x = constraint_shape(k_x, "x-z"), psi_y = constraint_shape(k_y, "y-z");
+  // Column 0, the constraint mode: the planes' mean static shape (each
+  // plane's exact one for isotropic bearings), so that Guyan's reduction
+  // favours neither plane.
   Eigen::MatrixXd planar = Eigen::MatrixXd::Zero(np, planar_modes);
-  {
-    const Eigen::VectorXd psi = -k_ii_llt.solve(k_ib);
-    planar(station, 0) = 1.0;
-    for (int a = 0; a < ni; ++a) planar(interior[a], 0) = psi(a);
+  const Eigen::VectorXd psi_mean = 0.5 * (psi_x + psi_y);
+  planar(station, 0) = 1.0;
+  for (int a = 0; a < ni; ++a) planar(interior[a], 0) = psi_mean(a);
+  // The interior shapes, each placed in both planes (so the mass stays
+  // isotropic and the contact sees one station mass): the two static
+  // corrections that turn the mean static shape into each plane's own, and
+  // the fixed-interface modes of both planes, lowest frequency first (a
+  // correction at its Rayleigh quotient in its plane: it is needed as early
+  // as the modes of its frequency; test_rotor_reduction,
+  // FrequenciesAndResponsesConvergeWithModes, where the corrections put
+  // first cost the first mode at 2 planar modes). M-orthonormalised in that
+  // order; a shape already in the span is left out, so isotropic bearings
+  // (both corrections zero, the planes' modes the same) give Craig-Bampton's
+  // basis. With anisotropic bearings each plane's basis holds its own static
+  // shape and modes, which the planes' mean did not
+  // (AnisotropicBearingsConvergeToTheFullModel).
+  std::vector<std::pair<double, Eigen::VectorXd>> candidates;  // (omega^2 [rad^2/s^2], shape)
+  const Eigen::MatrixXd k_x_ii = interior_block(k_x), k_y_ii = interior_block(k_y);
+  for (const auto& [k_ii, psi] : {std::pair{&k_x_ii, &psi_x}, std::pair{&k_y_ii, &psi_y}}) {
+    const Eigen::VectorXd d = *psi - psi_mean;
+    const double m_norm2 = d.dot(m_ii * d);
+    candidates.emplace_back(m_norm2 > 0.0 ? d.dot(*k_ii * d) / m_norm2 : 0.0, d);
   }
   if (planar_modes > 1) {
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_ii, m_ii);
-    if (eig.info() != Eigen::Success)
-      throw std::runtime_error("rub station: the fixed-interface modes did not converge");
-    for (int k = 1; k < planar_modes; ++k) {  // ascending; mass-normalised
-      for (int a = 0; a < ni; ++a) planar(interior[a], k) = eig.eigenvectors()(a, k - 1);
+    for (const Eigen::MatrixXd* k_ii : {&k_x_ii, &k_y_ii}) {
+      const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(*k_ii, m_ii);
+      if (eig.info() != Eigen::Success)
+        throw std::runtime_error("rub station: the fixed-interface modes did not converge");
+      for (int k_mode = 0; k_mode < ni; ++k_mode) {
+        candidates.emplace_back(eig.eigenvalues()(k_mode), eig.eigenvectors().col(k_mode));
+      }
     }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  // Gram-Schmidt in M_ii, twice (Kahan's "twice is enough"); a shape that
+  // keeps less than kNewShare of its norm is in the span already.
+  constexpr double kNewShare = 1e-8;
+  std::vector<Eigen::VectorXd> kept;
+  for (const auto& [omega2, c] : candidates) {
+    if (static_cast<int>(kept.size()) == planar_modes - 1) break;
+    const double before = std::sqrt(std::max(0.0, c.dot(m_ii * c)));
+    Eigen::VectorXd v = c;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (const auto& u : kept) v -= u.dot(m_ii * v) * u;
+    }
+    const double after = std::sqrt(std::max(0.0, v.dot(m_ii * v)));
+    if (!(before > 0.0) || !(after > kNewShare * before)) continue;
+    kept.push_back(v / after);
+  }
+  if (static_cast<int>(kept.size()) != planar_modes - 1) {  // the modes of one plane alone span the interior
+    throw std::runtime_error("rub station: the interior shapes do not span the rotor's planar DOFs");
+  }
+  for (int k_shape = 1; k_shape < planar_modes; ++k_shape) {
+    for (int a = 0; a < ni; ++a) planar(interior[a], k_shape) = kept[k_shape - 1](a);
   }
   // Both planes: columns [x shape, y twin] per planar shape.
   const int n = static_cast<int>(m.M.rows()), size = 2 * planar_modes;

@@ -6,19 +6,23 @@
 ///
 /// The basis (columns of Psi, full DOFs = Psi q_cb):
 /// * two constraint modes: the shaft's static shape under a unit x (and y)
-///   displacement of the station, every other DOF free;
-/// * fixed-interface modes: the shaft's modes with the station held, lowest
-///   first, in x/y pairs.
-/// Both come from the rotor's isotropic, symmetric stiffness (the bearings'
-/// kxx and kyy averaged, their cross-coupling left out), whose x-z and y-z
-/// planes are twins: every basis shape is planar and comes with its twin
-/// turned 90 deg about the axis (y = x, alpha = -beta). The reduced mass
-/// matrix is then isotropic, so the contact sees one station mass whatever
-/// the direction. K, C and G are the rotor's own (cross-coupled and
-/// anisotropic bearings included), projected: the reduction is exact as the
-/// modes are added, and for a rotor with isotropic bearings the station's
-/// static stiffness is exact for any number of modes (the constraint modes
-/// are the rotor's static shapes).
+///   displacement of the station, every other DOF free (with anisotropic
+///   bearings, the mean of the two planes' static shapes);
+/// * interior shapes, zero at the station: what turns that mean into each
+///   plane's own static shape, and the fixed-interface modes (the shaft's
+///   modes with the station held) of both planes, lowest frequency first (a
+///   static correction at its Rayleigh quotient), M-orthonormalised, a shape
+///   already in the span left out.
+/// Every planar shape (x, beta) comes with its twin turned 90 deg about the
+/// axis (y = x, alpha = -beta), so each plane's basis holds both planes'
+/// static shapes and modes. The reduced mass matrix is then isotropic, so
+/// the contact sees one station mass whatever the direction. K, C and G are
+/// the rotor's own (cross-coupled and anisotropic bearings included),
+/// projected: the reduction is exact as the shapes are added; without
+/// cross-coupling away from the station the station's static stiffness is
+/// exact once both static corrections are in (isotropic bearings: from 1
+/// planar mode, the planes' shapes coincide and the basis is
+/// Craig-Bampton's).
 ///
 /// Then q_cb = [u, eta] is changed to q = [u, xi] with
 /// eta = xi - M_ee^-1 M_eu u, which makes the mass block-diagonal:
@@ -41,7 +45,7 @@ namespace rotor_rub::core {
 
 struct ReducedRotor {
   int station_node = 0;
-  int planar_modes = 1;          ///< per plane: the station, and planar_modes - 1 fixed-interface modes
+  int planar_modes = 1;          ///< per plane: the station, and planar_modes - 1 interior shapes
   RotorMatrices matrices;        ///< M, K, C, G in q = [u_x, u_y, xi...] (size())
   Eigen::MatrixXd expansion;     ///< full FE DOFs = expansion * q (dofs() x size())
   double station_mass_kg = 0.0;  ///< m_st: M = diag(m_st, m_st, I)
