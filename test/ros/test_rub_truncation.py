@@ -40,7 +40,7 @@ def load_module():
 
 class Recommendation(unittest.TestCase):
     def test_a_tolerance_that_admits_a_model(self):
-        # Without the peak force, 8 planar modes are within 5 %; 4 are not (the probe's orbit 7 % off).
+        # Without the peak force, 8 planar modes are within 5 %; 4 are not (the probe's orbit 5.2 % off).
         out = temp_prefix("admits") + ".csv"
         r = tool("--scene", SEAL, *CUT, "--modes", "2", "4", "8", "--quantities", "first_contact", "orbit_station",
                  "orbit_probe", "--csv", out)
