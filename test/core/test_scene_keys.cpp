@@ -114,6 +114,19 @@ TEST(SceneKeys, CrossKeyRules) {
     EXPECT_EQ(error_of({{"integrator", "auto"}, {"method", m}}), "") << m;
   }
   EXPECT_NE(error_of({{"target_speed_rad_per_s", "3000"}}).find("max_speed_rad_per_s"), std::string::npos);
+  // A constant speed needs no dummy acceleration; a ramp with none is refused by name.
+  EXPECT_EQ(
+      error_of(
+          {{"acceleration_rad_per_s2", "0"}, {"initial_speed_rad_per_s", "300"}, {"target_speed_rad_per_s", "300"}}),
+      "");
+  EXPECT_NE(
+      error_of(
+          {{"acceleration_rad_per_s2", "0"}, {"initial_speed_rad_per_s", "300"}, {"target_speed_rad_per_s", "330"}})
+          .find("scene key 'acceleration_rad_per_s2': value 0 holds the speed, but target_speed_rad_per_s = "
+                "330 is not initial_speed_rad_per_s = 300; accepted: (0, inf) for a ramp to the target, 0 "
+                "with the two speeds equal"),
+      std::string::npos)
+      << error_of({{"acceleration_rad_per_s2", "0"}, {"target_speed_rad_per_s", "330"}});
 }
 
 TEST(SceneFile, RejectsNestedYamlAndDuplicates) {

@@ -236,7 +236,8 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
-                        "modes per plane (rotor_rub_modal --study recommends)",
+                        "shapes per plane (the planes' static corrections and modes, lowest first; "
+                        "rotor_rub_modal --study recommends)",
                         [](Scene& s) -> long& { return s.rotor.planar_modes; }));
     t.push_back(integer("rotor_probe_node", -1, 100000,
                         "the node of a flexible rotor the X/Y probes read (probe_*); -1: the rotor file's first "
@@ -263,7 +264,9 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.speed.initial_angle_rad; }));
     t.push_back(real("initial_speed_rad_per_s", 0, false, kInf, "spin speed at t = 0 [rad/s]",
                      [](Scene& s) -> double& { return s.speed.initial_speed_rad_per_s; }));
-    t.push_back(real("acceleration_rad_per_s2", 0, true, kInf, "angular acceleration toward the target [rad/s^2]",
+    t.push_back(real("acceleration_rad_per_s2", 0, false, kInf,
+                     "angular acceleration toward the target [rad/s^2]; 0 for a constant speed (the target "
+                     "then equal to the initial speed)",
                      [](Scene& s) -> double& { return s.speed.acceleration_rad_per_s2; }));
     t.push_back(real("target_speed_rad_per_s", 0, false, kInf, "target spin speed [rad/s]; held once reached",
                      [](Scene& s) -> double& { return s.speed.target_speed_rad_per_s; }));
@@ -531,6 +534,12 @@ void validate_scene(const Scene& s) {
     throw SceneError(
         "scene key 'target_speed_rad_per_s': value " + format_double(s.speed.target_speed_rad_per_s) +
         " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
+  }
+  if (s.speed.acceleration_rad_per_s2 == 0.0 && s.speed.target_speed_rad_per_s != s.speed.initial_speed_rad_per_s) {
+    throw SceneError("scene key 'acceleration_rad_per_s2': value 0 holds the speed, but target_speed_rad_per_s = " +
+                     format_double(s.speed.target_speed_rad_per_s) +
+                     " is not initial_speed_rad_per_s = " + format_double(s.speed.initial_speed_rad_per_s) +
+                     "; accepted: (0, inf) for a ramp to the target, 0 with the two speeds equal");
   }
   if (s.solver.min_step_s >= s.solver.initial_step_s) {
     throw SceneError("scene key 'min_step_s': value " + format_double(s.solver.min_step_s) +

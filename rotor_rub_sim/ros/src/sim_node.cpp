@@ -698,6 +698,11 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
          << scene_.speed.acceleration_rad_per_s2;
       throw std::invalid_argument(os.str());
     }
+    if (accel == 0.0) {
+      throw std::invalid_argument(
+          "speed command acceleration_limit 0 takes the scene's acceleration_rad_per_s2, which is 0 (a "
+          "constant-speed scene); accepted: (0, inf)");
+    }
     core::check_speed_command(scene_, msg->target_speed, accel);
     const double t_cmd = msg->header.stamp.toSec();
     if (lockstep_awaited_s_ >= 0.0 && t_cmd >= lockstep_awaited_s_ - 0.5 / scene_.output_rate_hz) {
