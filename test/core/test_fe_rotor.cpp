@@ -297,3 +297,44 @@ TEST(FeRotor, BadFilesNameTheItemTheKeyAndTheRange) {
   EXPECT_NE(load_error(shaft + "probes:\n  - {nod: 1}\n").find("did you mean 'node'?"), std::string::npos);
   EXPECT_NE(load_error("shaft: [\n").find("cannot be read"), std::string::npos);
 }
+
+// Rayleigh damping of the shaft (shaft_damping, or a shaft entry's own
+// damping): on a free-free uniform shaft C = alpha M + beta K throughout, so
+// every elastic mode keeps its undamped frequency w and takes the ratio
+// alpha / (2 w) + beta w / 2 (lambda^2 + (alpha + beta w^2) lambda + w^2 = 0;
+// |lambda| = w). 1e-9: the eigenvalues' rounding over a spread of 1e5 in
+// frequency. The rigid-body roots (0 and -alpha) and the overdamped high
+// modes are real, not modes. An entry's own damping replaces the file's,
+// element by element; a bad value is refused naming the item and the range.
+TEST(FeRotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio) {
+  const double alpha_per_s = 3.0, beta_s = 2e-5;
+  const std::string path =
+      write_file("rayleigh_shaft.yaml",
+                 "shaft_damping: {mass_proportional_per_s: 3.0, stiffness_proportional_s: 2.0e-5}\n"
+                 "shaft:\n  - {elements: 10, length_m: 0.1, outer_diameter_m: 0.05}\n");
+  const core::FeRotor rotor = core::load_rotor_file(path);
+  const core::RotorMatrices m = core::assemble(rotor);
+  const auto modes = core::modes(m, 0.0, 8);
+  ASSERT_EQ(modes.size(), 8u);
+  for (const auto& mode : modes) {
+    const double w = mode.natural_frequency_rad_per_s;
+    EXPECT_NEAR(mode.damping_ratio, alpha_per_s / (2.0 * w) + beta_s * w / 2.0, 1e-9) << w;
+  }
+  EXPECT_GT(modes.front().damping_ratio, 0.0);
+  // An entry's own damping for its elements only: half the shaft undamped.
+  const core::FeRotor half = core::load_rotor_file(
+      write_file("rayleigh_half.yaml",
+                 "shaft_damping: {stiffness_proportional_s: 2.0e-5}\n"
+                 "shaft:\n  - {elements: 5, length_m: 0.1, outer_diameter_m: 0.05}\n"
+                 "  - {elements: 5, length_m: 0.1, outer_diameter_m: 0.05, damping: {stiffness_proportional_s: 0}}\n"));
+  const core::RotorMatrices mh = core::assemble(half);
+  const int mid = core::dof_index(5, core::kDofX);
+  EXPECT_GT(mh.C.block(0, 0, mid, mid).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(mh.C.block(mid + 4, mid + 4, mh.C.rows() - mid - 4, mh.C.rows() - mid - 4).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NE(load_error("shaft_damping: {stiffness_proportional_s: -1e-5}\n"
+                       "shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n")
+                .find("shaft_damping key 'stiffness_proportional_s': value -1e-5 is out of range; accepted: [0, inf)"),
+            std::string::npos)
+      << load_error(
+             "shaft_damping: {stiffness_proportional_s: -1e-5}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n");
+}

@@ -154,8 +154,11 @@ RotorMatrices assemble(const FeRotor& rotor) {
              " is out of range; accepted: [0, outer_diameter_m)");
     }
     const int at = 4 * static_cast<int>(i);
-    m.M.block<8, 8>(at, at) += shaft_mass(e);
-    m.K.block<8, 8>(at, at) += shaft_stiffness(e);
+    const ElementMatrix mass = shaft_mass(e), stiffness = shaft_stiffness(e);
+    m.M.block<8, 8>(at, at) += mass;
+    m.K.block<8, 8>(at, at) += stiffness;
+    m.C.block<8, 8>(at, at) +=
+        e.damping.mass_proportional_per_s * mass + e.damping.stiffness_proportional_s * stiffness;
     m.G.block<8, 8>(at, at) += shaft_gyroscopic(e);
   }
   auto check_node = [&](int node, const std::string& item) {
@@ -290,9 +293,9 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
   }
   std::sort(wanted.begin(), wanted.end(),
             [&](int p, int q) { return eig.eigenvalues()(p).imag() < eig.eigenvalues()(q).imag(); });
-  if (static_cast<int>(wanted.size()) > count) wanted.resize(static_cast<std::size_t>(count));
   std::vector<Mode> out;
   for (const int i : wanted) {
+    if (static_cast<int>(out.size()) == count) break;
     Complex lambda = eig.eigenvalues()(i);
     // Two steps of inverse iteration from the QR result, right and left
     // vectors, and the two-sided Rayleigh quotient (second order in the
@@ -307,6 +310,11 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
       const Complex refined = y.dot(ac * x) / y.dot(x);  // dot: y^H (A x)
       if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
     }
+    // A real root (an overdamped pair, or a multiple root such as the
+    // rigid-body ones under mass-proportional damping) can leave the QR with
+    // a small imaginary part, which the refinement removes: not a mode
+    // (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio).
+    if (!(lambda.imag() > 1e-8 * std::abs(lambda))) continue;
     Mode md;
     md.natural_frequency_rad_per_s = std::abs(lambda);
     md.damped_frequency_rad_per_s = lambda.imag();

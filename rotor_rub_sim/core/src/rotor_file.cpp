@@ -71,6 +71,13 @@ class Reader {
   std::vector<std::string> keys_;
 };
 
+ShaftDamping read_damping(const std::string& file, const std::string& item, const YAML::Node& n, ShaftDamping d) {
+  const Reader r(file, item, n, {"mass_proportional_per_s", "stiffness_proportional_s"});
+  d.mass_proportional_per_s = r.number("mass_proportional_per_s", 0.0, false, kInf, d.mass_proportional_per_s);
+  d.stiffness_proportional_s = r.number("stiffness_proportional_s", 0.0, false, kInf, d.stiffness_proportional_s);
+  return d;
+}
+
 Material read_material(const std::string& file, const std::string& item, const YAML::Node& n, Material m) {
   const Reader r(file, item, n, {"youngs_modulus_Pa", "shear_modulus_Pa", "density_kg_per_m3"});
   m.youngs_modulus_Pa = r.number("youngs_modulus_Pa", 0.0, true, kInf, m.youngs_modulus_Pa);
@@ -182,24 +189,28 @@ FeRotor load_rotor_file(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("rotor file '" + path + "': cannot be read: " + e.what());
   }
-  const Reader top(path, "(top level)", root,
-                   {"material", "shaft", "disks", "bearings", "unbalances", "rub_station", "probes", "matrices"});
+  const Reader top(
+      path, "(top level)", root,
+      {"material", "shaft_damping", "shaft", "disks", "bearings", "unbalances", "rub_station", "probes", "matrices"});
   FeRotor rotor;
   if (top.has("matrices")) {
-    for (const char* key : {"material", "shaft", "disks", "bearings"}) {
+    for (const char* key : {"material", "shaft_damping", "shaft", "disks", "bearings"}) {
       if (top.has(key)) top.fail("gives both 'matrices' and '" + std::string(key) + "'; accepted: one of them");
     }
     read_matrices(path, root["matrices"], rotor);
   }
   Material material;
   if (top.has("material")) material = read_material(path, "material", root["material"], material);
+  ShaftDamping damping;
+  if (top.has("shaft_damping")) damping = read_damping(path, "shaft_damping", root["shaft_damping"], damping);
   const YAML::Node shaft = sequence(path, root, "shaft");
   if (!rotor.imported && (!shaft || shaft.size() == 0)) {
     top.fail("lacks the list 'shaft' (at least one element) or the map 'matrices'");
   }
   for (std::size_t i = 0; shaft && i < shaft.size(); ++i) {
     const std::string item = "shaft entry " + std::to_string(i);
-    const Reader r(path, item, shaft[i], {"elements", "length_m", "outer_diameter_m", "inner_diameter_m", "material"});
+    const Reader r(path, item, shaft[i],
+                   {"elements", "length_m", "outer_diameter_m", "inner_diameter_m", "material", "damping"});
     ShaftElement e;
     e.length_m = r.required("length_m", 0.0, true, kInf);
     e.outer_diameter_m = r.required("outer_diameter_m", 0.0, true, kInf);
@@ -209,6 +220,7 @@ FeRotor load_rotor_file(const std::string& path) {
              " is out of range; accepted: [0, outer_diameter_m)");
     }
     e.material = r.has("material") ? read_material(path, item + " material", shaft[i]["material"], material) : material;
+    e.damping = r.has("damping") ? read_damping(path, item + " damping", shaft[i]["damping"], damping) : damping;
     const double repeat = r.number("elements", 1.0, false, 10000.0, 1.0);
     if (repeat != std::floor(repeat))
       r.fail("key 'elements': value " + std::to_string(repeat) + " is not a whole number");

@@ -37,11 +37,24 @@ struct Material {
   double poisson_ratio() const { return youngs_modulus_Pa / (2.0 * shear_modulus_Pa) - 1.0; }
 };
 
+/// A shaft element's Rayleigh damping, C_e = alpha M_e + beta K_e, acting in
+/// the casing's frame (as ROSS's shaft elements' alpha and beta). It is a
+/// structural damping to tune a model's modal damping (each mode's ratio
+/// alpha / (2 w) + beta w / 2 where C is proportional throughout): a real
+/// shaft's material damping turns with the shaft (internal damping, which
+/// destabilises whirl above the first critical speed), which this form does
+/// not model. None by default, as in ROSS.
+struct ShaftDamping {
+  double mass_proportional_per_s = 0.0;   ///< alpha [1/s]
+  double stiffness_proportional_s = 0.0;  ///< beta [s]
+};
+
 struct ShaftElement {
   double length_m = 0.0;
   double outer_diameter_m = 0.0;
   double inner_diameter_m = 0.0;  ///< 0: solid
   Material material;
+  ShaftDamping damping;
 };
 
 struct DiskElement {
@@ -134,7 +147,8 @@ struct Mode {
 
 /// The modes at speed Omega, by damped frequency ascending (eigenvalues of
 /// the first-order system [[0, I], [-M^-1 K, -M^-1 (C + Omega G)]] with
-/// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s are left out).
+/// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s and real
+/// roots, overdamped, are left out).
 /// Whirl from each node's orbit: y leading x by a quarter turn's sign
 /// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
 /// straight line counts as forward), a mode forward or backward when every
