@@ -12,6 +12,7 @@ import rosbag
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
+from dynamic_reconfigure import DynamicReconfigureCallbackException
 from dynamic_reconfigure.client import Client
 from std_srvs.srv import Trigger
 
@@ -189,8 +190,13 @@ class LiveChangesTest(unittest.TestCase):
                 self.assertEqual(d["min"], float(lo), key)
                 self.assertEqual(d["max"], float(hi), key)
             self.assertEqual(client.update_configuration({"friction_coefficient": 0.25})["friction_coefficient"], 0.25)
-            self.assertEqual(client.update_configuration({"friction_coefficient": 5.0})["friction_coefficient"], 0.25)
-            self.assertEqual(client.update_configuration({"restitution": float("nan")})["restitution"], 0.0)
+            # A refused value fails the call (the caller sees it) and leaves the value in force.
+            for refused in ({"friction_coefficient": 5.0}, {"restitution": float("nan")}):
+                with self.assertRaises(DynamicReconfigureCallbackException, msg=str(refused)):
+                    client.update_configuration(refused)
+            now = client.get_configuration(timeout=10)
+            self.assertEqual(now["friction_coefficient"], 0.25)
+            self.assertEqual(now["restitution"], 0.0)
             # A stamp already simulated, and a negative fault: refused, said why.
             feedback = Collector("/reconf/parameter_change_feedback", ParameterChangeFeedback)
             changes = rospy.Publisher("/reconf/parameter_change", ParameterChange, queue_size=10)

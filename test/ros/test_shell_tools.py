@@ -1,0 +1,71 @@
+#!/usr/bin/env python3
+"""The shell commands of docs/node.md after the set-up (issue 49): rosservice
+call step, dynparam get and set (an accepted value, and a refused one that
+fails the call and leaves the value in force), rostopic pub of a stamped
+parameter change, and tf2_tools' echo.py between the node's frames. Each is
+run as a subprocess, as typed, and its output checked."""
+import subprocess
+import unittest
+
+import rospy
+import rostest
+from rotor_rub_msgs.msg import ParameterChangeFeedback
+
+from ros_test_support import Collector
+
+SERVER = "/rotor_rub_sim/rotor_rub_sim"
+
+
+def shell(*args, timeout=60):
+    return subprocess.run(list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+
+
+class ShellTools(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("shell_tools_test")
+        rospy.wait_for_service("/rotor_rub_sim/step", timeout=60)
+
+    def test_a_rosservice_steps_the_paused_node(self):
+        p = shell("rosservice", "call", "/rotor_rub_sim/step", "duration: 0.1")
+        self.assertEqual(p.returncode, 0, p.stdout)
+        self.assertIn("success: True", p.stdout)
+        self.assertIn("sim_time: 0.1", p.stdout)
+
+    def test_b_dynparam_gets_sets_and_refuses_loudly(self):
+        p = shell("rosrun", "dynamic_reconfigure", "dynparam", "get", SERVER)
+        self.assertEqual(p.returncode, 0, p.stdout)
+        self.assertIn("'friction_coefficient': 0.1", p.stdout)
+        p = shell("rosrun", "dynamic_reconfigure", "dynparam", "set", SERVER, "friction_coefficient", "0.3")
+        self.assertEqual(p.returncode, 0, p.stdout)
+        p = shell("rosrun", "dynamic_reconfigure", "dynparam", "set", SERVER, "friction_coefficient", "5")
+        self.assertNotEqual(p.returncode, 0, "a refused value must fail the call: " + p.stdout)
+        self.assertIn("responded with an error", p.stdout)
+        p = shell("rosrun", "dynamic_reconfigure", "dynparam", "get", SERVER)
+        self.assertIn("'friction_coefficient': 0.3", p.stdout)
+
+    def test_c_rostopic_pub_of_a_stamped_change_is_applied(self):
+        feedback = Collector("/rotor_rub_sim/parameter_change_feedback", ParameterChangeFeedback)
+        feedback.wait_connected()
+        # rostopic pub -1 holds the connection 3 s: the stamp (simulated
+        # time) must lie ahead of the paused node's time when it arrives.
+        p = shell("rostopic", "pub", "-1", "/rotor_rub_sim/parameter_change", "rotor_rub_msgs/ParameterChange",
+                  "{header: {stamp: {secs: 1}}, change_id: 7, keys: [clearance_m], values: [0.0021]}")
+        self.assertEqual(p.returncode, 0, p.stdout)
+        shell("rosservice", "call", "/rotor_rub_sim/step", "duration: 1.0")
+        msgs = feedback.wait_for(lambda ms: any(m.change_id == 7 for m in ms), "the change's feedback")
+        got = [m for m in msgs if m.change_id == 7][0]
+        self.assertTrue(got.accepted, got.reason)
+        self.assertEqual(got.effective_time, 1.0)
+
+    def test_d_tf2_echo_prints_the_rotor_in_the_stator(self):
+        # /tf is not latched: the node runs while echo.py listens.
+        p = shell("rosservice", "call", "/rotor_rub_sim/resume")
+        self.assertIn("success: True", p.stdout)
+        p = shell("timeout", "8", "rosrun", "tf2_tools", "echo.py", "rotor_rub_sim/stator", "rotor_rub_sim/rotor")
+        self.assertIn("- Translation:", p.stdout)
+        self.assertIn("in RPY (degree)", p.stdout)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("rotor_rub_sim", "shell_tools", ShellTools)
