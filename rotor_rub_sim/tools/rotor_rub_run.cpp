@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
              [&](std::ostream& os) { tools::write_shaft_csv(os, recorder.shaft, sim.shaft_node_z_m()); });
   if (!summary_path.empty()) {
     std::ofstream os(summary_path);
-    tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time()});
+    tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time(), sim.contact_point()});
     if (!os) {
       std::cerr << "rotor_rub_run: cannot write summary '" << summary_path << "'\n";
       status = kExitOutput;

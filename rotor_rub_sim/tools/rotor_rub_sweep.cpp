@@ -113,8 +113,10 @@ SweepResult run_one(const tools::SweepRun& run, std::size_t total, const Values&
   }
   if (r.status == "ok" && !(r.errors.max_rotor_in_horizon_m <= opt.inaccurate_above_m)) {
     r.status = "inaccurate";
-    r.message = std::isfinite(judged.horizon_s) ? "max |r_r - r_r,ref| before the horizon above --inaccurate-above"
-                                                : "max |r_r - r_r,ref| above --inaccurate-above";
+    r.message =
+        std::string(std::isfinite(judged.horizon_s) ? "max |r_r - r_r,ref| before the horizon above --inaccurate-above"
+                                                    : "max |r_r - r_r,ref| above --inaccurate-above") +
+        (r.message.empty() ? "" : "; " + r.message);
   }
   return r;
 }

@@ -95,6 +95,12 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   // Every key of the scene that ran (defaults, file and overrides), as text
   // that reads back to the same scene: the run can be repeated from this.
   j["scene_values"] = core::scene_values(sc);
+  // What the contact meets (a flexible rotor's station mass is the reduced
+  // model's, not in the scene), and the penalty spring's mode on it.
+  const auto& cp = in.contact_point;
+  j["contact_point"] = {{"mass_kg", cp.mass_kg},
+                        {"effective_mass_kg", cp.effective_mass_kg},
+                        {"contact_mode_hz", cp.contact_mode_rad_per_s / (2.0 * M_PI)}};
   if (*in.failure) {
     j["status"] = core::to_string((*in.failure)->failure_class);
     j["failure"] = {{"t", (*in.failure)->time_s}, {"message", (*in.failure)->message}};

@@ -67,6 +67,7 @@ struct SummaryInput {
   core::RunStats stats;
   const std::optional<core::RunFailure>* failure;
   double end_time_s = std::nan("");  // the time the run reached (a contact still on ends there)
+  core::Simulation::ContactPoint contact_point;
 };
 void write_summary_json(std::ostream& os, const SummaryInput& in);
 

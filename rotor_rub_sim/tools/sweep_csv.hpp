@@ -1,6 +1,7 @@
 // The sweep's result table: one CSV row per run, and the merge of shards.
 #pragma once
 
+#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -22,7 +23,7 @@ struct SweepResult {
   core::RunStats stats;                           // of a timed run
   double rhs_share = 0.0, iteration_share = 0.0;  // --profile only, else NaN
   core::RunErrors errors;
-  double horizon_s = 0.0;  // the reference's (infinite without --witness)
+  double horizon_s = std::numeric_limits<double>::infinity();  // infinite without --witness
 };
 
 // The header line, without newline.

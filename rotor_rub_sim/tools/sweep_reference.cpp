@@ -54,7 +54,7 @@ std::string core_build_stamp() {
 }
 
 // ---- the on-disk cache: a binary file per reference, its key inside ----
-constexpr uint32_t kCacheMagic = 0x52524631;  // "RRF1"
+constexpr uint32_t kCacheMagic = 0x52524632;  // "RRF2"
 
 template <class T>
 void put(std::ostream& os, const T& v) {
@@ -98,6 +98,8 @@ void save(const std::string& path, const std::string& key, const core::Reference
     put<uint8_t>(os, wc[k] ? 1 : 0);
   }
   put<uint8_t>(os, t.failed ? 1 : 0);
+  put<uint64_t>(os, t.failure_message.size());
+  os.write(t.failure_message.data(), static_cast<std::streamsize>(t.failure_message.size()));
   os.close();
   if (os) {
     std::rename(tmp.c_str(), path.c_str());  // atomic: a reader sees the old file or the whole new one
@@ -146,7 +148,9 @@ bool load(const std::string& path, const std::string& key, double window_s, core
   uint8_t failed = 0;
   if (!get(is, failed)) return false;
   t.failed = failed != 0;
-  return true;
+  if (!get(is, n) || n > (1u << 20)) return false;
+  t.failure_message.assign(n, '\0');
+  return static_cast<bool>(is.read(t.failure_message.data(), static_cast<std::streamsize>(n)));
 }
 
 }  // namespace
@@ -178,12 +182,25 @@ Judged ReferenceStore::judge(const Values& run_values, double run_atol_m) {
     v["integrator"] = "dop853";
     witnesses.emplace_back(std::string(method) + " on dop853", v);
   }
+  // A witness that fails (or whose scene is refused: the moved bore beyond
+  // the clearance) says nothing about sensitivity: it is left out of the
+  // horizon and named in the row's message.
+  auto failed = [&out](const std::string& name, const std::string& why) {
+    out.witness_failures += (out.witness_failures.empty() ? "" : "; ") + name + ": " + why;
+  };
   for (const auto& [name, values] : witnesses) {
-    const auto w = trace_of(values);
-    out.horizon_s = std::min(out.horizon_s, core::sensitivity_horizon_s(*out.reference, *w, settings_.horizon_apart_m));
-    if (w->failed) {
-      out.witness_failures += (out.witness_failures.empty() ? "" : "; ") + name + ": " + w->failure_message;
+    std::shared_ptr<const core::ReferenceTrace> w;
+    try {
+      w = trace_of(values);
+    } catch (const core::SceneError& e) {
+      failed(name, e.what());
+      continue;
     }
+    if (w->failed) {
+      failed(name, w->failure_message);
+      continue;
+    }
+    out.horizon_s = std::min(out.horizon_s, core::sensitivity_horizon_s(*out.reference, *w, settings_.horizon_apart_m));
   }
   return out;
 }

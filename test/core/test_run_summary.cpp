@@ -2,10 +2,14 @@
 // read back by the comparison tool to the same events and figures.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/rotor_reduction.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "run_comparison.hpp"
 #include "run_output.hpp"
@@ -31,7 +35,8 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
     std::ofstream os(csv);
     tools::write_csv(os, recorder.samples);
     std::ofstream js(json);
-    tools::write_summary_json(js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure(), sim.time()});
+    tools::write_summary_json(
+        js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure(), sim.time(), sim.contact_point()});
   }
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);  // throws on invalid JSON
@@ -47,6 +52,15 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
   // The whole scene, every key, reads back to the same scene.
   std::map<std::string, std::string> values = j.at("scene_values").get<std::map<std::string, std::string>>();
   EXPECT_EQ(core::scene_values(core::scene_from_values(values)), core::scene_values(scene));
+
+  // What the contact meets: the paper's 0.418 kg rotor against its 0.86 kg
+  // elastic stator, and k_c = 1e9 N/m on their effective mass (closed form;
+  // 1e-12 relative: a few roundings).
+  const double m_eff = 1.0 / (1.0 / 0.418 + 1.0 / 0.86);
+  EXPECT_EQ(j.at("contact_point").at("mass_kg").get<double>(), 0.418);
+  EXPECT_NEAR(j.at("contact_point").at("effective_mass_kg").get<double>(), m_eff, 1e-12 * m_eff);
+  EXPECT_NEAR(j.at("contact_point").at("contact_mode_hz").get<double>(), std::sqrt(1e9 / m_eff) / (2.0 * M_PI),
+              1e-12 * std::sqrt(1e9 / m_eff));
 
   const tools::RecordedRun back = tools::read_runner_csv(csv, json);
   EXPECT_EQ(back.method, "switching");
@@ -75,4 +89,19 @@ TEST(RunSummary, ABrokenSummaryIsAnErrorNamingTheFile) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(json), std::string::npos) << e.what();
   }
+}
+
+// A flexible rotor's contact point is its reduced model's station: the
+// seal-rub example's 8 planar modes (m_st from the reduction itself) on a
+// rigid seal, where the effective mass is the station's.
+TEST(RunSummary, AFlexibleRotorsContactPointIsItsStation) {
+  const core::Scene scene = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
+  const core::Simulation sim(scene);
+  const core::FeRotor rotor = core::load_rotor_file(test::source_path("config/rotors/seal_rub.yaml"));
+  const double m_st = core::reduce_rotor(rotor, core::assemble(rotor), rotor.rub_station_node,
+                                         static_cast<int>(scene.rotor.planar_modes))
+                          .station_mass_kg;
+  EXPECT_EQ(sim.contact_point().mass_kg, m_st);
+  EXPECT_EQ(sim.contact_point().effective_mass_kg, m_st);
+  EXPECT_EQ(sim.contact_point().contact_mode_rad_per_s, std::sqrt(scene.model.contact_stiffness_N_per_m / m_st));
 }

@@ -4,6 +4,7 @@
 
 #include "range_violation.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/simulation.hpp"
 #include "temp_dir.hpp"
 #include "test_support.hpp"
 
@@ -126,7 +127,8 @@ TEST(SceneKeys, CrossKeyRules) {
                 "330 is not initial_speed_rad_per_s = 300; accepted: (0, inf) for a ramp to the target, 0 "
                 "with the two speeds equal"),
       std::string::npos)
-      << error_of({{"acceleration_rad_per_s2", "0"}, {"target_speed_rad_per_s", "330"}});
+      << error_of(
+             {{"acceleration_rad_per_s2", "0"}, {"initial_speed_rad_per_s", "300"}, {"target_speed_rad_per_s", "330"}});
 }
 
 TEST(SceneFile, RejectsNestedYamlAndDuplicates) {
@@ -155,4 +157,26 @@ TEST(SceneFile, TemplateDocumentsEveryKey) {
   for (const auto& k : core::scene_keys()) EXPECT_EQ(values.count(k.key), 1u) << k.key << " missing from the template";
   EXPECT_EQ(values.size(), core::scene_keys().size());
   EXPECT_NO_THROW(core::scene_from_values(values));
+}
+
+// A constant speed (acceleration_rad_per_s2 0, the target the initial
+// speed) holds its speed, and the spin angle is w t, on every sample of a
+// run (the paper's rotor at 300 rad/s, far above its 77 rad/s critical
+// speed; 1e-12: the angle's rounding over 0.2 s).
+TEST(SceneKeys, AConstantSpeedSceneHoldsItsSpeed) {
+  core::Scene s = core::scene_from_values({{"acceleration_rad_per_s2", "0"},
+                                           {"initial_speed_rad_per_s", "300"},
+                                           {"target_speed_rad_per_s", "300"},
+                                           {"end_time_s", "0.2"}});
+  struct Speeds : core::SimulationObserver {
+    std::vector<core::Sample> samples;
+    void on_sample(const core::Sample& x) override { samples.push_back(x); }
+  } obs;
+  const core::RunResult r = core::run_scene(s, obs);
+  ASSERT_FALSE(r.failure) << r.failure->message;
+  ASSERT_EQ(obs.samples.size(), 201u);
+  for (const auto& x : obs.samples) {
+    EXPECT_EQ(x.drive.speed_rad_per_s, 300.0) << x.t_s;
+    EXPECT_NEAR(x.drive.angle_rad, 300.0 * x.t_s, 1e-12) << x.t_s;
+  }
 }

@@ -312,8 +312,10 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
     }
     // A real root (an overdamped pair, or a multiple root such as the
     // rigid-body ones under mass-proportional damping) can leave the QR with
-    // a small imaginary part, which the refinement removes: not a mode
-    // (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio).
+    // a small imaginary part, which the refinement removes to rounding: not a
+    // mode (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio).
+    // 1e-8 of |lambda| is orders above that rounding; a mode below it would
+    // have a damping ratio within 5e-17 of 1.
     if (!(lambda.imag() > 1e-8 * std::abs(lambda))) continue;
     Mode md;
     md.natural_frequency_rad_per_s = std::abs(lambda);

@@ -6,7 +6,6 @@
 #include <complex>
 #include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace rotor_rub::core {
@@ -105,24 +104,35 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   planar(station, 0) = 1.0;
   for (int a = 0; a < ni; ++a) planar(interior[a], 0) = psi_mean(a);
   // The interior shapes, each placed in both planes (so the mass stays
-  // isotropic and the contact sees one station mass): the two static
-  // corrections that turn the mean static shape into each plane's own, and
-  // the fixed-interface modes of both planes, lowest frequency first (a
-  // correction at its Rayleigh quotient in its plane: it is needed as early
-  // as the modes of its frequency; test_rotor_reduction,
-  // FrequenciesAndResponsesConvergeWithModes, where the corrections put
-  // first cost the first mode at 2 planar modes). M-orthonormalised in that
+  // isotropic and the contact sees one station mass): the static correction
+  // (psi_x - psi_y) / 2, which turns the mean static shape into either
+  // plane's own (plus in x-z, minus in y-z), and the fixed-interface modes
+  // of both planes, lowest frequency first (the correction at the lower of
+  // its Rayleigh quotients in the two planes: it is needed as early as the
+  // modes of its frequency; put first, it cost the seal example its first
+  // mode at 2 planar modes, test_rotor_reduction,
+  // FrequenciesAndResponsesConvergeWithModes). M-orthonormalised in that
   // order; a shape already in the span is left out, so isotropic bearings
-  // (both corrections zero, the planes' modes the same) give Craig-Bampton's
-  // basis. With anisotropic bearings each plane's basis holds its own static
-  // shape and modes, which the planes' mean did not
+  // (no correction, the planes' modes the same) give Craig-Bampton's basis.
+  // With anisotropic bearings each plane's basis holds its own static shape
+  // and modes, which the planes' mean did not
   // (AnisotropicBearingsConvergeToTheFullModel).
-  std::vector<std::pair<double, Eigen::VectorXd>> candidates;  // (omega^2 [rad^2/s^2], shape)
+  struct Candidate {
+    double omega2 = 0.0;  // its frequency squared [rad^2/s^2]: the order taken
+    Eigen::VectorXd shape;
+    double scale = 0.0;  // the M-norm it is judged new against
+  };
+  std::vector<Candidate> candidates;
   const Eigen::MatrixXd k_x_ii = interior_block(k_x), k_y_ii = interior_block(k_y);
-  for (const auto& [k_ii, psi] : {std::pair{&k_x_ii, &psi_x}, std::pair{&k_y_ii, &psi_y}}) {
-    const Eigen::VectorXd d = *psi - psi_mean;
+  {
+    // A correction below kNewShare of the mean static shape is the planes'
+    // rounding, not a shape (judged against psi_mean, not against itself).
+    const Eigen::VectorXd d = 0.5 * (psi_x - psi_y);
     const double m_norm2 = d.dot(m_ii * d);
-    candidates.emplace_back(m_norm2 > 0.0 ? d.dot(*k_ii * d) / m_norm2 : 0.0, d);
+    if (m_norm2 > 0.0) {
+      const double omega2 = std::min(d.dot(k_x_ii * d), d.dot(k_y_ii * d)) / m_norm2;
+      candidates.push_back({omega2, d, std::sqrt(std::max(0.0, psi_mean.dot(m_ii * psi_mean)))});
+    }
   }
   if (planar_modes > 1) {
     for (const Eigen::MatrixXd* k_ii : {&k_x_ii, &k_y_ii}) {
@@ -130,25 +140,27 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
       if (eig.info() != Eigen::Success)
         throw std::runtime_error("rub station: the fixed-interface modes did not converge");
       for (int k_mode = 0; k_mode < ni; ++k_mode) {
-        candidates.emplace_back(eig.eigenvalues()(k_mode), eig.eigenvectors().col(k_mode));
+        candidates.push_back({eig.eigenvalues()(k_mode), eig.eigenvectors().col(k_mode), 1.0});
       }
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  // Gram-Schmidt in M_ii, twice (Kahan's "twice is enough"); a shape that
-  // keeps less than kNewShare of its norm is in the span already.
+                   [](const Candidate& a, const Candidate& b) { return a.omega2 < b.omega2; });
+  // Gram-Schmidt in M_ii, twice (Kahan's "twice is enough"). A shape that
+  // keeps less than kNewShare of its scale is in the span already: the two
+  // planes' copies of one mode (isotropic bearings) differ by the
+  // eigensolver's rounding, about 1e-12 of the mode, and any difference a
+  // bearing makes is orders above 1e-8.
   constexpr double kNewShare = 1e-8;
   std::vector<Eigen::VectorXd> kept;
-  for (const auto& [omega2, c] : candidates) {
+  for (const Candidate& c : candidates) {
     if (static_cast<int>(kept.size()) == planar_modes - 1) break;
-    const double before = std::sqrt(std::max(0.0, c.dot(m_ii * c)));
-    Eigen::VectorXd v = c;
+    Eigen::VectorXd v = c.shape;
     for (int pass = 0; pass < 2; ++pass) {
       for (const auto& u : kept) v -= u.dot(m_ii * v) * u;
     }
     const double after = std::sqrt(std::max(0.0, v.dot(m_ii * v)));
-    if (!(before > 0.0) || !(after > kNewShare * before)) continue;
+    if (!(after > kNewShare * c.scale)) continue;
     kept.push_back(v / after);
   }
   if (static_cast<int>(kept.size()) != planar_modes - 1) {  // the modes of one plane alone span the interior

@@ -270,6 +270,17 @@ std::vector<double> Simulation::shaft_node_z_m() const {
   return rotor == nullptr ? std::vector<double>() : rotor->rotor().node_z_m;
 }
 
+Simulation::ContactPoint Simulation::contact_point() const {
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  const ModelParameters& p = scene_.model;
+  ContactPoint c;
+  c.mass_kg = rotor == nullptr ? p.rotor_mass_kg : rotor->rotor().station_mass_kg;
+  c.effective_mass_kg =
+      p.stator_model == StatorModel::kRigid ? c.mass_kg : 1.0 / (1.0 / c.mass_kg + 1.0 / p.stator_mass_kg);
+  c.contact_mode_rad_per_s = std::sqrt(p.contact_stiffness_N_per_m / c.effective_mass_kg);
+  return c;
+}
+
 int Simulation::shaft_station_node() const {
   const FlexibleRotorModel* rotor = method_->flexible_rotor();
   return rotor == nullptr ? -1 : rotor->rotor().station_node;

@@ -73,8 +73,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   fault_srv_ = nh.advertiseService("inject_fault", &SimNode::on_inject_fault, this);
   if (config_.tf_rate_hz > 0.0) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   tf_prefix_ = nh.getNamespace() == "/" ? "" : nh.getNamespace().substr(1) + "/";
-  reconfigure_.emplace(private_nh, scene_, [this](const std::map<std::string, std::string>& changes) {
-    apply_change(changes, 0, "dynamic_reconfigure");
+  reconfigure_.emplace(private_nh, scene_, [this](const std::map<std::string, std::string>& changes, bool& accepted) {
+    accepted = apply_change(changes, 0, "dynamic_reconfigure");
     return sim_->scene();
   });
   reset_srv_ = nh.advertiseService("reset", &SimNode::on_reset, this);

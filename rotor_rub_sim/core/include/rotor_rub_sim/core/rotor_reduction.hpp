@@ -8,11 +8,12 @@
 /// * two constraint modes: the shaft's static shape under a unit x (and y)
 ///   displacement of the station, every other DOF free (with anisotropic
 ///   bearings, the mean of the two planes' static shapes);
-/// * interior shapes, zero at the station: what turns that mean into each
-///   plane's own static shape, and the fixed-interface modes (the shaft's
-///   modes with the station held) of both planes, lowest frequency first (a
-///   static correction at its Rayleigh quotient), M-orthonormalised, a shape
-///   already in the span left out.
+/// * interior shapes, zero at the station: the static correction that turns
+///   that mean into either plane's own ((psi_x - psi_y) / 2, added in one
+///   plane and taken away in the other), and the fixed-interface modes (the
+///   shaft's modes with the station held) of both planes, lowest frequency
+///   first (the correction at its Rayleigh quotient), M-orthonormalised, a
+///   shape already in the span left out.
 /// Every planar shape (x, beta) comes with its twin turned 90 deg about the
 /// axis (y = x, alpha = -beta), so each plane's basis holds both planes'
 /// static shapes and modes. The reduced mass matrix is then isotropic, so
@@ -20,7 +21,7 @@
 /// the rotor's own (cross-coupled and anisotropic bearings included),
 /// projected: the reduction is exact as the shapes are added; without
 /// cross-coupling away from the station the station's static stiffness is
-/// exact once both static corrections are in (isotropic bearings: from 1
+/// exact once the static correction is in (isotropic bearings: from 1
 /// planar mode, the planes' shapes coincide and the basis is
 /// Craig-Bampton's).
 ///

@@ -57,8 +57,8 @@ struct ReferenceTrace {
 };
 
 // The first sample time at which the witness's rotor is farther than
-// apart_m from the reference's (the witness's last sample time if it stopped
-// earlier, infinity if neither): with a witness that the reference's
+// apart_m from the reference's (a witness that failed first: its last sample
+// time; infinity if neither): with a witness that the reference's
 // precision cannot tell from it (the same physics computed otherwise, or
 // perturbed within a tolerance), the time up to which the motion is
 // determined at that precision. Past it a chaotic stick-slip or a run of

@@ -26,8 +26,8 @@ namespace rotor_rub::ros_node {
 class ReconfigureServer {
  public:
   // Applies changed keys (scene key -> exact text); returns the scene in
-  // force afterwards (the change refused: the one before).
-  using Apply = std::function<core::Scene(const std::map<std::string, std::string>&)>;
+  // force afterwards, and sets accepted to false when the change was refused.
+  using Apply = std::function<core::Scene(const std::map<std::string, std::string>&, bool& accepted)>;
 
   ReconfigureServer(ros::NodeHandle& private_nh, const core::Scene& start, Apply apply);
 
