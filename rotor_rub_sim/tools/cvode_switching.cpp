@@ -296,9 +296,7 @@ class CvodeSwitching {
   CvodeSwitching(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, SUNContext ctx,
                  CvodeRun& out)
       : scene_(scene),
-        flexible_(kFlexible ? std::make_shared<const core::FlexibleRotorModel>(
-                                  core::load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
-                            : nullptr),
+        flexible_(kFlexible ? core::flexible_rotor_of(scene) : nullptr),
         modal_size_(kFlexible ? 2 * flexible_->modal_size() : 0),
         model_(kFlexible ? core::station_parameters(scene.model, *flexible_) : scene.model),
         profile_(scene.speed),

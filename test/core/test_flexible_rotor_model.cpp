@@ -10,10 +10,18 @@
 #include <boost/numeric/odeint/external/eigen/eigen.hpp>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/simulation.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace rotor_rub;
@@ -162,4 +170,37 @@ TEST(FlexibleRotorModel, NodeDisplacementsAreTheExpansion) {
   }
   EXPECT_LT((nodes[6] - u).norm(), 1e-12 * scale);
   EXPECT_LT((nodes[12] - model.probe_displacement(u, modal)).norm(), 1e-12 * scale);
+}
+
+// A run reads its rotor file once: the scene carries what was read
+// (RotorSettings::loaded), so the run, its validation and a live change go
+// on after the file is gone, while a scene asking for other settings reads
+// the file again (here: fails, naming it).
+TEST(FlexibleRotorModel, TheSceneCarriesItsRotor) {
+  const std::string path = test::tmp() + "/carried_seal.yaml";
+  {
+    std::ifstream in(test::source_path("config/rotors/seal_rub.yaml"));
+    std::ofstream(path) << in.rdbuf();
+  }
+  std::map<std::string, std::string> values = core::read_scene_values(test::source_path("config/seal_rub_runup.yaml"));
+  values["rotor_file"] = path;
+  values["end_time_s"] = "0.01";
+  const core::Scene scene = core::scene_from_values(values);
+  ASSERT_TRUE(scene.rotor.loaded);
+  ASSERT_EQ(std::remove(path.c_str()), 0);
+  core::Simulation sim(scene);
+  EXPECT_EQ(sim.scene().rotor.loaded->model, scene.rotor.loaded->model);
+  core::SimulationObserver none;
+  sim.advance_to(0.005, none);
+  sim.change_parameters({{"friction_coefficient", "0.2"}});
+  sim.advance_to(0.01, none);
+  EXPECT_FALSE(sim.failure());
+  core::Scene other = scene;
+  other.rotor.planar_modes = 4;
+  try {
+    core::Simulation again(other);
+    ADD_FAILURE() << "a scene with other settings did not read the (removed) file";
+  } catch (const core::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene key 'rotor_file'"), std::string::npos) << e.what();
+  }
 }

@@ -105,8 +105,26 @@ ModelParameters station_parameters(const ModelParameters& scene, const FlexibleR
 
 double contact_radius_of(const Scene& scene) {
   if (scene.rotor.file.empty()) return scene.model.rotor_radius_m;
-  const double r = load_rotor_file(scene.rotor.file).rub_contact_radius_m;
+  const double r = flexible_rotor_of(scene)->contact_radius_m();
   return r > 0.0 ? r : scene.model.rotor_radius_m;
+}
+
+std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene) {
+  const RotorSettings& r = scene.rotor;
+  const double g = scene.model.gravity_m_per_s2;
+  if (r.loaded && r.loaded->file == r.file && r.loaded->planar_modes == r.planar_modes &&
+      r.loaded->probe_node == r.probe_node && r.loaded->gravity_m_per_s2 == g) {
+    return r.loaded->model;
+  }
+  return std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(r, g));
+}
+
+void load_rotor(Scene& scene) {
+  if (scene.rotor.file.empty()) return;
+  auto model = flexible_rotor_of(scene);
+  if (scene.rotor.loaded && scene.rotor.loaded->model == model) return;
+  scene.rotor.loaded = std::make_shared<const LoadedFlexibleRotor>(LoadedFlexibleRotor{
+      scene.rotor.file, scene.rotor.planar_modes, scene.rotor.probe_node, scene.model.gravity_m_per_s2, model});
 }
 
 }  // namespace rotor_rub::core

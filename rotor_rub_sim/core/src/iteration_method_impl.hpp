@@ -301,9 +301,7 @@ class IterationMethod final : public ContactMethod {
   using Dense = std::conditional_t<kScheme == Integrator::kDop853, DenseDop853<L>, DenseDopri5<State>>;
 
   explicit IterationMethod(const Scene& scene)
-      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(
-                                  load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
-                            : nullptr),
+      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
         model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),

@@ -51,9 +51,7 @@ class PenaltyMethod final : public ContactMethod {
   static constexpr bool kPolar = kModeLocked && !kFlexible;
 
   explicit PenaltyMethod(const Scene& scene)
-      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(
-                                  load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
-                            : nullptr),
+      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
         model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {

@@ -358,9 +358,9 @@ void validate_flexible_spin(const Scene& s, const FlexibleRotorModel& rotor) {
 // A flexible rotor: the file itself, read and reduced as a run will, and
 // what runs on it (the spin's inertia under a motor drive, RK4's step).
 void validate_flexible_rotor(const Scene& s) {
-  std::optional<FlexibleRotorModel> rotor;
+  std::shared_ptr<const FlexibleRotorModel> rotor;
   try {
-    rotor.emplace(load_flexible_rotor(s.rotor));
+    rotor = flexible_rotor_of(s);
   } catch (const std::invalid_argument& e) {
     // A count or a node out of the file's range names its own key.
     const std::string what = e.what();
@@ -548,9 +548,18 @@ void validate_scene(const Scene& s) {
   }
 }
 
-Scene scene_from_values(const std::map<std::string, std::string>& values) {
+Scene scene_from_values(const std::map<std::string, std::string>& values,
+                        std::shared_ptr<const LoadedFlexibleRotor> loaded) {
   Scene s;
   for (const auto& [k, v] : values) set_scene_value(s, k, v);
+  s.rotor.loaded = std::move(loaded);
+  // A flexible rotor's file is read here once (unless given the one it
+  // names) and validated from what was read; a file that cannot be read is
+  // read again by validate_scene, which names the key.
+  try {
+    load_rotor(s);
+  } catch (const std::invalid_argument&) {
+  }
   validate_scene(s);
   return s;
 }

@@ -34,7 +34,7 @@ Scene checked_scene(Scene scene) {
   // texts), which throws SceneError naming a key out of its range, then
   // validate_scene; the scene itself is kept (it may hold what no key sets,
   // profile_cost).
-  static_cast<void>(scene_from_values(scene_values(scene)));
+  scene.rotor.loaded = scene_from_values(scene_values(scene), scene.rotor.loaded).rotor.loaded;
   scene.solver.integrator = effective_integrator(scene);
   return scene;
 }

@@ -189,9 +189,7 @@ class SwitchingMethod final : public ContactMethod {
       std::conditional_t<kScheme == Integrator::kRkf78, DenseRkf78<L>, DenseDopri5<typename L::State>>>;
 
   explicit SwitchingMethod(const Scene& scene)
-      : flexible_(kFlexible ? std::make_shared<const FlexibleRotorModel>(
-                                  load_flexible_rotor(scene.rotor, scene.model.gravity_m_per_s2))
-                            : nullptr),
+      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
         model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
         free_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         contact_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),

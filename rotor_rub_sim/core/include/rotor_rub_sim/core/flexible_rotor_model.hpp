@@ -28,7 +28,9 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "rotor_rub_sim/core/model.hpp"
@@ -254,6 +256,23 @@ void add_lateral_torque(const JeffcottModel& m, const FlexibleRotorModel& rotor,
 /// file, a bad item, no rub_station, a count out of range).
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2 = 0.0);
 
+/// A rotor file read and reduced once, with the settings it was read for.
+struct LoadedFlexibleRotor {
+  std::string file;
+  long planar_modes = 0;
+  long probe_node = 0;
+  double gravity_m_per_s2 = 0.0;
+  std::shared_ptr<const FlexibleRotorModel> model;
+};
+
+/// A scene's flexible rotor: the one it carries (RotorSettings::loaded) when
+/// that was read for its file, planar modes, probe node and gravity, else
+/// the file read now (load_flexible_rotor's errors). A run reads its rotor
+/// file once (test_flexible_rotor_model, TheSceneCarriesItsRotor).
+std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene);
+/// Sets scene.rotor.loaded to flexible_rotor_of(scene) (nothing for the Jeffcott).
+void load_rotor(Scene& scene);
+
 /// What the contact methods' JeffcottModel holds for a flexible rotor: the
 /// station as a bare point of mass m_st (rotor_mass_kg), every other force
 /// on it the flexible model's: the methods replace the JeffcottModel's
@@ -266,7 +285,7 @@ ModelParameters station_parameters(const ModelParameters& scene, const FlexibleR
 
 /// The radius the rotor slides at in a scene [m]: a flexible rotor's rub
 /// station's contact_radius_m where its file gives one, else the scene's
-/// rotor_radius_m (as station_parameters). Reads the rotor file.
+/// rotor_radius_m (as station_parameters).
 double contact_radius_of(const Scene& scene);
 
 }  // namespace rotor_rub::core

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -185,12 +186,18 @@ struct ProbeParameters {
 /// shaft, disks and bearings (or its matrices), reduced at its rub station
 /// to planar_modes per plane (rotor_reduction.hpp). The contact keys apply
 /// at the station.
+struct LoadedFlexibleRotor;  // flexible_rotor_model.hpp
+
 struct RotorSettings {
   std::string file;       ///< the rotor file; empty: the Jeffcott rotor
-  long planar_modes = 8;  ///< the station and planar_modes - 1 shaft modes, per plane
+  long planar_modes = 8;  ///< the station and planar_modes - 1 shaft shapes, per plane
   /// The node the X/Y proximity probes read (ProbeParameters); -1: the
   /// rotor file's first probe node, else the rub station.
   long probe_node = -1;
+  /// The file read and reduced once (scene_from_values, Simulation), with
+  /// what it was read for: validation, the methods and live changes share it
+  /// (flexible_rotor_of). Not a key: a scene's copies share it.
+  std::shared_ptr<const LoadedFlexibleRotor> loaded;
 };
 
 /// Everything a run needs: what scene files, rosparam and --set fill

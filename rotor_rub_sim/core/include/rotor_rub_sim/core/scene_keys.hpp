@@ -64,7 +64,10 @@ std::string live_key_inert_reason(const std::string& key, const Scene& scene);
 void validate_scene(const Scene& scene);
 
 /// Applies a flat key->value map onto the defaults and validates the result.
-Scene scene_from_values(const std::map<std::string, std::string>& values);
+/// A flexible rotor's file is read once into RotorSettings::loaded, or
+/// `loaded` taken when it was read for the same settings.
+Scene scene_from_values(const std::map<std::string, std::string>& values,
+                        std::shared_ptr<const LoadedFlexibleRotor> loaded = nullptr);
 
 /// The nearest key by edit distance ("" when nothing is close).
 std::string nearest_scene_key(const std::string& key);
