@@ -182,12 +182,12 @@ struct ProbeParameters {
 };
 
 // ---- A flexible rotor (docs/rotors.md) ---------------------------------------
+struct LoadedFlexibleRotor;  // flexible_rotor_model.hpp
+
 /// In place of the Jeffcott rotor of the model's rotor keys: a rotor file's
 /// shaft, disks and bearings (or its matrices), reduced at its rub station
 /// to planar_modes per plane (rotor_reduction.hpp). The contact keys apply
 /// at the station.
-struct LoadedFlexibleRotor;  // flexible_rotor_model.hpp
-
 struct RotorSettings {
   std::string file;       ///< the rotor file; empty: the Jeffcott rotor
   long planar_modes = 8;  ///< the station and planar_modes - 1 shaft shapes, per plane

@@ -112,17 +112,19 @@ class Simulation {
   std::vector<double> shaft_node_z_m() const;
   /// A flexible rotor's rub station node, or -1 (the Jeffcott).
   int shaft_station_node() const;
-  /// What the contact meets: the rotor's mass at the contact point [kg] (the
-  /// Jeffcott's rotor_mass_kg, a flexible rotor's station mass m_st), the
-  /// effective mass of the rotor against the stator [kg] (1/m_r + 1/m_s
-  /// inverted; m_r alone on a rigid stator), and the contact mode: the
-  /// penalty spring k_c on that mass, sqrt(k_c / m_eff) [rad/s], whose period
-  /// a penalty run resolves (test_run_summary).
+  /// What the contact meets (test_run_summary).
   struct ContactPoint {
+    /// The rotor's mass at the contact point [kg]: the Jeffcott's
+    /// rotor_mass_kg, a flexible rotor's station mass m_st.
     double mass_kg = 0.0;
+    /// The rotor against the stator [kg]: 1 / (1/m_r + 1/m_s); m_r alone on
+    /// a rigid stator.
     double effective_mass_kg = 0.0;
+    /// The penalty spring k_c on that mass, sqrt(k_c / m_eff) [rad/s]: the
+    /// contact mode, whose period a penalty run resolves.
     double contact_mode_rad_per_s = 0.0;
   };
+  /// The contact point of the scene as run.
   ContactPoint contact_point() const;
   /// The run's cost so far (steps, evaluations, events; wall_time_s is the
   /// integration's own time).
