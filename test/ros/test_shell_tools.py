@@ -2,10 +2,14 @@
 """The shell commands of docs/node.md after the set-up (issue 49): rosservice
 call step, dynparam get and set (an accepted value, and a refused one that
 fails the call and leaves the value in force), rostopic pub of a stamped
-parameter change, and tf2_tools' echo.py between the node's frames. Each is
-run as a subprocess, as typed, and its output checked."""
+parameter change, tf2_tools' echo.py between the node's frames, and a fault
+the scene cannot take refused on receipt. Each is run as a subprocess, as
+typed, and its output checked."""
+import os
 import subprocess
 import unittest
+
+import rospkg
 
 import rospy
 import rostest
@@ -65,6 +69,27 @@ class ShellTools(unittest.TestCase):
         p = shell("timeout", "8", "rosrun", "tf2_tools", "echo.py", "rotor_rub_sim/stator", "rotor_rub_sim/rotor")
         self.assertIn("- Translation:", p.stdout)
         self.assertIn("in RPY (degree)", p.stdout)
+
+
+    def test_e_a_fault_the_scene_cannot_take_is_refused_on_receipt(self):
+        # A second node on the seal-rub rotor, started as docs/node.md shows
+        # (rosparam load, then rosrun): a blade loss changes the Jeffcott's
+        # eccentricity, which a flexible rotor's file owns.
+        seal = os.path.join(rospkg.RosPack().get_path("rotor_rub_sim"), "config", "seal_rub_runup.yaml")
+        p = shell("rosparam", "load", seal, "/flex/rotor_rub_sim")
+        self.assertEqual(p.returncode, 0, p.stdout)
+        node = subprocess.Popen(["rosrun", "rotor_rub_sim", "rotor_rub_sim_node", "__ns:=/flex", "_start_paused:=true",
+                                 "_end_action:=continue"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            rospy.wait_for_service("/flex/inject_fault", timeout=60)
+            p = shell("rosservice", "call", "/flex/inject_fault",
+                      "{fault: {header: {stamp: {secs: 1}}, fault_id: 3, kind: 0, magnitude: 1.0e-4, phase: 0.0}}")
+            self.assertEqual(p.returncode, 0, p.stdout)
+            self.assertIn("accepted: False", p.stdout)
+            self.assertIn("scene key 'eccentricity_m' is not changed", p.stdout)
+        finally:
+            node.terminate()
+            node.wait(timeout=30)
 
 
 if __name__ == "__main__":

@@ -807,6 +807,16 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
     throw std::invalid_argument("the simulation has failed; call the reset service first");
   const std::string past = past_stamp(msg.header.stamp.toSec());
   if (!past.empty()) throw std::invalid_argument(past);
+  // Checked on receipt as a parameter change is (its keys, their liveness
+  // and ranges), on the model in force now: a fault the scene cannot take (a
+  // blade loss on a flexible rotor, whose unbalances are its file's) is
+  // refused to the caller, not accepted and then refused at its stamp
+  // (test_shell_tools.py). A ramp's first and last steps bound the rest.
+  const auto steps = core::fault_steps(c.fault, sim_->scene().model, scene_.output_rate_hz);
+  if (!steps.empty()) {
+    core::with_live_changes(sim_->scene(), steps.front().changes, false);
+    core::with_live_changes(sim_->scene(), steps.back().changes, false);
+  }
   c.time_s = std::max(msg.header.stamp.toSec(), sim_->time());
   c.id = msg.fault_id;
   c.source = std::string("fault:") + core::to_string(c.fault.kind);
