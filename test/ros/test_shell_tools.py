@@ -13,7 +13,7 @@ import rospkg
 
 import rospy
 import rostest
-from rotor_rub_msgs.msg import ParameterChangeFeedback
+from rotor_rub_msgs.msg import ParameterChangeFeedback, SpeedCommand, SpeedCommandFeedback
 
 from ros_test_support import Collector
 
@@ -87,6 +87,30 @@ class ShellTools(unittest.TestCase):
             self.assertEqual(p.returncode, 0, p.stdout)
             self.assertIn("accepted: False", p.stdout)
             self.assertIn("scene key 'eccentricity_m' is not changed", p.stdout)
+        finally:
+            node.terminate()
+            node.wait(timeout=30)
+
+
+    def test_f_a_constant_speed_node_refuses_a_command_without_an_acceleration(self):
+        # acceleration_rad_per_s2 0 holds the speed; a command's acceleration_limit 0
+        # means the scene's, which would never reach its target: refused, said why.
+        node = subprocess.Popen(["rosrun", "rotor_rub_sim", "rotor_rub_sim_node", "__ns:=/steady", "_start_paused:=true",
+                                 "_end_action:=continue", "_initial_speed_rad_per_s:=100.0",
+                                 "_target_speed_rad_per_s:=100.0", "_acceleration_rad_per_s2:=0.0"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            rospy.wait_for_service("/steady/step", timeout=60)
+            feedback = Collector("/steady/speed_command_feedback", SpeedCommandFeedback)
+            feedback.wait_connected()
+            commands = rospy.Publisher("/steady/speed_command", SpeedCommand, queue_size=10)
+            while commands.get_num_connections() == 0:
+                rospy.sleep(0.01)
+            commands.publish(SpeedCommand(target_speed=150.0, acceleration_limit=0.0, command_id=11))
+            msgs = feedback.wait_for(lambda ms: any(m.command_id == 11 for m in ms), "the command's feedback")
+            got = [m for m in msgs if m.command_id == 11][0]
+            self.assertFalse(got.accepted)
+            self.assertIn("acceleration_rad_per_s2, which is 0", got.reason)
         finally:
             node.terminate()
             node.wait(timeout=30)

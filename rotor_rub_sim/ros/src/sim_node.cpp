@@ -698,7 +698,7 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
          << scene_.speed.acceleration_rad_per_s2;
       throw std::invalid_argument(os.str());
     }
-    if (accel == 0.0) {
+    if (accel == 0.0) {  // a constant-speed scene's 0 would never reach the target (test_shell_tools.py)
       throw std::invalid_argument(
           "speed command acceleration_limit 0 takes the scene's acceleration_rad_per_s2, which is 0 (a "
           "constant-speed scene); accepted: (0, inf)");
