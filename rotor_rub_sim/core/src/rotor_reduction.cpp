@@ -81,10 +81,11 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
     return out;
   };
   const Eigen::MatrixXd m_ii = interior_block(m_plane);
+  const Eigen::MatrixXd k_x_ii = interior_block(k_x), k_y_ii = interior_block(k_y);
   // The static shape of a unit station displacement (the interior's part) in
   // a plane of stiffness k.
-  auto constraint_shape = [&](const Eigen::MatrixXd& k, const char* plane) {
-    const Eigen::LLT<Eigen::MatrixXd> llt(interior_block(k));
+  auto constraint_shape = [&](const Eigen::MatrixXd& k, const Eigen::MatrixXd& k_ii, const char* plane) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(k_ii);
     // A pivot at roundoff is as singular as a negative one.
     if (llt.info() != Eigen::Success || !(llt.rcond() > 1e-14)) {
       throw std::invalid_argument("rub station: node " + std::to_string(station_node) +
@@ -95,7 +96,7 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
     for (int a = 0; a < ni; ++a) k_ib(a) = k(interior[a], station);
     return Eigen::VectorXd(-llt.solve(k_ib));
   };
-  const Eigen::VectorXd psi_x = constraint_shape(k_x, "x-z"), psi_y = constraint_shape(k_y, "y-z");
+  const Eigen::VectorXd psi_x = constraint_shape(k_x, k_x_ii, "x-z"), psi_y = constraint_shape(k_y, k_y_ii, "y-z");
   // Column 0, the constraint mode: the planes' mean static shape (each
   // plane's exact one for isotropic bearings), so that Guyan's reduction
   // favours neither plane.
@@ -123,7 +124,6 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
     double scale = 0.0;  // the M-norm it is judged new against
   };
   std::vector<Candidate> candidates;
-  const Eigen::MatrixXd k_x_ii = interior_block(k_x), k_y_ii = interior_block(k_y);
   {
     // A correction below kNewShare of the mean static shape is the planes'
     // rounding, not a shape (judged against psi_mean, not against itself).
