@@ -1,7 +1,8 @@
 // rotor_rub_modal: modal analysis of a flexible rotor (a rotor file,
 // docs/rotors.md): natural frequencies at rest, the Campbell diagram (damped
 // frequencies and whirl against speed) as CSV, the critical speeds where the
-// synchronous line crosses it, the unbalance response at a node against
+// synchronous line crosses it (--critical-speeds, on the Campbell diagram's
+// speeds), the unbalance response at a node against
 // speed (--response) and the mode shapes at rest (--shapes). scripts/plot_campbell.py draws the CSVs. With
 // --station, the modal truncation study at a rub station
 // (modal_convergence.hpp): reduced models of 1, 2, 4, ... planar modes
@@ -75,7 +76,7 @@ int main(int argc, char** argv) {
   int speeds = 101, count = 6, unbalance_node = -1, probe_node = -1, station = -1;
   std::vector<int> probe_nodes;
   std::vector<core::RotorUnbalance> unbalances;
-  bool study = false;
+  bool study = false, criticals = false;
   double tolerance = 1e-3;
   CLI::App app(
       "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
@@ -97,6 +98,10 @@ int main(int argc, char** argv) {
       ->type_name("N")
       ->capture_default_str()
       ->check(cli::integer_in(1, 1000));
+  app.add_flag("--critical-speeds", criticals,
+               "print the critical speeds up to --max-speed (a mode's damped frequency equal to the speed), bracketed "
+               "on the --speeds grid and located to 1e-12 (an eigensolve per speed: on a rotor of hundreds of DOF, "
+               "seconds)");
   app.add_option("--campbell", campbell_csv, "write speed, mode, w_d, w_n, zeta, whirl per row to this CSV")
       ->type_name("FILE");
   app.add_option("--unbalance-node", unbalance_node,
@@ -188,10 +193,15 @@ int main(int argc, char** argv) {
       std::printf("  %4d  %15.8f  %15.8f  %10.3e  %s\n", k++, md.damped_frequency_rad_per_s,
                   md.natural_frequency_rad_per_s, md.damping_ratio, core::to_string(md.whirl));
     }
-    std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);
-    for (const auto& c : core::critical_speeds(m, count, max_speed)) {
-      std::printf("  mode %d: %.6f rad/s (%.3f Hz, %.1f rpm), %s whirl\n", c.mode_index, c.speed_rad_per_s,
-                  c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
+    if (const int real = core::overdamped_roots(m, 0.0); real > 0) {
+      std::printf("  (and %d overdamped roots, real: no modes, left out)\n", real);
+    }
+    if (criticals) {
+      std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);
+      for (const auto& c : core::critical_speeds(m, count, max_speed, speeds - 1)) {
+        std::printf("  mode %d: %.6f rad/s (%.3f Hz, %.1f rpm), %s whirl\n", c.mode_index, c.speed_rad_per_s,
+                    c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
+      }
     }
     if (station >= 0)
       print_truncation_study(rotor, m, station, probe_nodes, count, max_speed, speeds, unbalances, tolerance);

@@ -36,6 +36,17 @@ TEST(ModalCli, RossExampleAndItsCsvs) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("91.79655318"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("96.28899977"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("critical speeds"), std::string::npos) << r.out;  // on request
+  EXPECT_EQ(r.out.find("overdamped"), std::string::npos) << r.out;       // it has none
+  // The critical speeds ROSS's example has below 400 rad/s (rotors.md), bracketed on 5 speeds.
+  const Result c = modal("--rotor " + rotor("ross_example.yaml") +
+                         " --modes 4 --max-speed 400 --speeds 5 "
+                         "--critical-speeds");
+  ASSERT_EQ(c.status, 0) << c.err;
+  for (const char* line :
+       {"mode 0: 91.788309 rad/s", "mode 1: 96.295529 rad/s", "mode 2: 271.251887 rad/s", "mode 3: 300.351513 rad/s"}) {
+    EXPECT_NE(c.out.find(line), std::string::npos) << line << "\n" << c.out;
+  }
   std::ifstream campbell(dir + "/campbell.csv"), response(dir + "/response.csv");
   std::string line;
   int rows = 0;

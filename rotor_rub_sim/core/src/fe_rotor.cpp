@@ -276,6 +276,55 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
   return eig.eigenvalues();
 }
 
+namespace {
+
+// A root is oscillatory (a mode) when Im lambda > 1e-8 |lambda|: a real root
+// (an overdamped pair, or a multiple root such as the rigid-body ones under
+// mass-proportional damping) can leave the QR with a small imaginary part of
+// about eps times the largest eigenvalue, orders below that; a mode below
+// it would have a damping ratio within 5e-17 of 1 (test_fe_rotor,
+// RayleighShaftDampingGivesEachModeItsClosedFormRatio).
+bool oscillatory(std::complex<double> lambda) {
+  return lambda.imag() > 1e-8 * std::abs(lambda) && std::abs(lambda) > 1e-6;
+}
+
+// The oscillatory roots of the first-order matrix a by damped frequency, the
+// `count` lowest (all: count < 0), from its eigenvalues alone (the QR
+// without vectors: half its cost).
+std::vector<std::complex<double>> lowest_roots(const Eigen::MatrixXd& a, int count) {
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
+  if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
+  std::vector<std::complex<double>> roots;
+  for (int i = 0; i < a.rows(); ++i) {
+    if (oscillatory(eig.eigenvalues()(i))) roots.push_back(eig.eigenvalues()(i));
+  }
+  std::sort(roots.begin(), roots.end(), [](auto p, auto q) { return p.imag() < q.imag(); });
+  if (count >= 0 && static_cast<int>(roots.size()) > count) roots.resize(static_cast<std::size_t>(count));
+  return roots;
+}
+
+// A simple root of a refined from the QR's value lambda: inverse iteration
+// from a generic start, right and left vectors from one factorisation, and
+// the two-sided Rayleigh quotient, twice (as modes(), without the QR's
+// vectors); x and y the unit right and left vectors.
+std::complex<double> refined_root(const Eigen::MatrixXd& a, std::complex<double> lambda, Eigen::VectorXcd& x,
+                                  Eigen::VectorXcd& y) {
+  const Eigen::MatrixXcd ac = a.cast<std::complex<double>>();
+  x = y = Eigen::VectorXcd::Ones(a.rows());
+  for (int step = 0; step < 2; ++step) {
+    const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted(ac - lambda * Eigen::MatrixXcd::Identity(a.rows(), a.cols()));
+    for (int pass = 0; pass < 2 - step; ++pass) {  // from the generic start: twice
+      x = shifted.solve(x).normalized();
+      y = shifted.adjoint().solve(y).normalized();
+    }
+    const std::complex<double> refined = y.dot(ac * x) / y.dot(x);
+    if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
+  }
+  return lambda;
+}
+
+}  // namespace
+
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
   using Complex = std::complex<double>;
   const int n = static_cast<int>(m.M.rows());
@@ -285,11 +334,11 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
   if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
   const Eigen::MatrixXcd ac = a.cast<Complex>();
   const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(2 * n, 2 * n);
-  // The `count` lowest by damped frequency, then refined.
+  const Eigen::MatrixXcd lt = l.transpose().cast<Complex>();
+  // The oscillatory roots by damped frequency; the lowest `count` refined.
   std::vector<int> wanted;
   for (int i = 0; i < 2 * n; ++i) {
-    const Complex lambda = eig.eigenvalues()(i);
-    if (lambda.imag() > 0.0 && std::abs(lambda) > 1e-6) wanted.push_back(i);
+    if (oscillatory(eig.eigenvalues()(i))) wanted.push_back(i);
   }
   std::sort(wanted.begin(), wanted.end(),
             [&](int p, int q) { return eig.eigenvalues()(p).imag() < eig.eigenvalues()(q).imag(); });
@@ -298,31 +347,25 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
     if (static_cast<int>(out.size()) == count) break;
     Complex lambda = eig.eigenvalues()(i);
     // Two steps of inverse iteration from the QR result, right and left
-    // vectors, and the two-sided Rayleigh quotient (second order in the
-    // vectors' error): the QR's eigenvalues carry an error of eps times the
-    // largest, which the lowest modes feel.
+    // vectors from one factorisation, and the two-sided Rayleigh quotient
+    // (second order in the vectors' error): the QR's eigenvalues carry an
+    // error of eps times the largest, which the lowest modes feel. The QR's
+    // vectors are the start: at a double root (an isotropic rotor at rest)
+    // they are two, which the iteration keeps apart.
     Eigen::VectorXcd x = eig.eigenvectors().col(i), y = x;
     for (int step = 0; step < 2; ++step) {
       const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted(ac - lambda * identity);
       x = shifted.solve(x).normalized();
-      const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted_h((ac - lambda * identity).adjoint());
-      y = shifted_h.solve(y).normalized();
+      y = shifted.adjoint().solve(y).normalized();
       const Complex refined = y.dot(ac * x) / y.dot(x);  // dot: y^H (A x)
       if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
     }
-    // A real root (an overdamped pair, or a multiple root such as the
-    // rigid-body ones under mass-proportional damping) can leave the QR with
-    // a small imaginary part, which the refinement removes to rounding: not a
-    // mode (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio).
-    // 1e-8 of |lambda| is orders above that rounding; a mode below it would
-    // have a damping ratio within 5e-17 of 1.
-    if (!(lambda.imag() > 1e-8 * std::abs(lambda))) continue;
+    if (!oscillatory(lambda)) continue;
     Mode md;
     md.natural_frequency_rad_per_s = std::abs(lambda);
     md.damped_frequency_rad_per_s = lambda.imag();
     md.damping_ratio = -lambda.real() / std::abs(lambda);
     // Back to the physical coordinates: q = L^-T y.
-    const Eigen::MatrixXcd lt = l.transpose().cast<Complex>();
     md.shape = lt.triangularView<Eigen::Upper>().solve(x.head(n));
     if (expansion.size() > 0) md.shape = expansion.cast<Complex>() * md.shape;
     Eigen::Index big = 0;
@@ -336,42 +379,69 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
   return out;
 }
 
+int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
+  int real = 0;
+  for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
+    if (!oscillatory(lambda) && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
+  }
+  return real;
+}
+
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples) {
   std::vector<CriticalSpeed> out;
-  count = std::min(count, static_cast<int>(modes(m, 0.0, count).size()));
-  // w_d - w of mode k at speed w; NaN where fewer than k + 1 modes exist
-  // there (an overdamped one left the band): such an interval is skipped,
-  // not read as a crossing.
-  auto excess = [&](int k, double w) {
-    const std::vector<Mode> at = modes(m, w, count);
-    return k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w
-                                           : std::numeric_limits<double>::quiet_NaN();
+  Eigen::MatrixXd l;
+  // w_d - w of mode k at speed w, from the eigenvalues alone (their error,
+  // eps times the largest, moves a crossing by far less than the root
+  // finder's tolerance); NaN where fewer than k + 1 modes exist there (an
+  // overdamped one left the band): such an interval is skipped, not read as
+  // a crossing.
+  auto excess_of = [](const std::vector<std::complex<double>>& roots, int k, double w) {
+    return k < static_cast<int>(roots.size()) ? roots[static_cast<std::size_t>(k)].imag() - w
+                                              : std::numeric_limits<double>::quiet_NaN();
   };
-  // The grid's modes once for every mode index.
-  std::vector<std::vector<Mode>> grid;
-  for (int s = 0; s <= samples; ++s) grid.push_back(modes(m, max_speed_rad_per_s * s / samples, count));
-  auto excess_on_grid = [&](int k, int s) {
-    const std::vector<Mode>& at = grid[static_cast<std::size_t>(s)];
-    return k < static_cast<int>(at.size())
-               ? at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - max_speed_rad_per_s * s / samples
-               : std::numeric_limits<double>::quiet_NaN();
-  };
+  auto roots_at = [&](double w) { return lowest_roots(first_order_matrix(m, w, l), count); };
+  const Eigen::MatrixXcd da_dw =
+      (first_order_matrix(m, 1.0, l) - first_order_matrix(m, 0.0, l)).cast<std::complex<double>>();
+  std::vector<std::vector<std::complex<double>>> grid;
+  for (int s = 0; s <= samples; ++s) grid.push_back(roots_at(max_speed_rad_per_s * s / samples));
+  count = std::min(count, static_cast<int>(grid.front().size()));
   for (int k = 0; k < count; ++k) {
-    double w0 = 0.0, f0 = excess_on_grid(k, 0);
+    double w0 = 0.0, f0 = excess_of(grid[0], k, 0.0);
     for (int s = 1; s <= samples; ++s) {
-      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess_on_grid(k, s);
+      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess_of(grid[static_cast<std::size_t>(s)], k, w1);
       if (std::isfinite(f0) && std::isfinite(f1) && (f0 > 0.0) != (f1 > 0.0)) {
         std::uintmax_t iterations = 100;
         auto f = [&](double w) {
-          const double v = excess(k, w);
+          const double v = excess_of(roots_at(w), k, w);
           return std::isfinite(v) ? v : f1;  // a gap inside: the root lies before it
         };
-        const auto r = boost::math::tools::toms748_solve(f, w0, w1, f0, f1,
-                                                         boost::math::tools::eps_tolerance<double>(40), iterations);
-        const double w = 0.5 * (r.first + r.second);
-        const std::vector<Mode> at = modes(m, w, count);
-        out.push_back(
-            {k, w, k < static_cast<int>(at.size()) ? at[static_cast<std::size_t>(k)].whirl : ModeWhirl::kMixed});
+        const auto r = boost::math::tools::toms748_solve(
+            f, w0, w1, f0, f1, boost::math::tools::eps_tolerance<double>(20), iterations);  // Newton polishes
+        // Polished by Newton on Im lambda_k(w) - w with the refined root and
+        // dlambda/dw = y^H (dA/dw) x / (y^H x) (A is affine in w): the QR's
+        // eigenvalues carry an error of eps times the largest (about 1e-7 of
+        // a rig's lowest modes), which the refined root has not.
+        double w = 0.5 * (r.first + r.second);
+        std::complex<double> lambda = roots_at(w)[static_cast<std::size_t>(k)];
+        for (int step = 0; step < 3; ++step) {
+          const Eigen::MatrixXd a = first_order_matrix(m, w, l);
+          Eigen::VectorXcd x, y;
+          lambda = refined_root(a, lambda, x, y);
+          const double slope = (y.dot(da_dw * x) / y.dot(x)).imag() - 1.0;
+          const double next = w - (lambda.imag() - w) / slope;
+          if (!std::isfinite(next) || !(next >= w0 && next <= w1)) break;
+          lambda += (next - w) * (slope + 1.0) * std::complex<double>(0.0, 1.0);  // the next step's shift
+          w = next;
+        }
+        // The refined modes there confirm the crossing: a real root the QR
+        // left with an imaginary part above the filter's (its error grows
+        // with the largest eigenvalue: stiff bearings) would shift the
+        // indices and cross where no mode does.
+        const std::vector<Mode> at = modes(m, w, k + 1);
+        if (k < static_cast<int>(at.size()) &&
+            std::abs(at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w) <= 1e-9 * std::max(w, 1.0)) {
+          out.push_back({k, w, at[static_cast<std::size_t>(k)].whirl});
+        }
       }
       w0 = w1;
       f0 = f1;

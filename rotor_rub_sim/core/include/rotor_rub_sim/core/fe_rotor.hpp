@@ -163,10 +163,15 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
 /// the contact's linearisation among them: rk4_stability.hpp).
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 
+/// How many real roots (overdamped pairs, Im lambda >= 0, not rigid-body)
+/// the first-order system has at speed Omega: left out of modes().
+int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
+
 /// Critical speeds: where a mode's damped frequency equals the speed
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
 /// for the `count` lowest modes tracked by index, in [0, max_speed]; located
-/// with TOMS 748 between the sample speeds where the sign changes.
+/// with TOMS 748 between the `samples` + 1 evenly spaced speeds where the
+/// sign changes, from the eigenvalues alone.
 struct CriticalSpeed {
   int mode_index = 0;
   double speed_rad_per_s = 0.0;
