@@ -47,6 +47,9 @@ Simulation::Simulation(const Scene& scene)
       method_(make_contact_method(scene_)),
       limits_(InvariantLimits::for_scene(scene_, contact_radius_of(scene_))),
       wall_budget_s_(scene_.solver.max_wall_time_s) {
+  // Room for a step's events (a touchdown and its lift-off, a few grazes),
+  // so that the first contact allocates nothing (test_allocations).
+  step_events_.reserve(16);
   // Start at rest, centred: the run-up's initial condition.
   method_->start(0.0, JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
