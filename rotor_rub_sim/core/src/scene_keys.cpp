@@ -237,7 +237,8 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
                         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
                         "shapes per plane (the planes' static corrections and modes, lowest first; "
-                        "rotor_rub_modal --study recommends)",
+                        "rotor_rub_modal --study recommends), up to the rotor's planar DOFs (2 per node: the full "
+                        "FE model of a rotor of up to 64 nodes)",
                         [](Scene& s) -> long& { return s.rotor.planar_modes; }));
     t.push_back(integer("rotor_probe_node", -1, 100000,
                         "the node of a flexible rotor the X/Y probes read (probe_*); -1: the rotor file's first "

@@ -109,7 +109,10 @@ class DenseRodasp {
  public:
   static constexpr int kSize = State::RowsAtCompileTime;
   static constexpr int kStages = RodaspTableau::kStages;
-  using Matrix = Eigen::Matrix<double, kSize, kSize, 0, State::MaxRowsAtCompileTime, State::MaxRowsAtCompileTime>;
+  // A flexible rotor's state is of dynamic size: its matrices are allocated
+  // once, at the first initialize() (a fixed maximum would put megabytes on
+  // the stack), and keep their storage (test_allocations).
+  using Matrix = std::conditional_t<kSize == Eigen::Dynamic, Eigen::MatrixXd, Eigen::Matrix<double, kSize, kSize>>;
 
   DenseRodasp(double atol, double rtol, double min_step_s, long max_steps)
       : atol_(atol), rtol_(rtol), min_step_s_(min_step_s), max_steps_(max_steps) {}
@@ -245,14 +248,14 @@ class DenseRodasp {
     if constexpr (System::kSecondOrderJacobian) {
       return attempt_with(sys, h, SecondOrderSolver(jac_, h * RodaspTableau::kGamma), stats);
     } else {
-      return attempt_with(sys, h, FullSolver(jac_, h * RodaspTableau::kGamma), stats);
+      full_lu_.compute(Matrix::Identity(jac_.rows(), jac_.cols()) - (h * RodaspTableau::kGamma) * jac_);
+      return attempt_with(sys, h, FullSolver{full_lu_}, stats);
     }
   }
 
-  // E^-1 r, E = I - tau J, by one LU of E.
+  // E^-1 r, E = I - tau J, by one LU of E (full_lu_, factored by attempt()).
   struct FullSolver {
-    Eigen::PartialPivLU<Matrix> lu;
-    FullSolver(const Matrix& jac, double tau) : lu(Matrix::Identity(jac.rows(), jac.cols()) - tau * jac) {}
+    const Eigen::PartialPivLU<Matrix>& lu;
     State solve(const State& r) const { return lu.solve(r); }
   };
   // The same for J = [0 I; A B] (kSecondOrderJacobian).
@@ -337,6 +340,7 @@ class DenseRodasp {
   std::array<State, kStages> k_{};
   State f0_, dfdt_, step_;  // sized by initialize()
   Matrix jac_;
+  Eigen::PartialPivLU<Matrix> full_lu_;  // E's LU when the Jacobian is full (FullSolver)
   State x_old_, x_new_, cont_c_, cont_d_;
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
   double err_old_ = 0.0, dt_old_ = 0.0;

@@ -88,10 +88,12 @@ struct SpinLayout {
 
 // A flexible rotor (flexible_rotor_model.hpp) carries its modal
 // coordinates xi and their rates after a layout's fixed part: at most
-// kMaxModalCoordinates of each (20 planar modes, the station's and 19 of
-// the shaft's, in x/y pairs), in a state of dynamic size with that maximum
-// (storage inside the vector: no allocation per step).
-inline constexpr int kMaxPlanarModes = 20;
+// kMaxModalCoordinates of each (128 planar modes, the station's and 127 of
+// the shaft's, in x/y pairs: the full FE model of a rotor of 64 nodes), in a
+// state of dynamic size with that maximum (storage inside the vector, 4 kB:
+// no allocation per step, test_allocations; matrices of the state's size
+// are allocated once, dense_rodasp.hpp).
+inline constexpr int kMaxPlanarModes = 128;
 inline constexpr int kMaxModalCoordinates = 2 * (kMaxPlanarModes - 1);
 /// [xi; xi'] of a flexible rotor [sqrt(kg) m, sqrt(kg) m/s] (empty: the Jeffcott).
 using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoordinates, 1>;
@@ -99,7 +101,7 @@ using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoor
 // The state vector of a layout whose fixed part has kFixed entries: fixed
 // size for the Jeffcott, dynamic for a flexible rotor. Every flexible
 // layout's state is one type, with room for the largest fixed part (an
-// elastic stator under a motor: 11, rounded up to 12 so that the 12 + 76
+// elastic stator under a motor: 11, rounded up to 12 so that the 12 + 508
 // doubles are 16-byte aligned storage) and the modal block's maximum, so that
 // a method's instances on one integrator (each stator, each drive, free
 // flight and contact) share one set of Eigen and odeint instantiations, which
