@@ -75,8 +75,7 @@ TEST(Allocations, NoneWhileARunAdvances) {
     long planar_modes;  // 0: the scene's rotor
     double t0_s, t1_s;
   };
-  for (const Case& c : {Case{"config/paper_runup.yaml", 0, 1.0, 1.3},
-                        Case{"config/seal_rub_runup.yaml", 8, 1.2, 1.3},
+  for (const Case& c : {Case{"config/paper_runup.yaml", 0, 1.0, 1.3}, Case{"config/seal_rub_runup.yaml", 8, 1.2, 1.3},
                         Case{"config/seal_rub_runup.yaml", 26, 1.23, 1.25}}) {
     for (const core::SolverEntry& row : core::solver_registry()) {
       if (row.integrator == core::Integrator::kRk4) continue;  // its fixed step: test_flexible_rk4
