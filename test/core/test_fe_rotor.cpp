@@ -301,6 +301,21 @@ TEST(FeRotor, RossSixDofMatricesAreTheLateralRotor) {
   EXPECT_NE(load_error(text + "  nodes_z_m: [0]\n").find("gives both 'nodes_z_m' and 'nodes'"), std::string::npos);
 }
 
+// ROSS's damped rig (config/rotors/ross_rub_rig.yaml: proportional damping
+// with beta 1e-5 s overdamps every mode above 2e5 rad/s) has a pair at
+// critical damping near 1.05e5 rad/s, which the QR returns with an
+// imaginary part of 1.5e-8 of itself (sqrt(eps): a double root): no mode.
+// The modes are its shaft's, from 181.8 rad/s (ROSS's first bending pair).
+TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
+  const core::RotorMatrices m =
+      core::assemble(core::load_rotor_file(test::source_path("config/rotors/ross_rub_rig.yaml")));
+  const auto md = core::modes(m, 0.0, 4);
+  ASSERT_EQ(md.size(), 4u);
+  EXPECT_NEAR(md.front().damped_frequency_rad_per_s, 181.77, 0.01);
+  for (const auto& mode : md) EXPECT_LT(mode.damping_ratio, 0.05) << mode.damped_frequency_rad_per_s;
+  EXPECT_GT(core::overdamped_roots(m, 0.0), 100);
+}
+
 // A rigid disk on a bearing, as matrices: its tilt, I_d theta'' -+ Omega I_p
 // theta' + k_t theta = 0, whirls at w = (-+Omega I_p + sqrt((Omega I_p)^2 + 4
 // I_d k_t)) / (2 I_d), backward the lower; its translation at sqrt(k / m).
