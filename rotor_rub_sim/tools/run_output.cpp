@@ -100,7 +100,8 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
   const auto& cp = in.contact_point;
   j["contact_point"] = {{"mass_kg", cp.mass_kg},
                         {"effective_mass_kg", cp.effective_mass_kg},
-                        {"contact_mode_hz", cp.contact_mode_rad_per_s / (2.0 * M_PI)}};
+                        {"contact_mode_hz", cp.contact_mode_rad_per_s / (2.0 * M_PI)},
+                        {"contact_damping_N_s_per_m", cp.contact_damping_N_s_per_m}};
   if (*in.failure) {
     j["status"] = core::to_string((*in.failure)->failure_class);
     j["failure"] = {{"t", (*in.failure)->time_s}, {"message", (*in.failure)->message}};

@@ -10,6 +10,7 @@
 
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "test_support.hpp"
@@ -133,6 +134,44 @@ TEST(PenaltyBounce, ReboundRatioIsTheScenesRestitution) {
     }
     ASSERT_GE(v.size(), 2u) << "e " << e;
     EXPECT_NEAR(v[1] / v[0], e, 0.01 * e) << "e " << e;
+  }
+}
+
+// The penalty damper given in N s/m (contact_damping_N_s_per_m, as ROSS and
+// most papers give it) in place of a restitution: the drop's rebound ratio
+// is the spring-dashpot's closed form, e = exp(-q (pi - 2 atan q)), q = zeta
+// / sqrt(1 - zeta^2), zeta = c_c / (2 sqrt(k_c m)) (contact_law.md), within
+// 1 % as above; the summary's contact_point reports c_c; the damper and a
+// restitution together are refused, naming both keys.
+TEST(PenaltyBounce, ADamperInNewtonSecondsPerMetreGivesItsClosedFormRebound) {
+  for (double zeta : {0.05, 0.2, 0.5}) {
+    core::Scene s = drop_scene({core::Method::kPenalty}, core::StatorModel::kRigid, 0.0);
+    s.model.contact_stiffness_N_per_m = 1e11;
+    const double c = 2.0 * zeta * std::sqrt(1e11 * s.model.rotor_mass_kg);
+    s.model.contact_damping_N_s_per_m = c;
+    s.solver.rtol = 1e-9;
+    s.solver.atol = 1e-12;
+    s.end_time_s = 0.06;
+    EXPECT_EQ(core::Simulation(s).contact_point().contact_damping_N_s_per_m, c);
+    const test::Run r = test::run(s);
+    ASSERT_FALSE(r.result.failure) << r.result.failure->message;
+    std::vector<double> v;
+    for (const auto& ev : r.out.events) {
+      if (ev.kind == core::EventKind::kTouchdown) v.push_back(ev.normal_velocity_m_per_s);
+    }
+    ASSERT_GE(v.size(), 2u) << "zeta " << zeta;
+    const double q = zeta / std::sqrt(1.0 - zeta * zeta);
+    const double e = std::exp(-q * (M_PI - 2.0 * std::atan(q)));
+    EXPECT_NEAR(v[1] / v[0], e, 0.01 * e) << "zeta " << zeta;
+  }
+  core::Scene both = drop_scene({core::Method::kPenalty}, core::StatorModel::kRigid, 0.5);
+  both.model.contact_damping_N_s_per_m = 10.0;
+  try {
+    core::validate_scene(both);
+    ADD_FAILURE() << "both accepted";
+  } catch (const core::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("'contact_damping_N_s_per_m' (10) and 'restitution' (0.5)"), std::string::npos)
+        << e.what();
   }
 }
 

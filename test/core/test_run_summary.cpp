@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
@@ -61,6 +62,12 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
   EXPECT_NEAR(j.at("contact_point").at("effective_mass_kg").get<double>(), m_eff, 1e-12 * m_eff);
   EXPECT_NEAR(j.at("contact_point").at("contact_mode_hz").get<double>(), std::sqrt(1e9 / m_eff) / (2.0 * M_PI),
               1e-12 * std::sqrt(1e9 / m_eff));
+  // Its damper from the scene's restitution 0 (the penalty's floor 0.01):
+  // 2 zeta sqrt(k_c m_eff), zeta = 4.81 (contact_law.md).
+  const double zeta = core::contact_damping_ratio(0.0, core::penalty_restitution_floor(1e9));
+  EXPECT_NEAR(zeta, 4.81, 0.01);
+  EXPECT_NEAR(j.at("contact_point").at("contact_damping_N_s_per_m").get<double>(), 2.0 * zeta * std::sqrt(1e9 * m_eff),
+              1e-12 * 2.0 * zeta * std::sqrt(1e9 * m_eff));
 
   const tools::RecordedRun back = tools::read_runner_csv(csv, json);
   EXPECT_EQ(back.method, "switching");

@@ -181,9 +181,9 @@ class LiveChangesTest(unittest.TestCase):
                     key = head.split()[0]
                     live[key] = head.split("accepted", 1)[1].strip()
             # The paper scene: an elastic stator, the switching method, the
-            # prescribed drive: k_c and the drive's keys act on none of it.
-            inert = {"contact_stiffness_N_per_m", "drive_torque_limit_N_m", "drive_proportional_gain_N_m_s_per_rad",
-                     "drive_integral_gain_N_m_per_rad"}
+            # prescribed drive: k_c, c_c and the drive's keys act on none of it.
+            inert = {"contact_stiffness_N_per_m", "contact_damping_N_s_per_m", "drive_torque_limit_N_m",
+                     "drive_proportional_gain_N_m_s_per_rad", "drive_integral_gain_N_m_per_rad"}
             self.assertEqual(sorted(offered), sorted(set(live) - inert))
             for key, d in offered.items():
                 lo, hi = live[key][1:-1].split(", ")

@@ -40,7 +40,7 @@ double rk4_stable_step_s(std::complex<double> lambda) {
 }
 
 double rk4_stable_step_s(const JeffcottModel& m) {
-  const double zeta = contact_damping_ratio(m.parameters());
+  const double zeta = contact_damping_ratio(m);
   const double omega_c = std::sqrt(m.parameters().contact_stiffness_N_per_m / m.effective_mass_kg());
   const std::complex<double> contact = zeta >= 1.0
                                            ? std::complex<double>(-omega_c * (zeta + std::sqrt(zeta * zeta - 1.0)), 0.0)

@@ -153,6 +153,7 @@ void mark_live(SceneKeyInfo& info) {
       "restitution",
       "impact_settle_velocity_m_per_s",
       "contact_stiffness_N_per_m",
+      "contact_damping_N_s_per_m",
       "drive_torque_limit_N_m",
       "drive_proportional_gain_N_m_s_per_rad",
       "drive_integral_gain_N_m_per_rad",
@@ -221,6 +222,10 @@ const std::vector<KeyEntry>& entries() {
                      [](Scene& s) -> double& { return s.model.impact_settle_velocity_m_per_s; }));
     t.push_back(real("contact_stiffness_N_per_m", 0, true, kInf, "penalty contact stiffness k_c [N/m] (method I)",
                      [](Scene& s) -> double& { return s.model.contact_stiffness_N_per_m; }));
+    t.push_back(real("contact_damping_N_s_per_m", 0, false, kInf,
+                     "penalty contact damper c_c [N s/m] (method I), in place of the restitution's; 0: from "
+                     "restitution (the summary's contact_point gives the mass that converts one into the other)",
+                     [](Scene& s) -> double& { return s.model.contact_damping_N_s_per_m; }));
     t.push_back(real("gravity_m_per_s2", 0, false, 100.0, "gravity along -y [m/s^2]; 0 for a vertical machine",
                      [](Scene& s) -> double& { return s.model.gravity_m_per_s2; }));
     t.push_back(real("stator_offset_x_m", -1.0, false, 1.0,
@@ -463,7 +468,8 @@ std::string live_key_inert_reason(const std::string& key, const Scene& scene) {
   if (rigid && (key == "stator_stiffness_N_per_m" || key == "stator_damping_N_s_per_m")) {
     return "it has no effect on a rigid stator (stator_model rigid)";
   }
-  if (key == "contact_stiffness_N_per_m" && scene.solver.method != Method::kPenalty) {
+  if ((key == "contact_stiffness_N_per_m" || key == "contact_damping_N_s_per_m") &&
+      scene.solver.method != Method::kPenalty) {
     return "it applies to the penalty method only";
   }
   if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
@@ -535,6 +541,11 @@ void validate_scene(const Scene& s) {
     throw SceneError(
         "scene key 'target_speed_rad_per_s': value " + format_double(s.speed.target_speed_rad_per_s) +
         " is out of range; accepted: [0, max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "]");
+  }
+  if (s.model.contact_damping_N_s_per_m > 0.0 && s.model.restitution > 0.0) {
+    throw SceneError("scene keys 'contact_damping_N_s_per_m' (" + format_double(s.model.contact_damping_N_s_per_m) +
+                     ") and 'restitution' (" + format_double(s.model.restitution) +
+                     ") both set the penalty contact's damper; accepted: one of them (the other 0)");
   }
   if (s.speed.acceleration_rad_per_s2 == 0.0 && s.speed.target_speed_rad_per_s != s.speed.initial_speed_rad_per_s) {
     throw SceneError("scene key 'acceleration_rad_per_s2': value 0 holds the speed, but target_speed_rad_per_s = " +

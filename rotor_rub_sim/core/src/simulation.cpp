@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
@@ -281,6 +282,10 @@ Simulation::ContactPoint Simulation::contact_point() const {
   c.effective_mass_kg =
       p.stator_model == StatorModel::kRigid ? c.mass_kg : 1.0 / (1.0 / c.mass_kg + 1.0 / p.stator_mass_kg);
   c.contact_mode_rad_per_s = std::sqrt(p.contact_stiffness_N_per_m / c.effective_mass_kg);
+  c.contact_damping_N_s_per_m =
+      p.contact_damping_N_s_per_m > 0.0
+          ? p.contact_damping_N_s_per_m
+          : 2.0 * contact_damping_ratio(p) * std::sqrt(p.contact_stiffness_N_per_m * c.effective_mass_kg);
   return c;
 }
 

@@ -100,9 +100,18 @@ inline double contact_damping_ratio(const ModelParameters& p) {
   return contact_damping_ratio(p.restitution, penalty_restitution_floor(p.contact_stiffness_N_per_m));
 }
 
+// The penalty damper c_c [N s/m]: the scene's contact_damping_N_s_per_m
+// where given, else 2 zeta sqrt(k_c m_eff) with zeta from the restitution.
 inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
-  return 2.0 * contact_damping_ratio(m.parameters()) *
-         std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
+  const ModelParameters& p = m.parameters();
+  if (p.contact_damping_N_s_per_m > 0.0) return p.contact_damping_N_s_per_m;
+  return 2.0 * contact_damping_ratio(p) * std::sqrt(p.contact_stiffness_N_per_m * m.effective_mass_kg());
+}
+
+// The same as a damping ratio of the contact mode, c_c / (2 sqrt(k_c m_eff)).
+inline double contact_damping_ratio(const JeffcottModel& m) {
+  return contact_damping_N_s_per_m(m) /
+         (2.0 * std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg()));
 }
 
 // The tangential damper of the penalty friction [N s/m].

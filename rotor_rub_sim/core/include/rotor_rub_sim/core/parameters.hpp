@@ -98,7 +98,11 @@ struct ModelParameters {
   /// contact (ends a Zeno sequence of ever smaller bounces).
   double impact_settle_velocity_m_per_s = 1.0e-6;
   double contact_stiffness_N_per_m = 1.0e9;  ///< k_c, penalty method only
-  double gravity_m_per_s2 = 0.0;             ///< along -y; 0: vertical machine, as in the paper
+  /// c_c [N s/m], penalty method only: the contact's damper as most papers
+  /// and ROSS give it; 0: from the restitution (contact_law.hpp). One of the
+  /// two: validate_scene refuses both.
+  double contact_damping_N_s_per_m = 0.0;
+  double gravity_m_per_s2 = 0.0;  ///< along -y; 0: vertical machine, as in the paper
   /// The stator's rest position (a misaligned or thermally bowed casing): the
   /// centre its springs pull it to, or where a rigid stator sits. A static
   /// offset below the clearance gives partial rub on one side.

@@ -123,6 +123,9 @@ class Simulation {
     /// The penalty spring k_c on that mass, sqrt(k_c / m_eff) [rad/s]: the
     /// contact mode, whose period a penalty run resolves.
     double contact_mode_rad_per_s = 0.0;
+    /// The penalty damper c_c on that mode [N s/m]: contact_damping_N_s_per_m
+    /// where the scene gives it, else the restitution's (contact_law.hpp).
+    double contact_damping_N_s_per_m = 0.0;
   };
   /// The contact point of the scene as run.
   ContactPoint contact_point() const;
