@@ -25,31 +25,11 @@ double frequency_error(const core::RotorMatrices& full, const core::ReducedRotor
 
 std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const core::RotorMatrices& full,
                                            const TruncationStudy& study) {
-  for (const int node : study.probe_nodes) {
-    if (node < 0 || node >= rotor.nodes()) {
-      throw std::invalid_argument("probe node " + std::to_string(node) + " is out of range; accepted: 0 to " +
-                                  std::to_string(rotor.nodes() - 1));
-    }
-  }
   std::vector<int> watched{study.station_node};
   watched.insert(watched.end(), study.probe_nodes.begin(), study.probe_nodes.end());
-  // The full model's responses once.
-  std::vector<Eigen::VectorXcd> want;
-  std::vector<double> largest;
   std::vector<double> speeds;
-  if (!study.unbalances.empty()) {
-    for (int k = 1; k < study.speeds; ++k) {
-      const double w = study.max_speed_rad_per_s * k / (study.speeds - 1);
-      speeds.push_back(w);
-      want.push_back(core::unbalance_response(full, study.unbalances, w));
-      double big = 0.0;
-      for (int node = 0; node < rotor.nodes(); ++node) {
-        big = std::max({big, std::abs(want.back()(core::dof_index(node, core::kDofX))),
-                        std::abs(want.back()(core::dof_index(node, core::kDofY)))});
-      }
-      largest.push_back(big);
-    }
-  }
+  for (int k = 1; k < study.speeds; ++k) speeds.push_back(study.max_speed_rad_per_s * k / (study.speeds - 1));
+  const core::ResponseReference reference(rotor, full, study.unbalances, speeds, watched);
   std::vector<int> counts;
   for (int m = 1; m < core::max_planar_modes(rotor); m *= 2) counts.push_back(m);
   counts.push_back(core::max_planar_modes(rotor));
@@ -60,15 +40,7 @@ std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const cor
     row.planar_modes = m;
     row.station_mass_kg = r.station_mass_kg;
     row.frequency_error = frequency_error(full, r, study.modes, study.max_speed_rad_per_s);
-    for (std::size_t s = 0; s < speeds.size(); ++s) {
-      const Eigen::VectorXcd got = core::unbalance_response(r, study.unbalances, speeds[s]);
-      for (const int node : watched) {
-        for (const auto dof : {core::kDofX, core::kDofY}) {
-          const int i = core::dof_index(node, dof);
-          row.response_error = std::max(row.response_error, std::abs(got(i) - want[s](i)) / largest[s]);
-        }
-      }
-    }
+    row.response_error = reference.error(r);
     rows.push_back(row);
   }
   return rows;

@@ -177,12 +177,15 @@ int main(int argc, char** argv) {
              [&](std::ostream& os) { tools::write_shaft_csv(os, recorder.shaft, sim.shaft_node_z_m()); });
   if (!summary_path.empty()) {
     std::ofstream os(summary_path);
-    tools::write_summary_json(os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time(), sim.contact_point()});
+    tools::write_summary_json(
+        os, {scene_path, &scene, &recorder, st, &sim.failure(), sim.time(), sim.contact_point(), sim.reduction()});
     if (!os) {
       std::cerr << "rotor_rub_run: cannot write summary '" << summary_path << "'\n";
       status = kExitOutput;
     }
   }
+  if (!quiet && sim.reduction().planar_modes > 0)
+    std::printf("rotor: %s\n", core::to_string(sim.reduction().planar_modes, sim.reduction().truncation).c_str());
   if (!quiet) {
     const auto sustained = core::longest_contact(recorder.events, sim.time());
     std::printf(

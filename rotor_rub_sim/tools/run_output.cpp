@@ -102,6 +102,18 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
                         {"effective_mass_kg", cp.effective_mass_kg},
                         {"contact_mode_hz", cp.contact_mode_rad_per_s / (2.0 * M_PI)},
                         {"contact_damping_N_s_per_m", cp.contact_damping_N_s_per_m}};
+  // A flexible rotor's reduction: its planar modes (auto's choice where asked)
+  // and the unbalance response's truncation error judged at the start.
+  if (in.reduction.planar_modes > 0) {
+    const core::TruncationReport& t = in.reduction.truncation;
+    Json r = {{"planar_modes", in.reduction.planar_modes}, {"auto", t.chosen}};
+    if (t.chosen) r["truncation_tolerance"] = t.tolerance;
+    r["response_error"] = std::isnan(t.response_error) ? Json(nullptr) : Json(t.response_error);
+    r["judged_speeds_rad_per_s"] = {t.min_speed_rad_per_s, t.max_speed_rad_per_s};
+    j["rotor_reduction"] = r;
+  } else {
+    j["rotor_reduction"] = nullptr;
+  }
   if (*in.failure) {
     j["status"] = core::to_string((*in.failure)->failure_class);
     j["failure"] = {{"t", (*in.failure)->time_s}, {"message", (*in.failure)->message}};

@@ -68,6 +68,7 @@ struct SummaryInput {
   const std::optional<core::RunFailure>* failure;
   double end_time_s = std::nan("");  // the time the run reached (a contact still on ends there)
   core::Simulation::ContactPoint contact_point;
+  core::Simulation::Reduction reduction;  // a flexible rotor's (planar_modes 0: the Jeffcott)
 };
 void write_summary_json(std::ostream& os, const SummaryInput& in);
 

@@ -639,3 +639,113 @@ TEST(FlexibleRotorRuns, RossRigRubConvergesWithTheModes) {
   EXPECT_NEAR(r_coarse / r_fine, 1.0, 1e-3);
   EXPECT_EQ(core::Simulation(s).contact_point().contact_damping_N_s_per_m, 40.0);
 }
+
+// rotor_planar_modes auto (rotor_truncation_tolerance 1e-3): the fewest planar
+// modes whose unbalance response at the station and the probe nodes is
+// within the tolerance of the full FE model's over the scene's speeds, one
+// fewer is not (judged here by ResponseReference on the same 24 speeds); on
+// the anisotropic rig (kyy/kxx = 115) run up from 100 to 400 rad/s.
+TEST(FlexibleRotorRuns, AutoModesAreTheFewestWithinTheTolerance) {
+  core::Scene s;
+  s.rotor.file = test::source_path("test/data/rotors/anisotropic_rig.yaml");
+  s.rotor.planar_modes = 0;  // auto
+  s.speed.initial_speed_rad_per_s = 100.0;
+  s.speed.target_speed_rad_per_s = 400.0;
+  const auto model = core::flexible_rotor_of(s);
+  const core::TruncationReport& t = model->truncation();
+  const long n = model->rotor().planar_modes;
+  EXPECT_TRUE(t.chosen);
+  EXPECT_EQ(t.min_speed_rad_per_s, 100.0);
+  EXPECT_EQ(t.max_speed_rad_per_s, 400.0);
+  const core::FeRotor rotor = core::load_rotor_file(s.rotor.file);
+  const core::RotorMatrices full = core::assemble(rotor);
+  std::vector<double> speeds;
+  for (int k = 0; k < 24; ++k) speeds.push_back(100.0 + 300.0 * k / 23);
+  std::vector<int> watched{rotor.rub_station_node};
+  watched.insert(watched.end(), rotor.probe_nodes.begin(), rotor.probe_nodes.end());
+  const core::ResponseReference reference(rotor, full, rotor.unbalances, speeds, watched);
+  ASSERT_GT(n, 1);
+  const double at_n = reference.error(core::reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(n)));
+  EXPECT_EQ(at_n, t.response_error);
+  EXPECT_LE(at_n, 1e-3);
+  EXPECT_GT(reference.error(core::reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(n - 1))), 1e-3);
+  std::printf("anisotropic rig, 100 .. 400 rad/s: auto keeps %ld planar modes (error %.3g)\n", n, at_n);
+  // What it cannot do, refused naming the key.
+  auto refusal = [](const core::Scene& bad) -> std::string {
+    try {
+      core::validate_scene(bad);
+    } catch (const core::SceneError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  core::Scene none = s;  // at rest throughout: no response to judge by
+  none.speed.initial_speed_rad_per_s = none.speed.target_speed_rad_per_s = 0.0;
+  none.speed.acceleration_rad_per_s2 = 0.0;
+  EXPECT_NE(refusal(none).find("scene key 'rotor_planar_modes': value auto needs the rotor file's unbalances and a "
+                               "speed above 0"),
+            std::string::npos)
+      << refusal(none);
+  core::Scene tight = s;
+  tight.rotor.truncation_tolerance = 1e-16;
+  tight.rotor.file = test::source_path("test/data/rotors/damped_seal.yaml");
+  EXPECT_NE(refusal(tight).find("value auto finds no model of 1 to 26 planar modes"), std::string::npos)
+      << refusal(tight);
+}
+
+// At the auto count the runs hold the unbalance response to the tolerance,
+// in every method: the damped seal rotor at a constant 300 rad/s, no rub,
+// settled at 0.6 s (ProbesReadTheirNodesResponse), its station and probe
+// within the reduction's own judged error, plus 1e-4 of the largest
+// displacement for what is left of the transient and the integration's
+// error, of the full FE model's response.
+TEST(FlexibleRotorRuns, AutoModesHoldTheUnbalanceResponseInEveryMethod) {
+  const std::string file = test::source_path("test/data/rotors/damped_seal.yaml");
+  const core::FeRotor rotor = core::load_rotor_file(file);
+  const double w = 300.0;
+  const Eigen::VectorXcd full = core::unbalance_response(core::assemble(rotor), rotor.unbalances, w);
+  double largest_m = 0.0;
+  for (int node = 0; node < rotor.nodes(); ++node) {
+    largest_m = std::max({largest_m, std::abs(full(core::dof_index(node, core::kDofX))),
+                          std::abs(full(core::dof_index(node, core::kDofY)))});
+  }
+  for (const test::Solver& solver : {test::Solver{core::Method::kSwitching, core::Integrator::kDop853},
+                                     test::Solver{core::Method::kIteration, core::Integrator::kDop853},
+                                     test::Solver{core::Method::kPenalty, core::Integrator::kDopri5}}) {
+    SCOPED_TRACE(solver.name());
+    core::Scene s;
+    s.rotor.file = file;
+    s.rotor.planar_modes = 0;  // auto, 1e-3
+    s.solver.method = solver.method;
+    s.solver.integrator = solver.integrator;
+    s.model.stator_model = core::StatorModel::kRigid;
+    s.model.clearance_m = 1e-3;  // never reached
+    s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
+    s.speed.acceleration_rad_per_s2 = 0.0;
+    s.end_time_s = 0.6;
+    s.output_rate_hz = 100.0;
+    s.solver.rtol = 1e-7;
+    s.solver.atol = 1e-11;
+    core::Simulation sim(s);
+    const core::Simulation::Reduction reduction = sim.reduction();
+    EXPECT_LE(reduction.truncation.response_error, 1e-3);
+    test::Collect out;
+    ASSERT_TRUE(sim.advance_to(s.end_time_s, out)) << sim.failure()->message;
+    ASSERT_TRUE(out.events.empty());
+    const core::Sample& end = out.samples.back();
+    const std::complex<double> turn = std::exp(std::complex<double>(0.0, w * end.t_s));
+    auto want = [&](int node) {
+      return core::Vec2((full(core::dof_index(node, core::kDofX)) * turn).real(),
+                        (full(core::dof_index(node, core::kDofY)) * turn).real());
+    };
+    const double bound = reduction.truncation.response_error + 1e-4;
+    std::printf("%s: auto keeps %ld planar modes (judged %.3g): station %.3g, probe %.3g\n", solver.name().c_str(),
+                reduction.planar_modes, reduction.truncation.response_error,
+                (end.kin.rotor_pos - want(rotor.rub_station_node)).norm() / largest_m,
+                (end.probe_displacement_m - want(rotor.probe_nodes.front())).norm() / largest_m);
+    EXPECT_LT((end.kin.rotor_pos - want(rotor.rub_station_node)).norm() / largest_m, bound)
+        << reduction.planar_modes << " planar modes";
+    EXPECT_LT((end.probe_displacement_m - want(rotor.probe_nodes.front())).norm() / largest_m, bound)
+        << reduction.planar_modes << " planar modes";
+  }
+}

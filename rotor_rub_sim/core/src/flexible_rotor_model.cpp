@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rotor_rub_sim/core/rotor_file.hpp"
 
@@ -57,6 +61,21 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
 }
 
+std::string to_string(long planar_modes, const TruncationReport& t) {
+  std::ostringstream os;
+  os.precision(3);
+  os << planar_modes << " planar modes";
+  if (t.chosen) os << " (auto, rotor_truncation_tolerance " << t.tolerance << ")";
+  if (std::isnan(t.response_error)) {
+    os << ": truncation not judged (no unbalance in the rotor file, or no speed above 0)";
+  } else {
+    os << ": unbalance response within " << std::scientific << t.response_error << std::defaultfloat
+       << " of the full model's largest displacement at " << t.min_speed_rad_per_s << " .. " << t.max_speed_rad_per_s
+       << " rad/s (rub station and probe nodes)";
+  }
+  return os.str();
+}
+
 double FlexibleRotorModel::max_spin_lever_kg_m2() const {
   // h = a sin phi - b cos phi: h^T M^-1 h is the quadratic form of
   // [[A, -X], [-X, B]] in (sin, cos), A = a^T M^-1 a, B = b^T M^-1 b,
@@ -69,28 +88,83 @@ double FlexibleRotorModel::max_spin_lever_kg_m2() const {
   return 0.5 * (a + b) + std::sqrt(0.25 * (a - b) * (a - b) + x * x);
 }
 
-FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2) {
+namespace {
+
+// The speeds a reduction is judged on: kJudgedSpeeds evenly from lo to hi,
+// those above 0 (one where lo == hi: a constant speed).
+constexpr int kJudgedSpeeds = 24;
+std::vector<double> judged_speeds(double lo, double hi) {
+  std::vector<double> out;
+  const int n = hi > lo ? kJudgedSpeeds : 1;
+  for (int k = 0; k < n; ++k) {
+    const double w = n == 1 ? hi : lo + (hi - lo) * k / (n - 1);
+    if (w > 0.0) out.push_back(w);
+  }
+  return out;
+}
+
+}  // namespace
+
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2,
+                                       double min_speed_rad_per_s, double max_speed_rad_per_s) {
   const FeRotor rotor = load_rotor_file(settings.file);
   if (rotor.rub_station_node < 0) {
     throw std::invalid_argument("rotor file '" + settings.file +
                                 "': no rub_station; a run needs one ({node: N, contact_radius_m: R})");
   }
   const long most = std::min<long>(kMaxPlanarModes, max_planar_modes(rotor));
-  if (settings.planar_modes < 1 || settings.planar_modes > most) {
+  const bool automatic = settings.planar_modes == 0;
+  if (!automatic && (settings.planar_modes < 1 || settings.planar_modes > most)) {
     throw std::invalid_argument("rotor_planar_modes: value " + std::to_string(settings.planar_modes) +
-                                " is out of range; accepted for '" + settings.file + "': 1 to " + std::to_string(most));
+                                " is out of range; accepted for '" + settings.file + "': auto or 1 to " +
+                                std::to_string(most));
   }
-  const ReducedRotor reduced =
-      reduce_rotor(rotor, assemble(rotor), rotor.rub_station_node, static_cast<int>(settings.planar_modes));
   if (settings.probe_node >= rotor.nodes()) {
     throw std::invalid_argument("rotor_probe_node: value " + std::to_string(settings.probe_node) +
                                 " is out of range; accepted for '" + settings.file + "': -1 to " +
                                 std::to_string(rotor.nodes() - 1));
   }
+  const RotorMatrices full = assemble(rotor);
+  std::vector<int> watched{rotor.rub_station_node};
+  watched.insert(watched.end(), rotor.probe_nodes.begin(), rotor.probe_nodes.end());
+  const std::vector<double> speeds = judged_speeds(min_speed_rad_per_s, max_speed_rad_per_s);
+  const ResponseReference reference(rotor, full, rotor.unbalances, speeds, watched);
+  TruncationReport report;
+  report.min_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.front();
+  report.max_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.back();
+  const bool judged = !speeds.empty() && !rotor.unbalances.empty();
+  long count = settings.planar_modes;
+  if (automatic) {
+    if (!judged) {
+      throw std::invalid_argument(
+          "rotor_planar_modes: value auto needs the rotor file's unbalances and a speed above 0 to judge the "
+          "unbalance response by; accepted for '" +
+          settings.file + "': 1 to " + std::to_string(most));
+    }
+    report.chosen = true;
+    report.tolerance = settings.truncation_tolerance;
+    double best = std::numeric_limits<double>::infinity();
+    for (count = 1; count <= most; ++count) {
+      const double error = reference.error(reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(count)));
+      best = std::min(best, error);
+      if (error <= settings.truncation_tolerance) break;
+    }
+    if (count > most) {
+      throw std::invalid_argument(
+          "rotor_planar_modes: value auto finds no model of 1 to " + std::to_string(most) +
+          " planar modes within rotor_truncation_tolerance = " + std::to_string(settings.truncation_tolerance) +
+          " (the best: " + std::to_string(best) + "); accepted for '" + settings.file + "': 1 to " +
+          std::to_string(most));
+    }
+  }
+  const ReducedRotor reduced = reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(count));
+  if (judged) report.response_error = reference.error(reduced);
   const int probe_node = settings.probe_node >= 0     ? static_cast<int>(settings.probe_node)
                          : !rotor.probe_nodes.empty() ? rotor.probe_nodes.front()
                                                       : rotor.rub_station_node;
-  return FlexibleRotorModel(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node, gravity_m_per_s2);
+  FlexibleRotorModel model(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node, gravity_m_per_s2);
+  model.set_truncation(report);
+  return model;
 }
 
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor) {
@@ -109,22 +183,36 @@ double contact_radius_of(const Scene& scene) {
   return r > 0.0 ? r : scene.model.rotor_radius_m;
 }
 
+namespace {
+
+// The speeds a scene runs at without a command: its run-up's or run-down's.
+std::pair<double, double> scene_speeds(const Scene& scene) {
+  return std::minmax(scene.speed.initial_speed_rad_per_s, scene.speed.target_speed_rad_per_s);
+}
+
+}  // namespace
+
 std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene) {
   const RotorSettings& r = scene.rotor;
   const double g = scene.model.gravity_m_per_s2;
+  const auto [lo, hi] = scene_speeds(scene);
   if (r.loaded && r.loaded->file == r.file && r.loaded->planar_modes == r.planar_modes &&
-      r.loaded->probe_node == r.probe_node && r.loaded->gravity_m_per_s2 == g) {
+      r.loaded->probe_node == r.probe_node && r.loaded->gravity_m_per_s2 == g &&
+      r.loaded->truncation_tolerance == r.truncation_tolerance && r.loaded->min_speed_rad_per_s == lo &&
+      r.loaded->max_speed_rad_per_s == hi) {
     return r.loaded->model;
   }
-  return std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(r, g));
+  return std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(r, g, lo, hi));
 }
 
 void load_rotor(Scene& scene) {
   if (scene.rotor.file.empty()) return;
   auto model = flexible_rotor_of(scene);
   if (scene.rotor.loaded && scene.rotor.loaded->model == model) return;
-  scene.rotor.loaded = std::make_shared<const LoadedFlexibleRotor>(LoadedFlexibleRotor{
-      scene.rotor.file, scene.rotor.planar_modes, scene.rotor.probe_node, scene.model.gravity_m_per_s2, model});
+  const auto [lo, hi] = scene_speeds(scene);
+  scene.rotor.loaded = std::make_shared<const LoadedFlexibleRotor>(
+      LoadedFlexibleRotor{scene.rotor.file, scene.rotor.planar_modes, scene.rotor.truncation_tolerance, lo, hi,
+                          scene.rotor.probe_node, scene.model.gravity_m_per_s2, model});
 }
 
 }  // namespace rotor_rub::core

@@ -6,6 +6,7 @@
 #include <complex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rotor_rub::core {
@@ -249,6 +250,39 @@ Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<Rot
   const Eigen::MatrixXcd e = r.expansion.cast<std::complex<double>>();
   const Eigen::VectorXcd f = unbalance_forces(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s);
   return e * dynamic_stiffness(r.matrices, w_rad_per_s).partialPivLu().solve(e.transpose() * f);
+}
+
+ResponseReference::ResponseReference(const FeRotor& rotor, const RotorMatrices& full,
+                                     std::vector<RotorUnbalance> unbalances, std::vector<double> speeds_rad_per_s,
+                                     std::vector<int> watched_nodes)
+    : unbalances_(std::move(unbalances)), speeds_rad_per_s_(std::move(speeds_rad_per_s)) {
+  for (const int node : watched_nodes) {
+    if (node < 0 || node >= rotor.nodes()) {
+      throw std::invalid_argument("probe node " + std::to_string(node) + " is out of range; accepted: 0 to " +
+                                  std::to_string(rotor.nodes() - 1));
+    }
+    watched_dofs_.push_back(dof_index(node, kDofX));
+    watched_dofs_.push_back(dof_index(node, kDofY));
+  }
+  if (unbalances_.empty()) speeds_rad_per_s_.clear();
+  for (const double w : speeds_rad_per_s_) {
+    full_.push_back(unbalance_response(full, unbalances_, w));
+    double big = 0.0;
+    for (int node = 0; node < rotor.nodes(); ++node) {
+      big = std::max(
+          {big, std::abs(full_.back()(dof_index(node, kDofX))), std::abs(full_.back()(dof_index(node, kDofY)))});
+    }
+    largest_m_.push_back(big);
+  }
+}
+
+double ResponseReference::error(const ReducedRotor& r) const {
+  double worst = 0.0;
+  for (std::size_t s = 0; s < speeds_rad_per_s_.size(); ++s) {
+    const Eigen::VectorXcd got = unbalance_response(r, unbalances_, speeds_rad_per_s_[s]);
+    for (const int i : watched_dofs_) worst = std::max(worst, std::abs(got(i) - full_[s](i)) / largest_m_[s]);
+  }
+  return worst;
 }
 
 }  // namespace rotor_rub::core

@@ -103,6 +103,28 @@ KeyEntry integer(std::string key, long lo, long hi, std::string description, std
   return e;
 }
 
+// An integer key in [lo, hi] that also takes `auto` (held as 0).
+KeyEntry integer_or_auto(std::string key, long lo, long hi, std::string description, std::function<long&(Scene&)> ref) {
+  KeyEntry e = integer(key, lo, hi, std::move(description), ref);
+  e.info.accepted = "auto or " + e.info.accepted;
+  Scene defaults;
+  if (ref(defaults) == 0) e.info.default_value = "auto";
+  e.set = [key, lo, hi, accepted = e.info.accepted, ref](Scene& s, const std::string& text) {
+    if (text == "auto") {
+      ref(s) = 0;
+      return;
+    }
+    const double v = parse_number(key, text, accepted);
+    if (v != std::floor(v) || !(v >= static_cast<double>(lo) && v <= static_cast<double>(hi))) {
+      throw SceneError("scene key '" + key + "': value " + text + " is " +
+                       (v != std::floor(v) ? "not an integer" : "out of range") + "; accepted: " + accepted);
+    }
+    ref(s) = static_cast<long>(v);
+  };
+  e.get = [ref](Scene s) { return ref(s) == 0 ? std::string("auto") : std::to_string(ref(s)); };
+  return e;
+}
+
 // A text key (a file's path): any text; what it names is checked by
 // validate_scene.
 KeyEntry text(std::string key, std::string accepted, std::string description, std::function<std::string&(Scene&)> ref) {
@@ -170,7 +192,8 @@ void mark_live(SceneKeyInfo& info) {
     info.live_refusal =
         "a mass, an inertia or the rotor's radius has no continuous path for the state (a blade "
         "loss is an unbalance change: eccentricity_m, unbalance_phase_rad)";
-  } else if (k == "rotor_file" || k == "rotor_planar_modes" || k == "rotor_probe_node") {
+  } else if (k == "rotor_file" || k == "rotor_planar_modes" || k == "rotor_probe_node" ||
+             k == "rotor_truncation_tolerance") {
     info.live_refusal = "it sets the rotor (its state's size)";
   } else if (k == "gravity_m_per_s2") {
     info.live_refusal = "the machine's orientation is fixed";
@@ -239,12 +262,17 @@ const std::vector<KeyEntry>& entries() {
                      "(rotor_mass_kg, rotor_stiffness_N_per_m, rotor_damping_N_s_per_m, eccentricity_m and "
                      "rotor_radius_m are then the file's); every method, on its integrators of --list-solvers",
                      [](Scene& s) -> std::string& { return s.rotor.file; }));
-    t.push_back(integer("rotor_planar_modes", 1, kMaxPlanarModes,
-                        "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft "
-                        "shapes per plane (the planes' static corrections and modes, lowest first; "
-                        "rotor_rub_modal --study recommends), up to the rotor's planar DOFs (2 per node: the full "
-                        "FE model of a rotor of up to 64 nodes)",
-                        [](Scene& s) -> long& { return s.rotor.planar_modes; }));
+    t.push_back(integer_or_auto(
+        "rotor_planar_modes", 1, kMaxPlanarModes,
+        "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft shapes per plane "
+        "(the planes' static corrections and modes, lowest first), up to the rotor's planar DOFs (2 per node: the "
+        "full FE model of a rotor of up to 64 nodes); auto: the fewest whose unbalance response at the station "
+        "and the probes is within rotor_truncation_tolerance of the full model's over the run's speeds",
+        [](Scene& s) -> long& { return s.rotor.planar_modes; }));
+    t.push_back(real("rotor_truncation_tolerance", 0, true, 1.0,
+                     "rotor_planar_modes auto's bound on the unbalance response's error, relative to the rotor's "
+                     "largest displacement [-]",
+                     [](Scene& s) -> double& { return s.rotor.truncation_tolerance; }));
     t.push_back(integer("rotor_probe_node", -1, 100000,
                         "the node of a flexible rotor the X/Y probes read (probe_*); -1: the rotor file's first "
                         "probe node, else the rub station",
@@ -387,7 +415,7 @@ void validate_flexible_rotor(const Scene& s) {
       throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +
                        " is out of range; accepted with rk4 on this rotor and contact (rotor_file, "
                        "rotor_planar_modes = " +
-                       std::to_string(s.rotor.planar_modes) +
+                       std::to_string(rotor->rotor().planar_modes) +
                        ", contact_stiffness_N_per_m = " + format_double(s.model.contact_stiffness_N_per_m) +
                        ", max_speed_rad_per_s = " + format_double(s.speed.max_speed_rad_per_s) + "): (0, " +
                        format_double(h_max) +

@@ -289,6 +289,12 @@ Simulation::ContactPoint Simulation::contact_point() const {
   return c;
 }
 
+Simulation::Reduction Simulation::reduction() const {
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  if (rotor == nullptr) return Reduction();
+  return Reduction{rotor->rotor().planar_modes, rotor->truncation()};
+}
+
 int Simulation::shaft_station_node() const {
   const FlexibleRotorModel* rotor = method_->flexible_rotor();
   return rotor == nullptr ? -1 : rotor->rotor().station_node;

@@ -260,10 +260,11 @@ bool SimNode::wait_for_subscribers() {
 
 int SimNode::run() {
   if (!wait_for_subscribers()) return 1;
+  const core::Simulation::Reduction reduction = sim_->reduction();
   const std::string rotor = scene_.rotor.file.empty()
                                 ? std::string("the Jeffcott rotor")
-                                : "the flexible rotor " + scene_.rotor.file + " (" +
-                                      std::to_string(scene_.rotor.planar_modes) + " planar modes)";
+                                : "the flexible rotor " + scene_.rotor.file + ", " +
+                                      core::to_string(reduction.planar_modes, reduction.truncation);
   ROS_INFO(
       "%s the scene (%s) with method %s (%s, rtol %g, atol %g): end_time_s %g, state at %g Hz, "
       "real_time_factor %g, end_action %s",

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -42,6 +43,25 @@ namespace rotor_rub::core {
 
 /// xi, xi'' or xi''' of a flexible rotor (at most kMaxModalCoordinates).
 using ModalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates, 1>;
+
+/// How well a flexible rotor's reduction holds its unbalance response, as
+/// read at the start (the run's summary and log): ResponseReference::error
+/// at the rub station and the file's probe nodes over the scene's speeds.
+struct TruncationReport {
+  bool chosen = false;     ///< rotor_planar_modes auto chose the count
+  double tolerance = 0.0;  ///< auto's bound (chosen only)
+  /// Relative to the full model's largest displacement; NaN: not judged (no
+  /// unbalance in the file, or no speed above 0).
+  double response_error = std::numeric_limits<double>::quiet_NaN();
+  double min_speed_rad_per_s = 0.0;  ///< the speeds judged: [min, max]
+  double max_speed_rad_per_s = 0.0;  ///< see min_speed_rad_per_s
+};
+
+/// One line on a reduction, as the runner and the node log it: "6 planar
+/// modes (auto, rotor_truncation_tolerance 0.001): unbalance response within
+/// 9.392e-04 of the full model's largest displacement at 150 .. 330 rad/s
+/// (rub station and probe nodes)".
+std::string to_string(long planar_modes, const TruncationReport& t);
 
 class FlexibleRotorModel {
  public:
@@ -68,6 +88,10 @@ class FlexibleRotorModel {
     return probe_rows_.leftCols<2>() * u + probe_rows_.rightCols(n) * modal.head(n);
   }
   const ReducedRotor& rotor() const { return rotor_; }
+  /// The reduction's truncation error as judged at the start (load_flexible_rotor).
+  const TruncationReport& truncation() const { return truncation_; }
+  /// Sets it (load_flexible_rotor).
+  void set_truncation(const TruncationReport& t) { truncation_ = t; }
   int nodes() const { return static_cast<int>(rotor_.expansion.rows()) / 4; }
 
   /// The lateral displacement of every node [m] (casing frame; node order)
@@ -199,6 +223,7 @@ class FlexibleRotorModel {
     h.noalias() -= unbalance_dir.x() * b_;
   }
   ReducedRotor rotor_;
+  TruncationReport truncation_;
   double station_mass_kg_;
   double contact_radius_m_;
   int probe_node_;
@@ -250,16 +275,24 @@ void add_lateral_torque(const JeffcottModel& m, const FlexibleRotorModel& rotor,
 }
 
 /// Reads settings.file (rotor_file.hpp) and reduces it at its rub station to
-/// settings.planar_modes per plane, with the file's unbalances and gravity
-/// along -y (the scene's gravity_m_per_s2). Throws
-/// std::invalid_argument naming the file and what is wrong (an unreadable
-/// file, a bad item, no rub_station, a count out of range).
-FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2 = 0.0);
+/// settings.planar_modes per plane (0: auto, the fewest from 1 up whose
+/// unbalance response is within settings.truncation_tolerance of the full
+/// model's over the speeds), with the file's unbalances and gravity along -y
+/// (the scene's gravity_m_per_s2), and judges the reduction's truncation
+/// error on 24 speeds evenly from min_speed to max_speed (above 0;
+/// TruncationReport). Throws std::invalid_argument naming the file and what
+/// is wrong (an unreadable file, a bad item, no rub_station, a count out of
+/// range, auto without unbalances or speeds to judge by, or with no model
+/// within the tolerance).
+FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2 = 0.0,
+                                       double min_speed_rad_per_s = 0.0, double max_speed_rad_per_s = 0.0);
 
 /// A rotor file read and reduced once, with the settings it was read for.
 struct LoadedFlexibleRotor {
   std::string file;
-  long planar_modes = 0;
+  long planar_modes = 0;  ///< as asked (0: auto; the model's rotor() has the count)
+  double truncation_tolerance = 0.0;
+  double min_speed_rad_per_s = 0.0, max_speed_rad_per_s = 0.0;
   long probe_node = 0;
   double gravity_m_per_s2 = 0.0;
   std::shared_ptr<const FlexibleRotorModel> model;

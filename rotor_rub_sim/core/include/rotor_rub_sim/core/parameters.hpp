@@ -193,8 +193,12 @@ struct LoadedFlexibleRotor;  // flexible_rotor_model.hpp
 /// to planar_modes per plane (rotor_reduction.hpp). The contact keys apply
 /// at the station.
 struct RotorSettings {
-  std::string file;       ///< the rotor file; empty: the Jeffcott rotor
-  long planar_modes = 8;  ///< the station and planar_modes - 1 shaft shapes, per plane
+  std::string file;  ///< the rotor file; empty: the Jeffcott rotor
+  /// The station and planar_modes - 1 shaft shapes, per plane; 0: auto, the
+  /// fewest whose unbalance response is within truncation_tolerance of the
+  /// full model's over the scene's speeds (load_flexible_rotor).
+  long planar_modes = 8;
+  double truncation_tolerance = 1e-3;  ///< auto's bound, relative to the largest displacement
   /// The node the X/Y proximity probes read (ProbeParameters); -1: the
   /// rotor file's first probe node, else the rub station.
   long probe_node = -1;

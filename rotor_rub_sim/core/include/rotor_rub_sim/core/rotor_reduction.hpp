@@ -94,4 +94,26 @@ Eigen::VectorXcd unbalance_response(const RotorMatrices& m, const std::vector<Ro
 Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<RotorUnbalance>& unbalances,
                                     double w_rad_per_s);
 
+/// The full model's unbalance response at some speeds, to judge reduced
+/// models by (the modal truncation study, rotor_planar_modes auto): a
+/// reduced model's error is the worst distance of its response from the
+/// full model's at the watched nodes (x and y) over the speeds, relative to
+/// the full model's largest displacement (any node) at each speed.
+class ResponseReference {
+ public:
+  /// Throws std::invalid_argument for a watched node or an unbalance's node
+  /// out of range.
+  ResponseReference(const FeRotor& rotor, const RotorMatrices& full, std::vector<RotorUnbalance> unbalances,
+                    std::vector<double> speeds_rad_per_s, std::vector<int> watched_nodes);
+  /// The relative error of r's response (0 without speeds or unbalances).
+  double error(const ReducedRotor& r) const;
+
+ private:
+  std::vector<RotorUnbalance> unbalances_;
+  std::vector<double> speeds_rad_per_s_;
+  std::vector<int> watched_dofs_;
+  std::vector<Eigen::VectorXcd> full_;  // at each speed
+  std::vector<double> largest_m_;       // the full response's largest displacement at each speed
+};
+
 }  // namespace rotor_rub::core

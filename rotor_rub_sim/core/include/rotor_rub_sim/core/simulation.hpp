@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/invariants.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
@@ -129,6 +130,14 @@ class Simulation {
   };
   /// The contact point of the scene as run.
   ContactPoint contact_point() const;
+  /// A flexible rotor's reduction as run: its planar modes (0 for the
+  /// Jeffcott) and its truncation error as judged at the start.
+  struct Reduction {
+    long planar_modes = 0;        ///< the count run (auto's choice where asked); 0: the Jeffcott
+    TruncationReport truncation;  ///< the unbalance response's error, judged at the start
+  };
+  /// The scene's (see Reduction).
+  Reduction reduction() const;
   /// The run's cost so far (steps, evaluations, events; wall_time_s is the
   /// integration's own time).
   const RunStats& stats() const { return method_->stats(); }
