@@ -150,11 +150,11 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
       if (error <= settings.truncation_tolerance) break;
     }
     if (count > most) {
-      throw std::invalid_argument(
-          "rotor_planar_modes: value auto finds no model of 1 to " + std::to_string(most) +
-          " planar modes within rotor_truncation_tolerance = " + std::to_string(settings.truncation_tolerance) +
-          " (the best: " + std::to_string(best) + "); accepted for '" + settings.file + "': 1 to " +
-          std::to_string(most));
+      std::ostringstream os;
+      os << "rotor_planar_modes: value auto finds no model of 1 to " << most
+         << " planar modes within rotor_truncation_tolerance = " << settings.truncation_tolerance
+         << " (the best: " << best << "); accepted for '" << settings.file << "': 1 to " << most;
+      throw std::invalid_argument(os.str());
     }
   }
   const ReducedRotor reduced = reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(count));
