@@ -301,6 +301,35 @@ TEST(FeRotor, RossSixDofMatricesAreTheLateralRotor) {
   EXPECT_NE(load_error(text + "  nodes_z_m: [0]\n").find("gives both 'nodes_z_m' and 'nodes'"), std::string::npos);
 }
 
+// Modal damping (the rotor file's modal_damping: {ratio}, ROSS's
+// modal_damping_ratio): C = M Phi diag(2 zeta w) Phi^T M makes each undamped
+// mode a damped oscillator of exactly that ratio where nothing else damps it
+// and at rest (a pinned shaft: bearings without dampers), to the eigensolver's
+// rounding (1e-9: the pinned supports' 1e14 N/m set the largest eigenvalue);
+// read from a file as from the struct; beside shaft damping, refused.
+TEST(FeRotor, ModalDampingGivesEveryModeItsRatio) {
+  core::FeRotor r = pinned_shaft(1.0, 0.05, 10);
+  r.modal_damping_ratio = 0.02;
+  const auto md = core::modes(core::assemble(r), 0.0, 6);
+  ASSERT_EQ(md.size(), 6u);
+  for (const auto& mode : md) EXPECT_NEAR(mode.damping_ratio, 0.02, 1e-9) << mode.natural_frequency_rad_per_s;
+  const core::FeRotor from_file = core::load_rotor_file(
+      write_file("modal_damping.yaml",
+                 "modal_damping: {ratio: 0.02}\n"
+                 "shaft:\n  - {elements: 10, length_m: 0.1, outer_diameter_m: 0.05}\n"
+                 "bearings:\n  - {node: 0, kxx: 1e14, kyy: 1e14}\n  - {node: 10, kxx: 1e14, kyy: 1e14}\n"));
+  EXPECT_EQ(from_file.modal_damping_ratio, 0.02);
+  EXPECT_EQ(core::assemble(from_file).C, core::assemble(r).C);
+  EXPECT_NE(load_error("modal_damping: {ratio: 0.02}\nshaft_damping: {stiffness_proportional_s: 1e-5}\n"
+                       "shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n")
+                .find("gives both 'shaft_damping' and 'modal_damping'"),
+            std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {ratio: 1.5}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n")
+                .find("modal_damping key 'ratio': value 1.5 is out of range; accepted: [0, 1]"),
+            std::string::npos)
+      << load_error("modal_damping: {ratio: 1.5}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n");
+}
+
 // ROSS's damped rig (config/rotors/ross_rub_rig.yaml: proportional damping
 // with beta 1e-5 s overdamps every mode above 2e5 rad/s) has a pair at
 // critical damping near 1.05e5 rad/s, which the QR returns with an

@@ -127,6 +127,29 @@ ElementMatrix shaft_gyroscopic(const ShaftElement& e) {
   return e.material.density_kg_per_m3 * s.second_moment_m4 / (105.0 * L * q) * g;
 }
 
+namespace {
+
+// C += M Phi diag(2 zeta w) Phi^T M over the undamped modes of (M, K_sym),
+// Phi M-normalised: each such mode alone gets the ratio zeta (where the
+// rest of C is nil and at rest: test_fe_rotor, ModalDampingGivesEveryModeItsRatio).
+// Modes below 1 rpm (rigid-body ones) are left undamped, as ROSS does.
+void add_modal_damping(double ratio, RotorMatrices& m) {
+  if (ratio == 0.0) return;
+  const Eigen::MatrixXd k_sym = 0.5 * (m.K + m.K.transpose());
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym, m.M);
+  if (eig.info() != Eigen::Success) refuse("rotor: modal_damping: the undamped modes did not converge");
+  constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
+  Eigen::VectorXd two_zeta_w = Eigen::VectorXd::Zero(eig.eigenvalues().size());
+  for (Eigen::Index i = 0; i < two_zeta_w.size(); ++i) {
+    const double w2 = eig.eigenvalues()(i);
+    if (w2 > kOneRpm_rad_per_s * kOneRpm_rad_per_s) two_zeta_w(i) = 2.0 * ratio * std::sqrt(w2);
+  }
+  const Eigen::MatrixXd m_phi = m.M * eig.eigenvectors();
+  m.C += m_phi * two_zeta_w.asDiagonal() * m_phi.transpose();
+}
+
+}  // namespace
+
 RotorMatrices assemble(const FeRotor& rotor) {
   if (rotor.imported) {
     if (rotor.imported->M.rows() != rotor.dofs() || !rotor.shaft.empty() || !rotor.disks.empty() ||
@@ -134,7 +157,9 @@ RotorMatrices assemble(const FeRotor& rotor) {
       refuse("rotor: imported matrices of " + std::to_string(rotor.imported->M.rows()) + " DOF for " +
              std::to_string(rotor.nodes()) + " nodes, or beside elements; accepted: 4 DOF per node, alone");
     }
-    return *rotor.imported;
+    RotorMatrices m = *rotor.imported;
+    add_modal_damping(rotor.modal_damping_ratio, m);
+    return m;
   }
   if (rotor.shaft.empty()) refuse("rotor: no shaft elements");
   const int n = rotor.dofs();
@@ -192,6 +217,7 @@ RotorMatrices assemble(const FeRotor& rotor) {
     m.C(y, x) += b.cyx;
     m.C(y, y) += b.cyy;
   }
+  add_modal_damping(rotor.modal_damping_ratio, m);
   return m;
 }
 

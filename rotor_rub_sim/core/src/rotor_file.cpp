@@ -227,10 +227,15 @@ FeRotor load_rotor_file(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("rotor file '" + path + "': cannot be read: " + e.what());
   }
-  const Reader top(
-      path, "(top level)", root,
-      {"material", "shaft_damping", "shaft", "disks", "bearings", "unbalances", "rub_station", "probes", "matrices"});
+  const Reader top(path, "(top level)", root,
+                   {"material", "shaft_damping", "modal_damping", "shaft", "disks", "bearings", "unbalances",
+                    "rub_station", "probes", "matrices"});
   FeRotor rotor;
+  if (top.has("modal_damping")) {
+    if (top.has("shaft_damping")) top.fail("gives both 'shaft_damping' and 'modal_damping'; accepted: one of them");
+    const Reader r(path, "modal_damping", root["modal_damping"], {"ratio"});
+    rotor.modal_damping_ratio = r.required("ratio", 0.0, false, 1.0);
+  }
   if (top.has("matrices")) {
     for (const char* key : {"material", "shaft_damping", "shaft", "disks", "bearings"}) {
       if (top.has(key)) top.fail("gives both 'matrices' and '" + std::string(key) + "'; accepted: one of them");
@@ -258,6 +263,9 @@ FeRotor load_rotor_file(const std::string& path) {
              " is out of range; accepted: [0, outer_diameter_m)");
     }
     e.material = r.has("material") ? read_material(path, item + " material", shaft[i]["material"], material) : material;
+    if (r.has("damping") && top.has("modal_damping")) {
+      r.fail("gives 'damping' beside the file's 'modal_damping'; accepted: one of them");
+    }
     e.damping = r.has("damping") ? read_damping(path, item + " damping", shaft[i]["damping"], damping) : damping;
     const double repeat = r.number("elements", 1.0, false, 10000.0, 1.0);
     if (repeat != std::floor(repeat))

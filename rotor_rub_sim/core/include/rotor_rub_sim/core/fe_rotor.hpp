@@ -99,6 +99,13 @@ struct FeRotor {
   /// bearings (assemble() returns them), with their nodes' positions.
   std::optional<RotorMatrices> imported;
   std::vector<double> imported_node_z_m;
+  /// One damping ratio for every mode of the rotor at rest (the rotor file's
+  /// modal_damping), as ROSS's modal_damping_ratio: assemble() adds C = M Phi
+  /// diag(2 zeta w) Phi^T M over the undamped modes of (M, K) (K's symmetric
+  /// part, bearings' stiffness included; modes below 1 rpm, rigid-body ones,
+  /// left undamped). A fit to a measured rotor's modal damping, not a
+  /// material law; 0: none.
+  double modal_damping_ratio = 0.0;
   int nodes() const {
     return imported ? static_cast<int>(imported_node_z_m.size()) : static_cast<int>(shaft.size()) + 1;
   }
