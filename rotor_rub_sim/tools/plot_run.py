@@ -94,6 +94,24 @@ def shade(ax, spans):
         ax.axvspan(a, b, color="0.6", alpha=0.35, lw=0)
 
 
+CLEARANCE_COLOURS = ("k", "tab:red", "tab:purple", "tab:orange", "tab:green", "tab:brown")
+
+
+def clearance_levels(t, c_t, most=len(CLEARANCE_COLOURS)):
+    """The clearances in force over the run, each with the time it began: a
+    new level where C moves by more than 1e-9 of itself (the samples' C is
+    |r_r - r_s| - penetration, exact to rounding). A ramp gives many: its
+    first, its last and evenly spaced ones between, `most` in all."""
+    levels = [(float(t[0]), float(c_t[0]))]
+    for ti, ci in zip(t[1:], c_t[1:]):
+        if abs(ci - levels[-1][1]) > 1e-9 * abs(levels[-1][1]):
+            levels.append((float(ti), float(ci)))
+    if len(levels) > most:
+        keep = np.unique(np.round(np.linspace(0, len(levels) - 1, most)).astype(int))
+        levels = [levels[k] for k in keep]
+    return levels
+
+
 def main():
     ap = argparse.ArgumentParser(description="Pictures of one run (displacement, orbit, force and speed, "
                                  "full-spectrum waterfall) as PNGs.")
@@ -116,6 +134,7 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     t, xr, yr, xs, ys, fn, c, w, pen = d.T
     # The run's own C at every sample (a live change moves it), or the one given.
+    given = a.clearance
     c_t = np.hypot(xr - xs, yr - ys) - pen if a.clearance is None else np.full_like(t, a.clearance)
     if a.clearance is None:
         a.clearance = float(c_t[0])
@@ -140,6 +159,9 @@ def main():
 
     fig, ax = plt.subplots(1, 2, figsize=(10, 5))
     th = np.linspace(0, 2 * np.pi, 400)
+    # Every clearance in force (a live change or a fault moves it), not only
+    # the first: the orbit after a seal wear does not pass through the bore.
+    levels = clearance_levels(t, c_t) if given is None else [(float(t[0]), given)]
     # Relative to the stator the bore is the clearance circle about 0; in the
     # casing (where the proximity probes are mounted) it moves with the
     # stator: drawn about the stator's mean position (its offset, its sag).
@@ -148,12 +170,17 @@ def main():
             (ax[1], (xr, yr), (np.mean(xs), np.mean(ys)),
              "in the casing (the probes' frame), the bore at the stator's mean")):
         axis.plot(x * mm, y * mm, lw=0.3)
-        axis.plot((cx + a.clearance * np.cos(th)) * mm, (cy + a.clearance * np.sin(th)) * mm, "k--", lw=0.8)
+        for k, (t0, cl) in enumerate(levels):
+            axis.plot((cx + cl * np.cos(th)) * mm, (cy + cl * np.sin(th)) * mm, "--",
+                      color=CLEARANCE_COLOURS[k % len(CLEARANCE_COLOURS)], lw=0.9,
+                      label="C = %.4g mm from %.3f s" % (cl * mm, t0))
+        if len(levels) > 1:
+            axis.legend(fontsize=7, loc="upper right")
         axis.set_aspect("equal")
         axis.set_xlabel("x [mm]")
         axis.set_ylabel("y [mm]")
         axis.set_title(lab, fontsize=9)
-    fig.suptitle(title + ": orbit and the clearance circle")
+    fig.suptitle(title + ": orbit and the clearance circle" + ("s in force" if len(levels) > 1 else ""))
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "orbit.png"), dpi=100)
     plt.close(fig)
@@ -211,6 +238,9 @@ def main():
     plt.close(fig)
     print("plot_run: %d states%s from %s -> %s/{displacement,orbit,force_speed,waterfall}.png"
           % (len(d), " and %d live changes" % len(changes) if changes else "", name, a.out))
+    if len(levels) > 1:
+        print("plot_run: orbit.png draws %d clearances in force: %s" % (
+            len(levels), ", ".join("%.4g mm from %.3f s" % (cl * mm, t0) for t0, cl in levels)))
 
 
 if __name__ == "__main__":

@@ -159,6 +159,9 @@ class LiveChangesTest(unittest.TestCase):
         out = subprocess.run([find_binary("plot_run.py"), bag, "--out", pictures], check=True, capture_output=True,
                              text=True).stdout
         self.assertIn("and 2 live changes", out)
+        # The orbit draws each clearance in force: the scene's 2 mm, and 2.5 mm from the first sample after
+        # the change stamped 1 s (the sample at 1 s is the state the change met).
+        self.assertIn("orbit.png draws 2 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s", out)
         self.assertTrue(os.path.getsize(os.path.join(pictures, "displacement.png")) > 0)
 
     def test_rate_diagnostics_of_state_and_keyphasor(self):
