@@ -47,9 +47,22 @@ def load_bag(path, ns):
                  m.stator_position.y, m.normal_force, float(m.in_contact), m.speed, m.penetration)
                 for _, m, _ in b.read_messages(topics=[topic])]
         feedback = topic[:-len("state")] + "parameter_change_feedback"
-        changes = [(m.effective_time, change_label(m)) for _, m, _ in b.read_messages(topics=[feedback])
-                   if m.accepted]
-    return topic, np.array(rows), changes
+        applied = [m for _, m, _ in b.read_messages(topics=[feedback]) if m.accepted]
+    return topic, np.array(rows), group_changes(applied)
+
+
+def group_changes(applied):
+    """(start, end, label) per change to a user: a fault's steps (a ramp:
+    one change_id, one kind, one after another) are one, from its first step
+    to its last, labelled with the steps' count."""
+    out = []
+    for m in applied:
+        last = out[-1] if out else None
+        if (last is not None and m.source.startswith("fault:") and last[3] == (m.change_id, m.source)):
+            out[-1] = (last[0], m.effective_time, last[2], last[3], last[4] + 1)
+        else:
+            out.append((m.effective_time, m.effective_time, change_label(m), (m.change_id, m.source), 1))
+    return [(t0, t1, label if n == 1 else "%s (%d steps)" % (label, n)) for t0, t1, label, _, n in out]
 
 
 def change_label(m):
@@ -60,10 +73,13 @@ def change_label(m):
 
 
 def mark_changes(ax, changes, label=False):
-    for t, text in changes:
-        ax.axvline(t, color="tab:purple", ls=":", lw=0.9)
+    """One mark per change: a dotted line at a step, a band over a ramp."""
+    for t0, t1, text in changes:
+        ax.axvline(t0, color="tab:purple", ls=":", lw=0.9)
+        if t1 > t0:
+            ax.axvspan(t0, t1, color="tab:purple", alpha=0.12, lw=0)
         if label:
-            ax.annotate(text, (t, 1.0), xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
+            ax.annotate(text, (t0, 1.0), xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
                         fontsize=7, color="tab:purple")
 
 
@@ -151,7 +167,7 @@ def main():
         mark_changes(axis, changes, label=axis is ax[0])
         axis.set_ylabel(lab)
     ax[1].set_xlabel("t [s]   (grey: in contact; dashed: the clearance%s)" %
-                     ("; dotted: live changes and faults" if changes else ""))
+                     ("; dotted: live changes and faults, a band over a ramp" if changes else ""))
     ax[0].set_title(title + ": rotor displacement")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "displacement.png"), dpi=100)

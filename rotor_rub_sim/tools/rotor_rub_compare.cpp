@@ -75,17 +75,15 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
         runs[run_key(topic, "/contact_events")].events.push_back(rotor_rub::ros_node::from_msg(*e));
       } else if (auto c = m.instantiate<rotor_rub_msgs::ParameterChangeFeedback>()) {
         if (!c->accepted) continue;  // a refused change changed nothing
-        std::string what;
-        if (c->source.rfind("fault:", 0) == 0) {
-          what = c->source.substr(6);
-        } else {
-          for (std::size_t i = 0; i < c->keys.size() && i < c->values.size(); ++i) {
-            char v[32];
-            std::snprintf(v, sizeof v, "%.9g", c->values[i]);
-            what += (what.empty() ? "" : " ") + c->keys[i] + "=" + v;
-          }
+        std::string values;
+        for (std::size_t i = 0; i < c->keys.size() && i < c->values.size(); ++i) {
+          char v[32];
+          std::snprintf(v, sizeof v, "%.9g", c->values[i]);
+          values += (values.empty() ? "" : " ") + c->keys[i] + "=" + v;
         }
-        runs[run_key(topic, "/parameter_change_feedback")].changes.push_back({c->effective_time, what});
+        const std::string what = c->source.rfind("fault:", 0) == 0 ? c->source.substr(6) : values;
+        runs[run_key(topic, "/parameter_change_feedback")].changes.push_back(
+            {c->effective_time, what, c->change_id, values});
       } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
         RecordedRun& r = runs[run_key(topic, "/solver_stats")];
         r.method = st->method;

@@ -3,6 +3,7 @@
 // bag reading lives in rotor_rub_compare.cpp.
 #pragma once
 
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -14,7 +15,9 @@ namespace rotor_rub::tools {
 // A live change or fault the node applied (its parameter_change_feedback).
 struct LiveChange {
   double t_s = 0.0;
-  std::string what;  // a fault's kind, or "key=value ..." (no commas)
+  std::string what;      // a fault's kind, or "key=value ..." (no commas)
+  std::uint32_t id = 0;  // the request's change_id (a fault's fault_id)
+  std::string values;    // "key=value ..." as applied (a fault's too)
 };
 
 struct RecordedRun {
@@ -47,7 +50,9 @@ struct RunFigures {
   long steps = -1, rhs_evals = -1;
   double integration_wall_s = -1.0, real_time_factor = -1.0;
   // Live changes and faults: how many, the first one's time, the first
-  // contact at or after it (a fault's effect), and all as "t what; ...".
+  // contact at or after it (a fault's effect), and all as "t what; ...". A
+  // ramp (a fault's steps: one id, one kind, one after another) counts as
+  // one, "t0..t1 kind key=first..last (n steps)".
   long live_changes = 0;
   double first_change_s, first_contact_after_change_s;
   std::string changes;

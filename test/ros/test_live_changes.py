@@ -164,6 +164,27 @@ class LiveChangesTest(unittest.TestCase):
         self.assertIn("orbit.png draws 2 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s", out)
         self.assertTrue(os.path.getsize(os.path.join(pictures, "displacement.png")) > 0)
 
+    def test_a_ramp_is_one_mark_in_plot_run(self):
+        # plot_run.py groups a fault's steps (one change_id, one kind, in a row) into one band, beside a plain
+        # change and a one-step fault with their own marks.
+        import importlib.util
+        import rospkg
+        spec = importlib.util.spec_from_file_location(
+            "plot_run", os.path.join(rospkg.RosPack().get_path(PKG), "rotor_rub_sim", "tools", "plot_run.py"))
+        plot_run = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(plot_run)
+
+        def feedback(t, change_id, source, keys, values):
+            return ParameterChangeFeedback(change_id=change_id, source=source, keys=keys, values=values,
+                                           accepted=True, effective_time=t)
+        applied = [feedback(0.5, 1, "", ["clearance_m"], [0.0025])]
+        applied += [feedback(1.0 + 0.001 * k, 7, "fault:thermal_closure", ["clearance_m"], [0.0024 - 1e-4 * k])
+                    for k in range(5)]
+        applied.append(feedback(1.2, 8, "fault:blade_loss", ["eccentricity_m"], [5e-4]))
+        self.assertEqual(plot_run.group_changes(applied),
+                         [(0.5, 0.5, "clearance_m 0.0025"), (1.0, 1.004, "thermal_closure (5 steps)"),
+                          (1.2, 1.2, "blade_loss")])
+
     def test_rate_diagnostics_of_state_and_keyphasor(self):
         names = {s.name for a in self.diagnostics.msgs for s in a.status}
         for topic in ("state", "keyphasor"):
