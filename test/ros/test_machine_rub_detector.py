@@ -316,6 +316,45 @@ class NoFalseAlarm(unittest.TestCase):
                 self.assertLess(det.speed_dip, -det.s["speed_tolerance_rad_per_s"])
 
 
+    def test_a_torque_step_down_does_not_raise(self):
+        # A prescribed run-up at 70 rad/s^2 reaching its target at 2.571 s: the
+        # drive's torque J A = 21.56 N m (the seal-rub example's) falls to 0 and
+        # stays there; a line fitted across the step undershoots 0, which read as
+        # a rise of 0 back to the level and raised drive_braking for good (the
+        # seal-rub monitor's false alarm after its rub, issue 49). The same after
+        # a rub's friction torque ends (down 0.01 N m at constant speed).
+        class RunUp(Drive):
+            T = 180.0 / 70.0
+
+            def phi(self, t):
+                t1 = min(t, self.T)
+                return 150.0 * t1 + 35.0 * t1 * t1 + (330.0 * (t - self.T) if t > self.T else 0.0)
+
+            def speed(self, t):
+                return 150.0 + 70.0 * min(t, self.T)
+
+            def marks(self, t_end):
+                out, k = [], 1
+                while True:
+                    target = 2 * math.pi * k
+                    lo, hi = 0.0, t_end + 1.0
+                    for _ in range(60):
+                        mid = 0.5 * (lo + hi)
+                        lo, hi = (mid, hi) if self.phi(mid) < target else (lo, mid)
+                    if hi > t_end:
+                        return out
+                    out.append((hi, k, self.speed(hi)))
+                    k += 1
+        det = detector()
+        changes = run(det, RunUp(150.0), lambda t, phi: 0.3 * C * np.exp(1j * phi), 3.5,
+                      torque=lambda t: 0.308 * 70.0 if t < RunUp.T else 0.0)
+        self.assertEqual(changes, [])
+        det = detector()
+        changes = run(det, Drive(100.0), lambda t, phi: 0.3 * C * np.exp(1j * phi), 2.5,
+                      torque=lambda t: 0.05 + (0.01 if t < 1.0 else 0.0))
+        self.assertEqual(changes, [])
+
+
 class Raises(unittest.TestCase):
     def test_torque_step_raises_within_the_window(self):
         # A rub's braking torque of 0.01 N m from t = 1 s at constant speed
