@@ -47,9 +47,9 @@ while any channel is (`reasons()` names them):
     of its drive. The torque rise is that torque's mean over the last
     `window_s` minus its running
     baseline (a straight line fitted to the `baseline_s` (0.5 s) before that
-    window, evaluated at the window's centre, or the torque two revolutions
-    before the window where that is higher: a line fitted across a step down
-    undershoots the new level); the speed dip is the speed's
+    window, evaluated at the window's centre, or the lowest torque of that
+    baseline's last two revolutions where that is higher: a line fitted
+    across a step down undershoots the new level); the speed dip is the speed's
     own baseline, extrapolated to now, minus the speed. A rise >=
     `torque_rise_Nm` raises unless the speed runs ahead of its baseline by
     more than `speed_tolerance_rad_per_s` (then the drive was commanded to
@@ -520,20 +520,19 @@ class MachineRubDetector(object):
         t_mid = sum(s[0] for s in self.drive_win) / len(self.drive_win)
         speed_base, _ = self.baseline.value_at(t)
         _, torque_line = self.baseline.value_at(t_mid)
-        # The line, or the torque two revolutions before the window where that
-        # is higher: after the torque steps down (a run-up reaching its target
-        # speed, a rub's friction ending) the line fitted across the step
-        # undershoots the new level, and the level would read as a rise
-        # (test_machine_rub_detector.py, test_a_torque_step_down_does_not_raise).
-        # Two revolutions back, the revolution's average has none of a step up
-        # the window holds (test_commanded_acceleration_does_not_raise: its
-        # rise is seen, and explained by the speed).
-        lagged = self.drive_base[0][2]
+        # The line, or where that is higher the lowest torque of the baseline's
+        # last two revolutions: after the torque steps down (a run-up reaching
+        # its target speed, a rub's friction ending) the line fitted across the
+        # step undershoots the new level, and the level would read as a rise
+        # (test_machine_rub_detector.py, test_a_torque_step_down_does_not_raise);
+        # a step up the window holds is not yet in those revolutions, and a
+        # torque drifting down has its lowest there.
+        recent = self.drive_base[-1][2]
         for smp in reversed(self.drive_base):
             if smp[0] <= t - w - 2.0 * period:
-                lagged = smp[2]
                 break
-        torque_base = max(torque_line, lagged)
+            recent = min(recent, smp[2])
+        torque_base = max(torque_line, recent)
         self.speed_dip = speed_base - float(speed)
         baseline = self.held_torque_baseline if ch.raised else torque_base
         self.torque_rise = self.win_torque / len(self.drive_win) - baseline

@@ -50,9 +50,10 @@ PARTIAL_SPEED = 60.0
 PARTIAL_MAX_DELAY_S = 5 * 2 * math.pi / PARTIAL_SPEED
 # (c) The motor-driven run-up, config/machine_runup.yaml (drive_torque and
 # friction_torque filled in by the drive model). The orbit reaches the
-# clearance as on the paper scene (measured 8.5 ms) and the drive's torque
-# rises while the rub holds the motor in its limit (drive_braking raises):
-# bound, one 20 ms window, as for (a).
+# clearance as on the paper scene (measured 8.5 ms); the motor is at its
+# torque limit through the rub, so drive_braking cannot see it (and raises no
+# false alarm when the torque steps down after it): bound, one 20 ms window,
+# as for (a).
 MACHINE_RUNUP_ENABLED = True
 MACHINE_RUNUP_MAX_DELAY_S = PAPER_MAX_DELAY_S
 # (d) The flexible rotor's seal rub (config/seal_rub_runup.yaml), judged from
@@ -194,7 +195,11 @@ class RubMonitor(unittest.TestCase):
         self.assertTrue(any(q != 0.0 for q in torques), "the state's drive_torque is 0 throughout")
         raised = sorted({r for a in run.alarms for r in a.reasons.split(",") if r})
         rospy.loginfo("(c): channels raised over the run: %s", raised)
-        self.assertIn("drive_braking", raised)  # the rub's torque, seen by the drive
+        # The motor is at its torque limit (0.1 N m) through the whole rub: its torque cannot rise, and
+        # drive_braking has nothing to see. It raised before only after the contact had ended (3.35 s, and
+        # 4.21 s when the run-up reached its target): the baseline's undershoot after a torque step down,
+        # a false alarm (test_machine_rub_detector.py, test_a_torque_step_down_does_not_raise).
+        self.assertNotIn("drive_braking", raised)
 
     def test_d_seal_rub_from_the_bearings(self):
         scene = os.path.join(CONFIG, "seal_rub_runup.yaml")
