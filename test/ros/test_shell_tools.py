@@ -2,9 +2,10 @@
 """The shell commands of docs/node.md after the set-up (issue 49): rosservice
 call step, dynparam get and set (an accepted value, and a refused one that
 fails the call and leaves the value in force), rostopic pub of a stamped
-parameter change, tf2_tools' echo.py between the node's frames, and a fault
-the scene cannot take refused on receipt. Each is run as a subprocess, as
+parameter change, tf2_tools' echo.py between the node's frames, and a blade
+loss on a flexible rotor checked on receipt and applied. Each is run as a subprocess, as
 typed, and its output checked."""
+import math
 import os
 import subprocess
 import unittest
@@ -71,10 +72,12 @@ class ShellTools(unittest.TestCase):
         self.assertIn("in RPY (degree)", p.stdout)
 
 
-    def test_e_a_fault_the_scene_cannot_take_is_refused_on_receipt(self):
+    def test_e_a_blade_loss_on_a_flexible_rotor_is_checked_on_receipt(self):
         # A second node on the seal-rub rotor, started as docs/node.md shows
-        # (rosparam load, then rosrun): a blade loss changes the Jeffcott's
-        # eccentricity, which a flexible rotor's file owns.
+        # (rosparam load, then rosrun): a blade is lost from a disk, so the
+        # message's default node 0 (a bearing) is refused to the caller,
+        # naming the disks' nodes; at disk 3 it is accepted and applied at
+        # its stamp to the file's unbalances.
         seal = os.path.join(rospkg.RosPack().get_path("rotor_rub_sim"), "config", "seal_rub_runup.yaml")
         p = shell("rosparam", "load", seal, "/flex/rotor_rub_sim")
         self.assertEqual(p.returncode, 0, p.stdout)
@@ -86,7 +89,24 @@ class ShellTools(unittest.TestCase):
                       "{fault: {header: {stamp: {secs: 1}}, fault_id: 3, kind: 0, magnitude: 1.0e-4, phase: 0.0}}")
             self.assertEqual(p.returncode, 0, p.stdout)
             self.assertIn("accepted: False", p.stdout)
-            self.assertIn("scene key 'eccentricity_m' is not changed", p.stdout)
+            self.assertIn("fault node 0 is out of range", p.stdout)
+            self.assertIn("a node with a disk (3, 6, 9)", p.stdout)
+            feedback = Collector("/flex/parameter_change_feedback", ParameterChangeFeedback)
+            feedback.wait_connected()
+            p = shell("rosservice", "call", "/flex/inject_fault",
+                      "{fault: {header: {stamp: {secs: 0, nsecs: 10000000}}, fault_id: 4, kind: 0, magnitude: 1.0e-4, "
+                      "phase: 0.0, node: 3}}")
+            self.assertIn("accepted: True", p.stdout)
+            p = shell("rosservice", "call", "/flex/step", "{duration: 0.02}")
+            self.assertEqual(p.returncode, 0, p.stdout)
+            msgs = feedback.wait_for(lambda ms: any(m.change_id == 4 for m in ms), "the blade loss's feedback")
+            got = [m for m in msgs if m.change_id == 4][0]
+            self.assertTrue(got.accepted, got.reason)
+            self.assertAlmostEqual(got.effective_time, 0.01, places=9)
+            applied = dict(zip(got.keys, got.values))
+            self.assertEqual(applied["added_unbalance_node"], 3)
+            self.assertEqual(applied["added_unbalance_me_kg_m"], 1.0e-4)
+            self.assertAlmostEqual(abs(applied["added_unbalance_phase_rad"]), math.pi, places=12)
         finally:
             node.terminate()
             node.wait(timeout=30)

@@ -5,7 +5,9 @@
 #include <complex>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
 namespace rotor_rub::core {
@@ -21,6 +23,36 @@ namespace {
   }
   os << " is " << (std::isfinite(v) ? "out of range" : "not a finite number") << "; accepted: " << accepted;
   throw std::invalid_argument(os.str());
+}
+
+// A step at the fault's instant changing these keys.
+FaultStep step_of(std::map<std::string, std::string> changes) {
+  FaultStep step;
+  step.changes = std::move(changes);
+  return step;
+}
+
+// The unbalance a blade loss adds at its node of a flexible rotor, in the
+// file's angles: the lost one turned by pi, less the scene's
+// unbalance_phase_rad (which turns every unbalance of the file).
+RotorUnbalance flexible_blade_loss(const Fault& f, const Scene& now) {
+  const auto rotor = flexible_rotor_of(now);
+  const std::vector<int>& disks = rotor->disk_nodes();
+  const bool on_disk = disks.empty() ? f.node >= 0 && f.node < rotor->nodes()
+                                     : std::find(disks.begin(), disks.end(), f.node) != disks.end();
+  if (!on_disk) {
+    std::ostringstream os;
+    os << "fault node " << f.node << " is out of range; accepted for '" << now.rotor.file << "': ";
+    if (disks.empty()) {
+      os << "0 to " << rotor->nodes() - 1;
+    } else {
+      os << "a node with a disk (";
+      for (std::size_t i = 0; i < disks.size(); ++i) os << (i ? ", " : "") << disks[i];
+      os << ")";
+    }
+    throw std::invalid_argument(os.str());
+  }
+  return {f.node, f.magnitude, f.phase_rad + M_PI - now.model.unbalance_phase_rad};
 }
 
 }  // namespace
@@ -64,16 +96,26 @@ void check_fault(const Fault& f, double output_rate_hz) {
   }
 }
 
-std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, double output_rate_hz) {
+std::vector<FaultStep> fault_steps(const Fault& f, const Scene& scene, double output_rate_hz) {
   check_fault(f, output_rate_hz);
+  const ModelParameters& now = scene.model;
   std::vector<FaultStep> steps;
   switch (f.kind) {
     case FaultKind::kBladeLoss: {
+      if (!scene.rotor.file.empty()) {
+        FaultStep step;
+        step.unbalances_added.push_back(flexible_blade_loss(f, scene));
+        steps.push_back(step);
+        break;
+      }
+      if (f.node != 0) {
+        throw std::invalid_argument("fault node " + std::to_string(f.node) +
+                                    " is out of range; accepted: 0 (the Jeffcott rotor's one disk)");
+      }
       const std::complex<double> u = now.rotor_mass_kg * now.eccentricity_m * std::polar(1.0, now.unbalance_phase_rad) -
                                      std::polar(f.magnitude, f.phase_rad);
-      steps.push_back({0.0,
-                       {{"eccentricity_m", exact_text(std::abs(u) / now.rotor_mass_kg)},
-                        {"unbalance_phase_rad", exact_text(std::arg(u))}}});
+      steps.push_back(step_of({{"eccentricity_m", exact_text(std::abs(u) / now.rotor_mass_kg)},
+                               {"unbalance_phase_rad", exact_text(std::arg(u))}}));
       break;
     }
     case FaultKind::kThermalClosure:
@@ -91,11 +133,11 @@ std::vector<FaultStep> fault_steps(const Fault& f, const ModelParameters& now, d
       break;
     }
     case FaultKind::kFrictionChange:
-      steps.push_back({0.0, {{"friction_coefficient", exact_text(f.magnitude)}}});
+      steps.push_back(step_of({{"friction_coefficient", exact_text(f.magnitude)}}));
       break;
     case FaultKind::kSupportLoosening:
       steps.push_back(
-          {0.0, {{"stator_stiffness_N_per_m", exact_text(now.stator_stiffness_N_per_m * (1.0 - f.magnitude))}}});
+          step_of({{"stator_stiffness_N_per_m", exact_text(now.stator_stiffness_N_per_m * (1.0 - f.magnitude))}}));
       break;
   }
   return steps;

@@ -19,6 +19,7 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
       station_mass_kg_(rotor.station_mass_kg),
       contact_radius_m_(contact_radius_m),
       probe_node_(probe_node < 0 ? rotor.station_node : probe_node),
+      gravity_m_per_s2_(gravity_m_per_s2),
       k_(rotor.matrices.K),
       c_(rotor.matrices.C),
       g_(rotor.matrices.G) {
@@ -27,21 +28,9 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
                                 " planar modes; accepted: 1 to " + std::to_string(kMaxPlanarModes));
   }
   const int n = static_cast<int>(rotor.expansion.rows());
-  Eigen::VectorXd a_full = Eigen::VectorXd::Zero(n), b_full = Eigen::VectorXd::Zero(n);
-  for (const RotorUnbalance& u : unbalances) {
-    if (u.node < 0 || 4 * u.node >= n) {
-      throw std::invalid_argument("unbalance: node " + std::to_string(u.node) + " is out of range; accepted: 0 to " +
-                                  std::to_string(n / 4 - 1));
-    }
-    // At spin angle 0 the force points along beta; a quarter turn on, along beta + pi/2.
-    a_full(dof_index(u.node, kDofX)) += u.me_kg_m * std::cos(u.phase_rad);
-    a_full(dof_index(u.node, kDofY)) += u.me_kg_m * std::sin(u.phase_rad);
-    b_full(dof_index(u.node, kDofX)) -= u.me_kg_m * std::sin(u.phase_rad);
-    b_full(dof_index(u.node, kDofY)) += u.me_kg_m * std::cos(u.phase_rad);
-    pendulum_N_m_ += gravity_m_per_s2 * u.me_kg_m * Vec2(std::cos(u.phase_rad), std::sin(u.phase_rad));
-  }
-  a_ = rotor.expansion.transpose() * a_full;
-  b_ = rotor.expansion.transpose() * b_full;
+  a_ = Eigen::VectorXd::Zero(rotor.size());
+  b_ = Eigen::VectorXd::Zero(rotor.size());
+  for (const RotorUnbalance& u : unbalances) add_unbalance(u);
   if (gravity_m_per_s2 != 0.0 && rotor.unit_weight_kg.size() != rotor.size()) {
     throw std::logic_error("flexible rotor: gravity without the reduced rotor's unit weight (reduce_rotor sets it)");
   }
@@ -59,6 +48,26 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
     node_rows_.row(2 * node) = rotor.expansion.row(dof_index(node, kDofX));
     node_rows_.row(2 * node + 1) = rotor.expansion.row(dof_index(node, kDofY));
   }
+}
+
+void FlexibleRotorModel::add_unbalance(const RotorUnbalance& u) {
+  if (u.node < 0 || u.node >= nodes()) {
+    throw std::invalid_argument("unbalance: node " + std::to_string(u.node) + " is out of range; accepted: 0 to " +
+                                std::to_string(nodes() - 1));
+  }
+  // At spin angle 0 the force points along beta; a quarter turn on, along beta + pi/2.
+  const auto x = rotor_.expansion.row(dof_index(u.node, kDofX));
+  const auto y = rotor_.expansion.row(dof_index(u.node, kDofY));
+  const double c = u.me_kg_m * std::cos(u.phase_rad), s = u.me_kg_m * std::sin(u.phase_rad);
+  a_ += (c * x + s * y).transpose();
+  b_ += (-s * x + c * y).transpose();
+  pendulum_N_m_ += gravity_m_per_s2_ * Vec2(c, s);
+}
+
+FlexibleRotorModel FlexibleRotorModel::with_unbalances(const std::vector<RotorUnbalance>& added) const {
+  FlexibleRotorModel out = *this;
+  for (const RotorUnbalance& u : added) out.add_unbalance(u);
+  return out;
 }
 
 std::string to_string(long planar_modes, const TruncationReport& t) {
@@ -164,6 +173,11 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
                                                       : rotor.rub_station_node;
   FlexibleRotorModel model(reduced, rotor.unbalances, rotor.rub_contact_radius_m, probe_node, gravity_m_per_s2);
   model.set_truncation(report);
+  std::vector<int> disks;
+  for (const DiskElement& d : rotor.disks) disks.push_back(d.node);
+  std::sort(disks.begin(), disks.end());
+  disks.erase(std::unique(disks.begin(), disks.end()), disks.end());
+  model.set_disk_nodes(std::move(disks));
   return model;
 }
 

@@ -504,6 +504,14 @@ class IterationMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    if constexpr (!kFlexible) {
+      ContactMethod::change_rotor(std::move(rotor));
+    } else {
+      flexible_ = std::move(rotor);
+      system_.flexible = flexible_.get();
+    }
+  }
   ModalState modal_state(double t_s) const override {
     if constexpr (kFlexible) {
       State x;

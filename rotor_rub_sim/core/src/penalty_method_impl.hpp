@@ -196,6 +196,14 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    if constexpr (!kFlexible) {
+      ContactMethod::change_rotor(std::move(rotor));
+    } else {
+      flexible_ = std::move(rotor);
+      system_.flexible = flexible_.get();
+    }
+  }
   ModalState modal_state(double t_s) const override { return kFlexible ? modal_at(t_s) : ModalState(); }
 
   const RunStats& stats() const override { return stats_; }

@@ -138,9 +138,37 @@ Scene with_live_changes(const Scene& running, const std::map<std::string, std::s
   return next;
 }
 
-void Simulation::change_parameters(const std::map<std::string, std::string>& changes) {
+Scene with_unbalances_added(const Scene& running, const std::vector<RotorUnbalance>& added) {
+  if (added.empty()) return running;
+  if (running.rotor.file.empty()) {
+    throw SceneError(
+        "an unbalance added at a node needs a flexible rotor (rotor_file); the Jeffcott rotor's unbalance is the "
+        "scene keys eccentricity_m and unbalance_phase_rad");
+  }
+  Scene next = running;
+  load_rotor(next);
+  auto loaded = std::make_shared<LoadedFlexibleRotor>(*next.rotor.loaded);
+  try {
+    loaded->model = std::make_shared<const FlexibleRotorModel>(loaded->model->with_unbalances(added));
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(std::string("rotor_file '") + running.rotor.file + "': " + e.what());
+  }
+  next.rotor.loaded = std::move(loaded);
+  return next;
+}
+
+void Simulation::change_parameters(const std::map<std::string, std::string>& changes,
+                                   const std::vector<RotorUnbalance>& unbalances_added) {
   if (failure_) throw SceneError("the simulation has failed (" + failure_->message + "); nothing to change");
-  const Scene next = with_live_changes(scene_, changes, true);
+  Scene next = with_live_changes(scene_, changes, unbalances_added.empty());
+  if (!unbalances_added.empty()) {
+    // The rules between keys on the rotor with its new unbalances (the
+    // motor's spin bound and RK4's step depend on them).
+    next = with_unbalances_added(next, unbalances_added);
+    Scene probe = next;
+    probe.end_time_s = std::min(probe.end_time_s, 1e6);
+    static_cast<void>(checked_scene(probe));
+  }
   // The stator must not land inside the rotor: a clearance (or a rigid
   // stator's offset) may close on the rotor down to where it is now, no
   // further (a contact would need an impact with no closing speed to
@@ -159,6 +187,10 @@ void Simulation::change_parameters(const std::map<std::string, std::string>& cha
                      shown(next.model.clearance_m) + " m); accepted now: a clearance of at least the distance");
   }
   scene_.model = next.model;
+  if (next.rotor.loaded != scene_.rotor.loaded) {
+    scene_.rotor.loaded = next.rotor.loaded;
+    method_->change_rotor(scene_.rotor.loaded->model);
+  }
   limits_ = InvariantLimits::for_scene(scene_, contact_radius_of(scene_));
   // Events found beyond time_s_ were found under the old parameters; the
   // method restarts here (a drive break it had reached stays due).

@@ -338,6 +338,14 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    if constexpr (!kFlexible) {
+      ContactMethod::change_rotor(std::move(rotor));
+    } else {
+      flexible_ = std::move(rotor);
+      free_sys_.flexible = contact_sys_.dynamics.flexible = flexible_.get();
+    }
+  }
   ModalState modal_state(double t_s) const override {
     if constexpr (kFlexible) {
       if (regime_ == Regime::kFree) {

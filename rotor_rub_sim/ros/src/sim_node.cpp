@@ -380,7 +380,8 @@ void SimNode::apply_due_commands() {
         applied_accel_ = c.accel_rad_per_s2;
         break;
       case PendingCommand::Kind::kParameters:
-        apply_change(c.changes, c.id, c.source, c.stop_at_rotor);  // checked again: the state may forbid it now
+        apply_change(c.changes, c.id, c.source, c.stop_at_rotor,
+                     c.unbalances_added);  // checked again: the state may forbid it now
         break;
       case PendingCommand::Kind::kFault:
         apply_fault(c);
@@ -396,7 +397,17 @@ void SimNode::enqueue(PendingCommand c) {
 }
 
 bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
-                           bool stop_at_rotor) {
+                           bool stop_at_rotor, const std::vector<core::RotorUnbalance>& unbalances_added) {
+  // The feedback echoes an unbalance added (a flexible rotor's blade loss)
+  // as the change it made: its node, m e and angle on the shaft from the
+  // keyphasor's notch (the file's angle turned by unbalance_phase_rad).
+  std::map<std::string, std::string> echoed = changes;
+  for (const core::RotorUnbalance& u : unbalances_added) {
+    echoed["added_unbalance_node"] = std::to_string(u.node);
+    echoed["added_unbalance_me_kg_m"] = core::exact_text(u.me_kg_m);
+    echoed["added_unbalance_phase_rad"] =
+        core::exact_text(std::remainder(u.phase_rad + sim_->scene().model.unbalance_phase_rad, 2.0 * M_PI));
+  }
   std::string note;
   try {
     if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
@@ -407,21 +418,22 @@ bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t 
       const double floor_m = std::min(sim_->rotor_stator_distance_m(), sim_->scene().model.clearance_m);
       if (std::stod(closure->second) < floor_m) {
         closure->second = core::exact_text(floor_m);
+        echoed["clearance_m"] = closure->second;
         note = "the closure stopped at the rotor (clearance held at " + closure->second + " m)";
       }
     }
-    sim_->change_parameters(changes);
+    sim_->change_parameters(changes, unbalances_added);
   } catch (const std::exception& e) {  // SceneError: refused; anything else must not escape a callback
-    answer_change(changes, id, source, false, e.what());
+    answer_change(echoed, id, source, false, e.what());
     return false;
   }
   if (sim_->failure()) {
-    answer_change(changes, id, source, false,
+    answer_change(echoed, id, source, false,
                   "the method failed restarting under the change: " + sim_->failure()->message);
     check_end_or_failure();
     return false;
   }
-  answer_change(changes, id, source, true, note);
+  answer_change(echoed, id, source, true, note);
   if (reconfigure_) reconfigure_->publish_values(sim_->scene());
   if (markers_) markers_->set_model(sim_->scene().model);  // the bore drawn where it now is
   return true;
@@ -468,7 +480,7 @@ void SimNode::apply_fault(const PendingCommand& c) {
   const std::string source = std::string("fault:") + core::to_string(c.fault.kind);
   std::vector<core::FaultStep> steps;
   try {
-    steps = core::fault_steps(c.fault, sim_->scene().model, scene_.output_rate_hz);
+    steps = core::fault_steps(c.fault, sim_->scene(), scene_.output_rate_hz);
   } catch (const std::invalid_argument& e) {  // checked on receipt; kept for a fault built in code
     answer_change({}, c.id, source, false, e.what());
     return;
@@ -483,6 +495,7 @@ void SimNode::apply_fault(const PendingCommand& c) {
     p.id = c.id;
     p.source = source;
     p.stop_at_rotor = step.stop_at_rotor;
+    p.unbalances_added = std::move(step.unbalances_added);
     enqueue(std::move(p));
   }
 }
@@ -800,6 +813,7 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
   c.fault.magnitude = msg.magnitude;
   c.fault.phase_rad = msg.phase;
   c.fault.duration_s = msg.duration;
+  c.fault.node = msg.node;
   core::check_fault(c.fault, scene_.output_rate_hz);
   if (c.fault.kind == core::FaultKind::kSupportLoosening && scene_.model.stator_model == core::StatorModel::kRigid) {
     throw std::invalid_argument("fault support_loosening has no effect on a rigid stator (stator_model rigid)");
@@ -809,11 +823,11 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
   const std::string past = past_stamp(msg.header.stamp.toSec());
   if (!past.empty()) throw std::invalid_argument(past);
   // Checked on receipt as a parameter change is (its keys, their liveness
-  // and ranges), on the model in force now: a fault the scene cannot take (a
-  // blade loss on a flexible rotor, whose unbalances are its file's) is
-  // refused to the caller, not accepted and then refused at its stamp
-  // (test_shell_tools.py). A ramp's first and last steps bound the rest.
-  const auto steps = core::fault_steps(c.fault, sim_->scene().model, scene_.output_rate_hz);
+  // and ranges), on the scene in force now: a fault the scene cannot take (a
+  // blade loss at a node without a disk) is refused to the caller, not
+  // accepted and then refused at its stamp (test_shell_tools.py). A ramp's
+  // first and last steps bound the rest.
+  const auto steps = core::fault_steps(c.fault, sim_->scene(), scene_.output_rate_hz);
   if (!steps.empty()) {
     core::with_live_changes(sim_->scene(), steps.front().changes, false);
     core::with_live_changes(sim_->scene(), steps.back().changes, false);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "rotor_rub_sim/core/parameters.hpp"
@@ -44,6 +45,15 @@ class ContactMethod {
   /// normal force would not be positive, else it goes on, sticking while
   /// the stick force lies inside the new cone, sliding otherwise.
   virtual void change_model(double t_s, const ModelParameters& model, std::vector<ContactEvent>& events) = 0;
+
+  /// A flexible rotor's new model of the same basis (its unbalances changed:
+  /// FlexibleRotorModel::with_unbalances), taking effect at the
+  /// change_model that follows (Simulation::change_parameters). The
+  /// Jeffcott's methods have no such rotor: std::logic_error.
+  virtual void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) {
+    static_cast<void>(rotor);
+    throw std::logic_error("change_rotor: this method runs the Jeffcott rotor");
+  }
 
   /// One accepted step, valid on [step_begin(), step_end()]. An event ends a
   /// step early; so does t_limit_s (the next drive discontinuity or the end

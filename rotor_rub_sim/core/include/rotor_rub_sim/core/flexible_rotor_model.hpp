@@ -88,6 +88,18 @@ class FlexibleRotorModel {
     return probe_rows_.leftCols<2>() * u + probe_rows_.rightCols(n) * modal.head(n);
   }
   const ReducedRotor& rotor() const { return rotor_; }
+  /// The same rotor with the unbalances added (a blade lost: the lost
+  /// mass's unbalance turned by pi). Only the forcing (a, b) and the
+  /// unbalances' weight change, not the basis or the matrices, so a run's
+  /// state carries over (Simulation::change_parameters; test
+  /// BladeLossOnTheSealRotorSettlesOnItsClosedForm). Throws
+  /// std::invalid_argument for a node out of range.
+  FlexibleRotorModel with_unbalances(const std::vector<RotorUnbalance>& added) const;
+  /// The nodes that carry a disk (the element file's; empty for imported
+  /// matrices, which name none): where a blade can be lost.
+  const std::vector<int>& disk_nodes() const { return disk_nodes_; }
+  /// Sets them (load_flexible_rotor).
+  void set_disk_nodes(std::vector<int> nodes) { disk_nodes_ = std::move(nodes); }
   /// The reduction's truncation error as judged at the start (load_flexible_rotor).
   const TruncationReport& truncation() const { return truncation_; }
   /// Sets it (load_flexible_rotor).
@@ -217,6 +229,8 @@ class FlexibleRotorModel {
 
  private:
   using Reduced = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxModalCoordinates + 2, 1>;
+  // Adds u's force to a, b and its weight to the pendulum torque.
+  void add_unbalance(const RotorUnbalance& u);
   // h = a sin phi - b cos phi at the unbalance's direction (cos, sin).
   void lever(const Vec2& unbalance_dir, Reduced& h) const {
     h.noalias() = unbalance_dir.y() * a_;
@@ -227,6 +241,8 @@ class FlexibleRotorModel {
   double station_mass_kg_;
   double contact_radius_m_;
   int probe_node_;
+  double gravity_m_per_s2_;
+  std::vector<int> disk_nodes_;
   Eigen::Matrix<double, 2, Eigen::Dynamic> probe_rows_;  // the expansion's rows of the probe node's x and y
   Eigen::MatrixXd node_rows_;                            // ... of every node's x and y (2 nodes() rows)
   Eigen::MatrixXd k_;                                    // K

@@ -93,8 +93,11 @@ class Simulation {
   /// range, breaks a rule between keys, or would put the stator into the
   /// rotor (a clearance below the present rotor-stator distance), or the
   /// run has failed. A restart that fails (MethodFailure, as a step may) ends
-  /// the run there: failure() says so.
-  void change_parameters(const std::map<std::string, std::string>& changes);
+  /// the run there: failure() says so. unbalances_added: unbalances added to
+  /// a flexible rotor's at their nodes (a blade loss, FaultStep), in the
+  /// file's angles; a Jeffcott's unbalance is its keys (SceneError).
+  void change_parameters(const std::map<std::string, std::string>& changes,
+                         const std::vector<RotorUnbalance>& unbalances_added = {});
 
   /// Moves the end (e.g. to infinity, for a node that keeps running at the
   /// last speed after the scene's end_time_s). Must not be before time().
@@ -187,6 +190,11 @@ void check_speed_command(const Scene& scene, double target_rad_per_s, double acc
 /// the changes applied before the stamp, so only the stamp can judge them.
 Scene with_live_changes(const Scene& running, const std::map<std::string, std::string>& changes,
                         bool rules_between_keys);
+/// The running scene with unbalances added to its flexible rotor (the
+/// loaded model's forcing, FlexibleRotorModel::with_unbalances; the file is
+/// not read again). Throws SceneError for the Jeffcott (its unbalance is
+/// eccentricity_m and unbalance_phase_rad) and for a node out of range.
+Scene with_unbalances_added(const Scene& running, const std::vector<RotorUnbalance>& added);
 
 /// A whole run's outcome (run_scene).
 struct RunResult {

@@ -82,7 +82,8 @@ class SimNode : public core::SimulationObserver {
     core::Fault fault;
     uint32_t id = 0;
     std::string source;
-    bool stop_at_rotor = false;  // a clearance closure (core::FaultStep)
+    bool stop_at_rotor = false;                          // a clearance closure (core::FaultStep)
+    std::vector<core::RotorUnbalance> unbalances_added;  // a flexible rotor's blade loss (core::FaultStep)
   };
 
   bool wait_for_subscribers();
@@ -95,7 +96,7 @@ class SimNode : public core::SimulationObserver {
   // Applies a parameter change now; answers on parameter_change_feedback.
   // Returns whether it was applied.
   bool apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
-                    bool stop_at_rotor = false);
+                    bool stop_at_rotor = false, const std::vector<core::RotorUnbalance>& unbalances_added = {});
   void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
                      bool accepted, const std::string& reason);
   // A stamp is refused when it lies before the simulated time reached (0
