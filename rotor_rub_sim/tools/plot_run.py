@@ -48,21 +48,15 @@ def load_bag(path, ns):
                 for _, m, _ in b.read_messages(topics=[topic])]
         feedback = topic[:-len("state")] + "parameter_change_feedback"
         applied = [m for _, m, _ in b.read_messages(topics=[feedback]) if m.accepted]
-    return topic, np.array(rows), group_changes(applied)
+    return topic, np.array(rows), change_spans(applied)
 
 
-def group_changes(applied):
-    """(start, end, label) per change to a user: a fault's steps (a ramp:
-    one change_id, one kind, one after another) are one, from its first step
-    to its last, labelled with the steps' count."""
-    out = []
-    for m in applied:
-        last = out[-1] if out else None
-        if (last is not None and m.source.startswith("fault:") and last[3] == (m.change_id, m.source)):
-            out[-1] = (last[0], m.effective_time, last[2], last[3], last[4] + 1)
-        else:
-            out.append((m.effective_time, m.effective_time, change_label(m), (m.change_id, m.source), 1))
-    return [(t0, t1, label if n == 1 else "%s (%d steps)" % (label, n)) for t0, t1, label, _, n in out]
+def change_spans(applied):
+    """(start, end, label) per change the node answered: a ramp is one
+    answer spanning its steps (start its first, end its last), labelled with
+    the steps' count."""
+    return [(m.effective_time, m.end_time, change_label(m) if m.steps <= 1 else "%s (%d steps)" % (change_label(m), m.steps))
+            for m in applied]
 
 
 def change_label(m):
@@ -113,15 +107,21 @@ def shade(ax, spans):
 CLEARANCE_COLOURS = ("k", "tab:red", "tab:purple", "tab:orange", "tab:green", "tab:brown")
 
 
-def clearance_levels(t, c_t, most=len(CLEARANCE_COLOURS)):
+def clearance_levels(t, c_t, ramps=(), most=len(CLEARANCE_COLOURS)):
     """The clearances in force over the run, each with the time it began: a
     new level where C moves by more than 1e-9 of itself (the samples' C is
-    |r_r - r_s| - penetration, exact to rounding). A ramp gives many: its
-    first, its last and evenly spaced ones between, `most` in all."""
+    |r_r - r_s| - penetration, exact to rounding). A ramp (start, end) in ramps
+    gives one, where it ended (its steps begin at most a sample and a half
+    after theirs); beyond `most` levels: the first, the last and evenly
+    spaced ones between."""
     levels = [(float(t[0]), float(c_t[0]))]
     for ti, ci in zip(t[1:], c_t[1:]):
         if abs(ci - levels[-1][1]) > 1e-9 * abs(levels[-1][1]):
             levels.append((float(ti), float(ci)))
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
+    for t0, t1 in ramps:
+        inside = [k for k, (ti, _) in enumerate(levels) if k > 0 and t0 <= ti <= t1 + 1.5 * dt]
+        levels = [lv for k, lv in enumerate(levels) if k not in inside[:-1]]
     if len(levels) > most:
         keep = np.unique(np.round(np.linspace(0, len(levels) - 1, most)).astype(int))
         levels = [levels[k] for k in keep]
@@ -177,7 +177,8 @@ def main():
     th = np.linspace(0, 2 * np.pi, 400)
     # Every clearance in force (a live change or a fault moves it), not only
     # the first: the orbit after a seal wear does not pass through the bore.
-    levels = clearance_levels(t, c_t) if given is None else [(float(t[0]), given)]
+    ramps = [(t0, t1) for t0, t1, _ in changes if t1 > t0]
+    levels = clearance_levels(t, c_t, ramps) if given is None else [(float(t[0]), given)]
     # Relative to the stator the bore is the clearance circle about 0; in the
     # casing (where the proximity probes are mounted) it moves with the
     # stator: drawn about the stator's mean position (its offset, its sag).

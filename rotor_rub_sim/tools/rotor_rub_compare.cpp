@@ -75,15 +75,19 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
         runs[run_key(topic, "/contact_events")].events.push_back(rotor_rub::ros_node::from_msg(*e));
       } else if (auto c = m.instantiate<rotor_rub_msgs::ParameterChangeFeedback>()) {
         if (!c->accepted) continue;  // a refused change changed nothing
-        std::string values;
-        for (std::size_t i = 0; i < c->keys.size() && i < c->values.size(); ++i) {
-          char v[32];
-          std::snprintf(v, sizeof v, "%.9g", c->values[i]);
-          values += (values.empty() ? "" : " ") + c->keys[i] + "=" + v;
-        }
+        auto listed = [&c](const std::vector<double>& vs) {
+          std::string out;
+          for (std::size_t i = 0; i < c->keys.size() && i < vs.size(); ++i) {
+            char v[32];
+            std::snprintf(v, sizeof v, "%.9g", vs[i]);
+            out += (out.empty() ? "" : " ") + c->keys[i] + "=" + v;
+          }
+          return out;
+        };
+        const std::string values = listed(c->values);
         const std::string what = c->source.rfind("fault:", 0) == 0 ? c->source.substr(6) : values;
         runs[run_key(topic, "/parameter_change_feedback")].changes.push_back(
-            {c->effective_time, what, c->change_id, values});
+            {c->effective_time, c->end_time, what, c->change_id, listed(c->from_values), values, c->steps});
       } else if (auto st = m.instantiate<rotor_rub_msgs::SolverStats>()) {
         RecordedRun& r = runs[run_key(topic, "/solver_stats")];
         r.method = st->method;

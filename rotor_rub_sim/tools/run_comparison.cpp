@@ -71,25 +71,17 @@ RunFigures compare_run(const RecordedRun& run, const RecordedRun& ref) {
       break;
     }
   }
-  for (std::size_t i = 0; i < run.changes.size();) {
-    const LiveChange& c = run.changes[i];
-    // A fault's steps (its ramp) share its id and kind: one change to a user.
-    std::size_t end = i + 1;
-    while (end < run.changes.size() && run.changes[end].id == c.id && run.changes[end].what == c.what &&
-           c.what.find('=') == std::string::npos) {
-      ++end;
-    }
+  for (const LiveChange& c : run.changes) {
     char t[64];
-    if (end - i == 1) {
+    if (c.steps <= 1) {
       std::snprintf(t, sizeof t, "%.9g", c.t_s);
       f.changes += (f.changes.empty() ? "" : "; ") + std::string(t) + " " + c.what;
-    } else {
-      std::snprintf(t, sizeof t, "%.9g..%.9g", c.t_s, run.changes[end - 1].t_s);
-      f.changes += (f.changes.empty() ? "" : "; ") + std::string(t) + " " + c.what + " " + c.values + ".." +
-                   run.changes[end - 1].values + " (" + std::to_string(end - i) + " steps)";
+    } else {  // a ramp: one change to a user
+      std::snprintf(t, sizeof t, "%.9g..%.9g", c.t_s, c.end_s);
+      f.changes += (f.changes.empty() ? "" : "; ") + std::string(t) + " " + c.what + " " + c.from + ".." + c.values +
+                   " (" + std::to_string(c.steps) + " steps)";
     }
     ++f.live_changes;
-    i = end;
   }
   if (run.samples.size() >= 2) {
     const double period = (run.samples.back().t_s - run.samples.front().t_s) / double(run.samples.size() - 1);

@@ -12,12 +12,16 @@
 
 namespace rotor_rub::tools {
 
-// A live change or fault the node applied (its parameter_change_feedback).
+// A live change or fault the node applied (its parameter_change_feedback:
+// one per change, a ramp's spanning its steps).
 struct LiveChange {
-  double t_s = 0.0;
+  double t_s = 0.0;      // applied at (a ramp's first step)
+  double end_s = 0.0;    // a ramp's last step; t_s for a step
   std::string what;      // a fault's kind, or "key=value ..." (no commas)
   std::uint32_t id = 0;  // the request's change_id (a fault's fault_id)
-  std::string values;    // "key=value ..." as applied (a fault's too)
+  std::string from;      // "key=value ..." before it
+  std::string values;    // "key=value ..." as applied (a fault's too; a ramp's at its end)
+  std::uint32_t steps = 1;
 };
 
 struct RecordedRun {

@@ -153,9 +153,11 @@ class FaultMonitorTest(unittest.TestCase):
         t_contact = run.first_contact_after(0.5)
         t_alarm, channel = run.first_new_channel_after(0.5)
         log("thermal closure", 0.5, t_contact, t_alarm, channel)
-        stopped = [m.effective_time for m in run.applied if "stopped at the rotor" in m.reason]
-        self.assertTrue(stopped, "the closure never met the rotor")
-        self.assertAlmostEqual(stopped[0], t_meet, delta=1e-3)  # one step of the staircase
+        # One answer for the ramp, its note saying where the closure stopped.
+        self.assertEqual([(m.source, m.steps) for m in run.applied], [("fault:thermal_closure", 1000)])
+        stopped = re.search(r"stopped at the rotor at t = ([0-9.]+) s", run.applied[0].reason)
+        self.assertTrue(stopped, "the closure never met the rotor: " + run.applied[0].reason)
+        self.assertAlmostEqual(float(stopped.group(1)), t_meet, delta=1e-3)  # one step of the staircase
         self.assertEqual([a for a in run.alarms if a.rubbing], [])
 
     # A friction change or a loosened support changes a rub the monitor

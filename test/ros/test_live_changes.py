@@ -22,6 +22,7 @@ from rotor_rub_msgs.msg import Fault, ParameterChange, ParameterChangeFeedback  
 from rotor_rub_msgs.srv import InjectFault, StepSimulation  # noqa: E402
 
 END_S = 1.3  # the paper run-up grazes first at 1.113 s
+RAMP_S, RAMP_WEAR_M = 0.02, 1e-4  # 20 steps at the output's 1 kHz
 TF_RATE_HZ = 50.0
 LAUNCH_TIMEOUT_S = 300.0
 
@@ -78,13 +79,15 @@ def states(topics):
 def send_sequence(run):
     """The changes every recorded run gets: friction and clearance at 1.0 s
     (the opened clearance takes the graze at 1.113 s away), a key that cannot
-    change at 0.8 s, a blade loss at 1.2 s."""
+    change at 0.8 s, a blade loss at 1.2 s, a seal wear ramp from 1.25 s."""
     run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(1.0)), keys=["friction_coefficient",
                                         "clearance_m"], values=[0.3, 2.5e-3], change_id=1, source="test"))
     run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(0.8)), keys=["method"], values=[1.0],
                                         change_id=2, source="test"))
     run.faults.publish(Fault(header=rospy.Header(stamp=stamp(1.2)), kind=Fault.BLADE_LOSS, magnitude=1e-4, phase=1.0,
                              fault_id=3))
+    run.faults.publish(Fault(header=rospy.Header(stamp=stamp(1.25)), kind=Fault.SEAL_WEAR, magnitude=RAMP_WEAR_M,
+                             duration=RAMP_S, fault_id=4))
 
 
 class LiveChangesTest(unittest.TestCase):
@@ -118,11 +121,22 @@ class LiveChangesTest(unittest.TestCase):
         self.assertFalse(by_id[2].accepted)
         self.assertIn("'method' cannot change while running", by_id[2].reason)
         # The fault: in the bag as asked, and as the change it made at its stamp.
-        self.assertEqual([m.fault_id for _, m in self.bags["fast"]["faults"]], [3])
+        self.assertEqual([m.fault_id for _, m in self.bags["fast"]["faults"]], [3, 4])
         self.assertTrue(by_id[3].accepted)
         self.assertEqual(by_id[3].source, "fault:blade_loss")
         self.assertEqual(by_id[3].effective_time, stamp(1.2).to_sec())  # exactly its stamp (rospy truncates to ns)
         self.assertEqual(sorted(by_id[3].keys), ["eccentricity_m", "unbalance_phase_rad"])
+        self.assertEqual((by_id[3].steps, by_id[3].end_time), (1, by_id[3].effective_time))
+        # The ramp: one answer spanning its 20 steps, from the value before it to the last.
+        self.assertEqual([m.change_id for m in feedback].count(4), 1)
+        ramp = by_id[4]
+        self.assertTrue(ramp.accepted, ramp.reason)
+        self.assertEqual(ramp.steps, 20)
+        self.assertAlmostEqual(ramp.effective_time, 1.25 + RAMP_S / 20, places=9)
+        self.assertAlmostEqual(ramp.end_time, 1.25 + RAMP_S, places=9)
+        self.assertEqual(list(ramp.keys), ["clearance_m"])
+        self.assertEqual(list(ramp.from_values), [2.5e-3])
+        self.assertAlmostEqual(ramp.values[0], 2.5e-3 + RAMP_WEAR_M, places=15)
 
     def test_the_same_stamped_changes_give_the_same_run_at_any_pace(self):
         self.assertEqual(states(self.bags["fast"]), states(self.bags["paced"]))
@@ -151,39 +165,36 @@ class LiveChangesTest(unittest.TestCase):
         with open(out_csv) as f:
             rows = list(csv.DictReader(f))
         self.assertEqual(len(rows), 1)
-        self.assertEqual(rows[0]["live_changes"], "2")  # the refused one changed nothing
+        self.assertEqual(rows[0]["live_changes"], "3")  # the refused one changed nothing; the ramp is one
         self.assertEqual(float(rows[0]["first_change_s"]), stamp(1.0).to_sec())
         self.assertIn("clearance_m=0.0025 friction_coefficient=0.3", rows[0]["changes"])
         self.assertIn("blade_loss", rows[0]["changes"])
+        self.assertIn("1.251..1.27 seal_wear clearance_m=0.0025..clearance_m=0.0026 (20 steps)", rows[0]["changes"])
         pictures = temp_prefix("pictures")
         out = subprocess.run([find_binary("plot_run.py"), bag, "--out", pictures], check=True, capture_output=True,
                              text=True).stdout
-        self.assertIn("and 2 live changes", out)
-        # The orbit draws each clearance in force: the scene's 2 mm, and 2.5 mm from the first sample after
-        # the change stamped 1 s (the sample at 1 s is the state the change met).
-        self.assertIn("orbit.png draws 2 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s", out)
+        self.assertIn("and 3 live changes", out)
+        # The orbit draws each clearance in force: the scene's 2 mm, 2.5 mm from the first sample after
+        # the change stamped 1 s (the sample at 1 s is the state the change met), and the ramp's once,
+        # where it ended (2.6 mm after its last step at 1.27 s).
+        self.assertIn("orbit.png draws 3 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s, "
+                      "2.6 mm from 1.271 s", out)
         self.assertTrue(os.path.getsize(os.path.join(pictures, "displacement.png")) > 0)
 
     def test_a_ramp_is_one_mark_in_plot_run(self):
-        # plot_run.py groups a fault's steps (one change_id, one kind, in a row) into one band, beside a plain
-        # change and a one-step fault with their own marks.
+        # plot_run.py marks each answer: the ramp's one answer is one band, beside a plain change and a
+        # one-step fault with their own marks.
         import importlib.util
         import rospkg
         spec = importlib.util.spec_from_file_location(
             "plot_run", os.path.join(rospkg.RosPack().get_path(PKG), "rotor_rub_sim", "tools", "plot_run.py"))
         plot_run = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(plot_run)
-
-        def feedback(t, change_id, source, keys, values):
-            return ParameterChangeFeedback(change_id=change_id, source=source, keys=keys, values=values,
-                                           accepted=True, effective_time=t)
-        applied = [feedback(0.5, 1, "", ["clearance_m"], [0.0025])]
-        applied += [feedback(1.0 + 0.001 * k, 7, "fault:thermal_closure", ["clearance_m"], [0.0024 - 1e-4 * k])
-                    for k in range(5)]
-        applied.append(feedback(1.2, 8, "fault:blade_loss", ["eccentricity_m"], [5e-4]))
-        self.assertEqual(plot_run.group_changes(applied),
-                         [(0.5, 0.5, "clearance_m 0.0025"), (1.0, 1.004, "thermal_closure (5 steps)"),
-                          (1.2, 1.2, "blade_loss")])
+        applied = [m for _, m in self.bags["fast"]["parameter_change_feedback"] if m.accepted]
+        spans = plot_run.change_spans(applied)
+        self.assertEqual([(round(t0, 6), round(t1, 6), label) for t0, t1, label in spans],
+                         [(1.0, 1.0, "clearance_m 0.0025, friction_coefficient 0.3"), (1.2, 1.2, "blade_loss"),
+                          (1.251, 1.27, "seal_wear (20 steps)")])
 
     def test_rate_diagnostics_of_state_and_keyphasor(self):
         names = {s.name for a in self.diagnostics.msgs for s in a.status}

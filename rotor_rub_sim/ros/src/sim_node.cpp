@@ -202,6 +202,7 @@ void SimNode::restart_simulation() {
   lockstep_awaited_s_ = -1.0;
   if (config_.end_action == EndAction::kContinue) sim_->set_end_time(std::numeric_limits<double>::infinity());
   pending_.clear();
+  ramps_.clear();
   states_published_ = events_published_ = 0;
   next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = next_tf_s_ = 0.0;
   if (reconfigure_) reconfigure_->publish_values(scene_);  // a reset restores the scene's values
@@ -379,9 +380,12 @@ void SimNode::apply_due_commands() {
         applied_target_ = c.target_rad_per_s;
         applied_accel_ = c.accel_rad_per_s2;
         break;
-      case PendingCommand::Kind::kParameters:
-        apply_change(c.changes, c.id, c.source, c.stop_at_rotor,
-                     c.unbalances_added);  // checked again: the state may forbid it now
+      case PendingCommand::Kind::kParameters:  // checked again: the state may forbid it now
+        if (c.ramp != 0) {
+          apply_ramp_step(c);
+        } else {
+          apply_change(c.changes, c.id, c.source, c.stop_at_rotor, c.unbalances_added);
+        }
         break;
       case PendingCommand::Kind::kFault:
         apply_fault(c);
@@ -396,19 +400,70 @@ void SimNode::enqueue(PendingCommand c) {
   pending_.insert(at, std::move(c));
 }
 
-bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
+bool SimNode::apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
                            bool stop_at_rotor, const std::vector<core::RotorUnbalance>& unbalances_added) {
-  // The feedback echoes an unbalance added (a flexible rotor's blade loss)
+  ChangeSpan span{sim_->time(), 1, values_now(changes)};
+  const ChangeOutcome o = try_change(changes, stop_at_rotor, unbalances_added);
+  answer_change(o.echoed, id, source, o.accepted, o.reason, o.accepted ? span : ChangeSpan{});
+  if (!o.accepted) check_end_or_failure();
+  return o.accepted;
+}
+
+void SimNode::apply_ramp_step(const PendingCommand& c) {
+  OpenRamp& r = ramps_[c.ramp];
+  if (r.applied == 0) {
+    r.start_s = sim_->time();
+    r.from = values_now(c.changes);
+  }
+  const ChangeOutcome o = try_change(c.changes, c.stop_at_rotor, c.unbalances_added);
+  if (o.accepted) {
+    ++r.applied;
+    r.reached = o.echoed;
+    if (r.note.empty() && !o.reason.empty()) r.note = o.reason;
+    if (!c.ramp_last) return;
+  }
+  // One answer for the ramp: its span and where it took the keys; a step
+  // refused ends it there (the steps before it stand; the rest are dropped).
+  std::string reason = r.note;
+  if (!o.accepted) {
+    char at[64];
+    std::snprintf(at, sizeof at, "%.6f", sim_->time());
+    reason =
+        "the ramp stopped at t = " + std::string(at) + " s after " + std::to_string(r.applied) + " steps: " + o.reason;
+    pending_.erase(
+        std::remove_if(pending_.begin(), pending_.end(), [&](const PendingCommand& p) { return p.ramp == c.ramp; }),
+        pending_.end());
+  }
+  const bool applied = r.applied > 0;
+  answer_change(applied ? r.reached : o.echoed, c.id, c.source, applied, reason,
+                applied ? ChangeSpan{r.start_s, r.applied, r.from} : ChangeSpan{});
+  ramps_.erase(c.ramp);
+  if (!o.accepted) check_end_or_failure();
+}
+
+std::map<std::string, double> SimNode::values_now(const std::map<std::string, std::string>& changes) const {
+  const std::map<std::string, std::string> scene = core::scene_values(sim_->scene());
+  std::map<std::string, double> out;
+  for (const auto& change : changes) {
+    const auto v = scene.find(change.first);
+    out[change.first] = v == scene.end() ? std::numeric_limits<double>::quiet_NaN() : std::stod(v->second);
+  }
+  return out;
+}
+
+SimNode::ChangeOutcome SimNode::try_change(std::map<std::string, std::string> changes, bool stop_at_rotor,
+                                           const std::vector<core::RotorUnbalance>& unbalances_added) {
+  // The answer echoes an unbalance added (a flexible rotor's blade loss)
   // as the change it made: its node, m e and angle on the shaft from the
   // keyphasor's notch (the file's angle turned by unbalance_phase_rad).
-  std::map<std::string, std::string> echoed = changes;
+  ChangeOutcome o;
+  o.echoed = changes;
   for (const core::RotorUnbalance& u : unbalances_added) {
-    echoed["added_unbalance_node"] = std::to_string(u.node);
-    echoed["added_unbalance_me_kg_m"] = core::exact_text(u.me_kg_m);
-    echoed["added_unbalance_phase_rad"] =
+    o.echoed["added_unbalance_node"] = std::to_string(u.node);
+    o.echoed["added_unbalance_me_kg_m"] = core::exact_text(u.me_kg_m);
+    o.echoed["added_unbalance_phase_rad"] =
         core::exact_text(std::remainder(u.phase_rad + sim_->scene().model.unbalance_phase_rad, 2.0 * M_PI));
   }
-  std::string note;
   try {
     if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
     const auto closure = changes.find("clearance_m");
@@ -418,29 +473,30 @@ bool SimNode::apply_change(std::map<std::string, std::string> changes, uint32_t 
       const double floor_m = std::min(sim_->rotor_stator_distance_m(), sim_->scene().model.clearance_m);
       if (std::stod(closure->second) < floor_m) {
         closure->second = core::exact_text(floor_m);
-        echoed["clearance_m"] = closure->second;
-        note = "the closure stopped at the rotor (clearance held at " + closure->second + " m)";
+        o.echoed["clearance_m"] = closure->second;
+        char at[64];
+        std::snprintf(at, sizeof at, "%.6f", sim_->time());
+        o.reason = "the closure stopped at the rotor at t = " + std::string(at) + " s (clearance held at " +
+                   closure->second + " m)";
       }
     }
     sim_->change_parameters(changes, unbalances_added);
   } catch (const std::exception& e) {  // SceneError: refused; anything else must not escape a callback
-    answer_change(echoed, id, source, false, e.what());
-    return false;
+    o.reason = e.what();
+    return o;
   }
   if (sim_->failure()) {
-    answer_change(echoed, id, source, false,
-                  "the method failed restarting under the change: " + sim_->failure()->message);
-    check_end_or_failure();
-    return false;
+    o.reason = "the method failed restarting under the change: " + sim_->failure()->message;
+    return o;
   }
-  answer_change(echoed, id, source, true, note);
+  o.accepted = true;
   if (reconfigure_) reconfigure_->publish_values(sim_->scene());
   if (markers_) markers_->set_model(sim_->scene().model);  // the bore drawn where it now is
-  return true;
+  return o;
 }
 
 void SimNode::answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                            bool accepted, const std::string& reason) {
+                            bool accepted, const std::string& reason, const ChangeSpan& span) {
   rotor_rub_msgs::ParameterChangeFeedback fb;
   fb.header.stamp.fromSec(sim_->time());
   fb.header.frame_id = config_.frame_id;
@@ -455,18 +511,20 @@ void SimNode::answer_change(const std::map<std::string, std::string>& changes, u
     } catch (const std::exception&) {  // a non-number that was refused: NaN in the echo
     }
     fb.values.push_back(v);
+    const auto from = span.from.find(key);
+    fb.from_values.push_back(from == span.from.end() ? std::numeric_limits<double>::quiet_NaN() : from->second);
     listed += (listed.empty() ? "" : ", ") + key + " = " + value;
   }
   fb.accepted = accepted;
-  fb.effective_time = sim_->time();
+  fb.effective_time = std::isnan(span.start_s) ? sim_->time() : span.start_s;
+  fb.end_time = sim_->time();
+  fb.steps = span.steps;
   fb.reason = reason;
-  // Every change is logged (they are few: a staircase ramp's steps at most
-  // once a second).
-  const bool ramp_step = source.rfind("fault:", 0) == 0 && changes.count("clearance_m") != 0;
+  // Every change is logged once (a ramp once, at its end).
   if (accepted && !reason.empty()) listed += " (" + reason + ")";
-  if (accepted && ramp_step) {
-    ROS_INFO_THROTTLE(1.0, "parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(),
-                      listed.c_str());
+  if (accepted && span.steps > 1) {
+    ROS_INFO("parameter change %u from %s applied from t = %.6f s to %.6f s in %u steps: %s", id, source.c_str(),
+             fb.effective_time, fb.end_time, span.steps, listed.c_str());
   } else if (accepted) {
     ROS_INFO("parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(), listed.c_str());
   } else {
@@ -487,8 +545,11 @@ void SimNode::apply_fault(const PendingCommand& c) {
   }
   // The steps from now on, in the queue with everything else (a ramp's
   // later steps wait for their times; the first applies in this pass).
+  const uint64_t ramp = steps.size() > 1 ? next_ramp_++ : 0;
   for (auto& step : steps) {
     PendingCommand p;
+    p.ramp = ramp;
+    p.ramp_last = &step == &steps.back();
     p.time_s = sim_->time() + step.offset_s;
     p.kind = PendingCommand::Kind::kParameters;
     p.changes = std::move(step.changes);

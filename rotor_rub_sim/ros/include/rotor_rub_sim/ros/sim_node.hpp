@@ -19,6 +19,7 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -84,6 +85,32 @@ class SimNode : public core::SimulationObserver {
     std::string source;
     bool stop_at_rotor = false;                          // a clearance closure (core::FaultStep)
     std::vector<core::RotorUnbalance> unbalances_added;  // a flexible rotor's blade loss (core::FaultStep)
+    uint64_t ramp = 0;                                   // a ramp's steps share it (ramps_); 0: not a ramp
+    bool ramp_last = false;                              // the ramp's last step: its feedback is due
+  };
+  // A ramp being applied: one answer for its steps, at the last one (or at
+  // the first refused), spanning them.
+  struct OpenRamp {
+    double start_s = 0.0;
+    uint32_t applied = 0;
+    std::map<std::string, double> from;          // the keys' values before its first step
+    std::map<std::string, std::string> reached;  // as its last applied step left them
+    std::string note;                            // the first step's note (a closure stopped at the rotor)
+  };
+  // What an answer spans: applied from start_s (NaN: now) in steps steps,
+  // the keys' values before it.
+  struct ChangeSpan {
+    double start_s = std::numeric_limits<double>::quiet_NaN();
+    uint32_t steps = 0;
+    std::map<std::string, double> from;
+  };
+  // A change tried now: accepted, or refused and why; the keys and values
+  // as applied (a closure clamped at the rotor; an unbalance added by its
+  // node, m e and angle on the shaft).
+  struct ChangeOutcome {
+    bool accepted = false;
+    std::string reason;
+    std::map<std::string, std::string> echoed;
   };
 
   bool wait_for_subscribers();
@@ -95,10 +122,21 @@ class SimNode : public core::SimulationObserver {
   void enqueue(PendingCommand c);
   // Applies a parameter change now; answers on parameter_change_feedback.
   // Returns whether it was applied.
-  bool apply_change(std::map<std::string, std::string> changes, uint32_t id, const std::string& source,
+  bool apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
                     bool stop_at_rotor = false, const std::vector<core::RotorUnbalance>& unbalances_added = {});
+  // Applies one of a ramp's steps; answers once for the ramp.
+  void apply_ramp_step(const PendingCommand& c);
+  ChangeOutcome try_change(std::map<std::string, std::string> changes, bool stop_at_rotor,
+                           const std::vector<core::RotorUnbalance>& unbalances_added);
+  // The scene's values of these keys now (NaN: not a scene key).
+  std::map<std::string, double> values_now(const std::map<std::string, std::string>& changes) const;
   void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                     bool accepted, const std::string& reason);
+                     bool accepted, const std::string& reason, const ChangeSpan& span);
+  // A refusal: nothing applied.
+  void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
+                     bool accepted, const std::string& reason) {
+    answer_change(changes, id, source, accepted, reason, ChangeSpan());
+  }
   // A stamp is refused when it lies before the simulated time reached (0
   // means "now"); "" when it is fine.
   std::string past_stamp(double t_s) const;
@@ -156,6 +194,8 @@ class SimNode : public core::SimulationObserver {
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
   std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
+  std::map<uint64_t, OpenRamp> ramps_;   // by PendingCommand::ramp
+  uint64_t next_ramp_ = 1;
 
   ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
   ros::Publisher keyphasor_pub_, probes_pub_, change_feedback_pub_, tf_pub_, shaft_pub_;
