@@ -114,6 +114,9 @@ class RecordingTest(unittest.TestCase):
         with rosbag.Bag(self.sim_bag) as bag:
             names = {st.name for _, m, _ in bag.read_messages(topics=["/diagnostics"]) for st in m.status}
         self.assertIn("rotor_rub_sim/rotor_rub_sim: solver", names)  # the node's full name: ns/name
+        # ... every status the live topic carries, the topics' rates among them.
+        self.assertEqual(sorted(n.split(": ", 1)[1] for n in names),
+                         ["contact", "keyphasor topic status", "real-time factor", "solver", "state topic status"])
         self.assertEqual(stats[-1].status, SolverStats.FINISHED)
         self.assertEqual(stats[-1].states_published, N_STATES)
         self.assertNotIn("/rotor_rub_sim/shaft", counts, "the Jeffcott has no shaft topic")

@@ -83,9 +83,10 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   step_srv_ = nh.advertiseService("step", &SimNode::on_step, this);
 
   diagnostics_.setHardwareID(std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method));
-  diagnostics_.add("solver", this, &SimNode::diagnose_solver);
-  diagnostics_.add("real-time factor", this, &SimNode::diagnose_pace);
-  diagnostics_.add("contact", this, &SimNode::diagnose_contact);
+  add_diagnostic("solver", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_solver(stat); });
+  add_diagnostic("real-time factor",
+                 [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_pace(stat); });
+  add_diagnostic("contact", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_contact(stat); });
   // The rates expected of state, probes and keyphasor: the simulated rate
   // times the pace (under use_sim_time the updater's clock is the
   // simulated one: the pace is 1); as fast as possible, no bound.
@@ -97,13 +98,13 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   };
   rates(scene_.output_rate_hz, state_rate_min_hz_, state_rate_max_hz_);
   state_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&state_rate_min_hz_, &state_rate_max_hz_, tolerance));
-  diagnostics_.add("state topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  add_diagnostic("state topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     diagnose_rate(*state_rate_, false, stat);
   });
   if (probes_pub_) {
     rates(scene_.probes.rate_hz, probe_rate_min_hz_, probe_rate_max_hz_);
     probe_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&probe_rate_min_hz_, &probe_rate_max_hz_, tolerance));
-    diagnostics_.add("probes topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    add_diagnostic("probes topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       diagnose_rate(*probe_rate_, false, stat);
     });
   }
@@ -112,7 +113,7 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
       pace > 0.0 ? scene_.speed.max_speed_rad_per_s / (2.0 * M_PI) * pace : std::numeric_limits<double>::infinity();
   keyphasor_rate_.emplace(
       diagnostic_updater::FrequencyStatusParam(&keyphasor_rate_min_hz_, &keyphasor_rate_max_hz_, tolerance));
-  diagnostics_.add("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  add_diagnostic("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     diagnose_rate(*keyphasor_rate_, true, stat);
   });
   if (!config_.record_bag.empty()) {
@@ -144,24 +145,29 @@ void SimNode::stop_recording(const std::string& why, double t_s) {
   recording_ = false;
 }
 
+void SimNode::add_diagnostic(const std::string& name,
+                             std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)> task) {
+  // Each task runs once per update (a frequency status's window moves when
+  // it runs): the updater runs it, and the bag records what it said.
+  recorded_diagnostics_.emplace_back(name, diagnostic_msgs::DiagnosticStatus());
+  const std::size_t slot = recorded_diagnostics_.size() - 1;
+  diagnostics_.add(name, [this, slot, task](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    task(stat);
+    recorded_diagnostics_[slot].second = stat;
+  });
+}
+
 void SimNode::update_diagnostics(double t_s) {
   diagnostics_.force_update();
   if (!recording_) return;
   // diagnostic_updater publishes /diagnostics itself and offers no copy of
-  // its message: the bag gets the same statuses, built the same way
-  // ("<node>: <task>", the hardware id), stamped with the simulated time.
+  // its message: the bag gets the statuses its tasks gave, named as it names
+  // them ("<node>: <task>"), stamped with the simulated time.
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = ros::Time().fromSec(std::max(t_s, 0.0));
-  using Task = void (SimNode::*)(diagnostic_updater::DiagnosticStatusWrapper&);
-  const std::pair<const char*, Task> tasks[] = {{"solver", &SimNode::diagnose_solver},
-                                                {"real-time factor", &SimNode::diagnose_pace},
-                                                {"contact", &SimNode::diagnose_contact}};
-  for (const auto& [name, task] : tasks) {
-    diagnostic_updater::DiagnosticStatusWrapper status;
-    (this->*task)(status);
-    status.name = ros::this_node::getName().substr(1) + ": " + name;
-    status.hardware_id = std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method);
+  for (const auto& [name, status] : recorded_diagnostics_) {
     array.status.push_back(status);
+    array.status.back().name = ros::this_node::getName().substr(1) + ": " + name;
   }
   record("/diagnostics", array, t_s);
 }

@@ -19,10 +19,13 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "rotor_rub_msgs/ContactEvent.h"
@@ -173,6 +176,8 @@ class SimNode : public core::SimulationObserver {
   bool on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_step(rotor_rub_msgs::StepSimulation::Request& req, rotor_rub_msgs::StepSimulation::Response& res);
+  // Registers a diagnostic task with the updater; its statuses are recorded too.
+  void add_diagnostic(const std::string& name, std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)> task);
   // Updates /diagnostics now and records the same statuses into the bag.
   void update_diagnostics(double t_s);
   void diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -221,6 +226,8 @@ class SimNode : public core::SimulationObserver {
   ros::Subscriber command_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, resume_srv_, step_srv_;
   diagnostic_updater::Updater diagnostics_;
+  // Each diagnostic task's last status, in the order added (add_diagnostic).
+  std::vector<std::pair<std::string, diagnostic_msgs::DiagnosticStatus>> recorded_diagnostics_;
   std::optional<MarkerBuilder> markers_;
 
   rotor_rub_msgs::RotorState state_msg_;  // reused: no allocation per sample
