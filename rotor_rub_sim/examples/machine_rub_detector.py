@@ -32,7 +32,13 @@ while any channel is (`reasons()` names them):
     distortion sqrt(|Z_-1|^2 + |Z_+-2|^2 + |Z_+-3|^2) / |Z_1| (backward 1X,
     2X and 3X against the forward 1X) >= `distortion_raise` (0.1) raises,
     < `distortion_clear` (0.05) clears. Judged only while |Z_1| >=
-    `min_1x_ratio` (0.05) C (no verdict on a slow-roll orbit of noise).
+    `min_1x_ratio` (0.05) C (no verdict on a slow-roll orbit of noise), and
+    while the probes' noise could make at most half of `distortion_clear`:
+    its level from the span's second differences (their median, which an
+    impact's few samples do not move), its share of each harmonic's estimate
+    sqrt(sum w^2) / sum w, over the four or five orders against Z_1. Noise
+    alone then neither raises nor holds the alarm (a bearing's orbit of
+    1 um under 1.3 um of noise read as 0.3 to 2 of distortion).
     Non-synchronous motion (the free whirl after a start or the critical
     speed) falls between the orders and the Hann window keeps it out.
   backward_whirl (every keyphasor mark): the full spectrum of
@@ -278,6 +284,21 @@ def synchronous(z, phi, span, orders, window=None):
     return {h: complex(np.sum(w * z * np.exp(-1j * h * phi)) / wsum) for h in orders}
 
 
+def noise_distortion(z, phi, revolutions, window, orders, fwd):
+    """The distortion the probes' noise alone would read: the noise's level
+    per axis from the second differences of z (1.4826 x their median
+    absolute value / sqrt(6) for white noise; an impact's few samples do not
+    move a median), its share of each harmonic's estimate sqrt(sum w^2) /
+    sum w, times sqrt(orders), against the forward 1X fwd."""
+    d2 = z[2:] - 2.0 * z[1:-1] + z[:-2]
+    if len(d2) == 0 or fwd <= 0:
+        return float("inf")
+    sigma = 1.4826 * float(np.median(np.abs(np.concatenate((d2.real, d2.imag))))) / math.sqrt(6.0)
+    w = cell_weights(phi, 2 * math.pi * revolutions) * window
+    per_harmonic = math.sqrt(2.0) * sigma * math.sqrt(float(np.sum(w * w))) / float(np.sum(w))
+    return math.sqrt(orders) * per_harmonic / fwd
+
+
 def full_spectrum(z, dt):
     """(forward power, backward power, power-weighted whirl frequency [Hz]) of
     the complex signal z sampled every dt, mean removed (Hann window)."""
@@ -469,7 +490,8 @@ class MachineRubDetector(object):
         rev.span, rev.forward_1x_m, rev.backward_1x_m = M, fwd, abs(H[-1])
         rev.distortion = other / fwd if fwd > 0 else float("inf")
         rev.backward_share, rev.whirl_frequency_hz, rev.span_orbit_ratio = share, wf, orbit
-        rev.judged = fwd >= self.s["min_1x_ratio"] * self.clearance_m
+        rev.judged = (fwd >= self.s["min_1x_ratio"] * self.clearance_m
+                      and noise_distortion(zs, phi, M, hann, len(orders), fwd) <= 0.5 * self.s["distortion_clear"])
         self.channels["orbit_distorted"].update(
             t, rev.judged and rev.distortion >= self.s["distortion_raise"],
             not rev.judged or rev.distortion < self.s["distortion_clear"])

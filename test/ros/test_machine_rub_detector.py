@@ -206,6 +206,21 @@ class NoFalseAlarm(unittest.TestCase):
         self.assertEqual(changes, [])
         self.assertFalse(det.last_revolution.judged)
 
+    def test_a_small_orbit_under_noise_gives_no_verdict(self):
+        # A bearing's orbit under a seal's 20 um clearance (the seal-rub
+        # example's probes): a forward circle of 1.2 um, above min_1x_ratio C
+        # (1 um), under the launch's noise (1.27 um per axis) reads as 0.3 to
+        # 2 of distortion. The noise could make more than half of
+        # distortion_clear: no verdict, no alarm (it raised twice in 3 s
+        # before). The same noise on a rub's truncated orbit of 0.6 mm leaves
+        # it judged and raised (test_truncated_orbit_raises_orbit_distorted).
+        seal = dict(backward_1x_in_distortion=0, distortion_raise=0.3, distortion_clear=0.15)
+        for seed in (1, 2, 3):
+            det = mrd.MachineRubDetector(20e-6, mrd.ProbeGeometry(X_ANGLE, Y_ANGLE, S), seal, RATE)
+            changes = run(det, Drive(330.0), lambda t, phi: 1.2e-6 * np.exp(1j * phi), 3.0, NOISE_V, seed)
+            self.assertEqual(changes, [], "seed %d" % seed)
+            self.assertFalse(det.last_revolution.judged)
+
     def test_free_whirl_beside_1x_does_not_raise(self):
         # Non-synchronous motion (the free whirl at 1.29 X left by a start or
         # the critical speed, forward and backward modes) is no rub.
@@ -416,6 +431,9 @@ class Raises(unittest.TestCase):
         self.assertAlmostEqual(changes[0][0], (M + 1) * 2 * math.pi / w, delta=2.0 / RATE)
         self.assertGreater(det.last_revolution.distortion, 0.1)
         self.assertLess(det.orbit_ratio(), 0.5)  # far from the designed clearance: only the shape tells
+        det = detector()  # under the probes' noise: judged, raised at the same span
+        self.assertEqual([c[2] for c in run(det, Drive(w), clipped(-0.5 * R), 1.0, NOISE_V)], [["orbit_distorted"]])
+        self.assertTrue(det.last_revolution.judged)
         det = detector()
         self.assertEqual(run(det, Drive(w), clipped(-0.9 * R), 1.0), [])
         self.assertGreater(det.last_revolution.distortion, 0.01)

@@ -62,6 +62,9 @@ MACHINE_RUNUP_MAX_DELAY_S = PAPER_MAX_DELAY_S
 # (drive_braking raises once its 20 ms window sees the torque rise; measured
 # 11.6 ms after the first contact). Bound: one window, as for (a).
 SEAL_MAX_DELAY_S = 0.020
+# ... and cleared once the rub has ended: within two revolutions of the drive's
+# torque (its baseline's span) at the ~300 rad/s the rub ends at, 0.05 s.
+SEAL_CLEAR_S = 0.05
 
 
 def scene_file(name, base="paper_runup.yaml", **keys):
@@ -105,6 +108,7 @@ class Run(object):
             events = [m for _, m, _ in b.read_messages(topics=["/rotor_rub_sim/contact_events"])]
         touches = [e.time for e in events if e.kind in (ContactEvent.TOUCHDOWN, ContactEvent.GRAZE)]
         self.first_contact_s = touches[0] if touches else float("nan")
+        self.last_contact_end_s = events[-1].time if events else float("nan")
         raised = [a for a in self.alarms if a.rubbing]
         self.first_reasons = raised[0].reasons if raised else ""
 
@@ -213,6 +217,25 @@ class RubMonitor(unittest.TestCase):
         self.assertIn("drive_braking", run.first_reasons.split(","))
         self.assertEqual([a for a in run.alarms if a.rubbing and a.raised_at < run.first_contact_s], [])
         self.assertLess(max(a.orbit_ratio for a in run.alarms), 0.5)  # the bearing's orbit, not the seal's
+        # Over the whole run: the alarm's spans (raised, cleared) with their channels, and none standing
+        # once the rub has ended (the drive's torque steps down there: a false alarm before the baseline's fix).
+        spans, open_span = [], None
+        for a in run.alarms:
+            if a.rubbing and open_span is None:
+                open_span = [a.raised_at, float("nan"), set()]
+            if a.rubbing:
+                open_span[2].update(a.reasons.split(","))
+            elif open_span is not None:
+                open_span[1] = a.header.stamp.to_sec()
+                spans.append(open_span)
+                open_span = None
+        if open_span is not None:
+            spans.append(open_span)
+        rospy.loginfo("(d) seal rub: contact %.4f to %.4f s; alarms: %s", run.first_contact_s, run.last_contact_end_s,
+                      "; ".join("%.4f to %.4f s (%s)" % (t0, t1, ",".join(sorted(c))) for t0, t1, c in spans))
+        late = [a for a in run.alarms if a.rubbing and a.header.stamp.to_sec() > run.last_contact_end_s + SEAL_CLEAR_S]
+        self.assertEqual(late[:1], [], "an alarm stands after the rub ended at %.4f s" % run.last_contact_end_s)
+        self.assertFalse(run.last.rubbing)
 
     def test_probes_off_fail_loudly(self):
         p = subprocess.run([find_binary("launch_checked.py"), "rotor_rub_sim", "closed_loop.launch",
