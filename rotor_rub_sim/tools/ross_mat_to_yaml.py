@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """ross_mat_to_yaml.py: a rotor's matrices as ROSS's Rotor.save_mat writes them
 (a MATLAB file of M, K, C, G and nodes, 6 DOF per node) to the rotor file's
-`matrices` map (docs/rotors.md), every entry in the shortest digits that
-read back as the same double. The 6 DOF per node stay as they are:
+`matrices` map (docs/rotors.md), each matrix by its nonzero entries (an FE
+rotor's matrices are banded: a 51-node rotor's read in a few hundredths of a
+second, its dense rows in half a second), every entry in the shortest digits
+that read back as the same double. The 6 DOF per node stay as they are:
 the rotor file reader drops the axial and torsional ones, after checking that
 nothing couples them to the lateral ones. Add the stations (rub_station,
 unbalances, probes) to the file it writes.
@@ -56,9 +58,10 @@ def yaml_text(nodes, matrices, source):
              "matrices:",
              "  nodes: [%s]" % ", ".join(number(z) for z in nodes)]
     for k in KEYS:
-        lines.append("  %s:" % k)
-        for row in matrices[k]:
-            lines.append("    - [%s]" % ", ".join(number(v) for v in row))
+        m = matrices[k]
+        rows, cols = np.nonzero(m)
+        lines += ["  %s:" % k, "    size: %d" % m.shape[0], "    nonzeros:" + ("" if len(rows) else " []")]
+        lines += ["      - [%d, %d, %s]" % (i, j, number(m[i, j])) for i, j in zip(rows, cols)]
     return "\n".join(lines) + "\n"
 
 

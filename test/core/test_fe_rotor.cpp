@@ -301,6 +301,82 @@ TEST(FeRotor, RossSixDofMatricesAreTheLateralRotor) {
   EXPECT_NE(load_error(text + "  nodes_z_m: [0]\n").find("gives both 'nodes_z_m' and 'nodes'"), std::string::npos);
 }
 
+// The matrices by their nonzeros ({size, nonzeros: [[row, col, value]]}),
+// as rotor_rub_modal --export-matrices writes them: the same rotor as the
+// rows (ROSS's example, cross-coupled bearings: every matrix exact), in 4 and
+// in ROSS's 6 DOF per node; a bad entry refused naming it.
+TEST(FeRotor, SparseMatricesAreTheRows) {
+  core::FeRotor elements = ross_example();
+  for (core::BearingElement& b : elements.bearings) b.kxy = 2.5e6, b.kyx = -2e5, b.cxy = 300.0;
+  const core::RotorMatrices m = core::assemble(elements);
+  std::vector<double> z;
+  for (int node = 0; node < elements.nodes(); ++node) z.push_back(elements.node_z_m(node));
+  auto sparse_file = [&z](const core::RotorMatrices& x, const std::string& nodes_key) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "matrices:\n  " << nodes_key << ": [";
+    for (std::size_t i = 0; i < z.size(); ++i) os << (i ? ", " : "") << z[i];
+    os << "]\n";
+    for (const auto& [key, mat] :
+         {std::pair<const char*, const Eigen::MatrixXd*>{"M", &x.M}, {"K", &x.K}, {"C", &x.C}, {"G", &x.G}}) {
+      os << "  " << key << ": {size: " << mat->rows() << ", nonzeros: [";
+      bool first = true;
+      for (int i = 0; i < mat->rows(); ++i) {
+        for (int j = 0; j < mat->cols(); ++j) {
+          if ((*mat)(i, j) == 0.0) continue;
+          os << (first ? "" : ", ") << "[" << i << ", " << j << ", " << (*mat)(i, j) << "]";
+          first = false;
+        }
+      }
+      os << "]}\n";
+    }
+    return os.str();
+  };
+  const std::string text = sparse_file(m, "nodes_z_m");
+  const core::RotorMatrices back = core::assemble(core::load_rotor_file(write_file("sparse.yaml", text)));
+  EXPECT_EQ(back.M, m.M);
+  EXPECT_EQ(back.K, m.K);
+  EXPECT_EQ(back.C, m.C);
+  EXPECT_EQ(back.G, m.G);
+  // ROSS's 6 DOF per node: told by M's size.
+  const int nodes = elements.nodes();
+  auto six_of = [&](const Eigen::MatrixXd& four) {
+    Eigen::MatrixXd six = Eigen::MatrixXd::Zero(6 * nodes, 6 * nodes);
+    constexpr int kLateral[4] = {0, 1, 3, 4};
+    for (int a = 0; a < 4 * nodes; ++a) {
+      for (int b = 0; b < 4 * nodes; ++b)
+        six(6 * (a / 4) + kLateral[a % 4], 6 * (b / 4) + kLateral[b % 4]) = four(a, b);
+    }
+    return six;
+  };
+  core::RotorMatrices six{six_of(m.M), six_of(m.K), six_of(m.C), six_of(m.G)};
+  for (int node = 0; node < nodes; ++node) six.M(6 * node + 2, 6 * node + 2) = six.M(6 * node + 5, 6 * node + 5) = 1.0;
+  const core::RotorMatrices lateral =
+      core::assemble(core::load_rotor_file(write_file("sparse_six.yaml", sparse_file(six, "nodes"))));
+  EXPECT_EQ(lateral.M, m.M);
+  EXPECT_EQ(lateral.K, m.K);
+  // Bad entries.
+  const std::string k_line = text.substr(text.find("  K: "), text.find("  C: ") - text.find("  K: "));
+  auto with_k = [&](const std::string& k) { return std::string(text).replace(text.find(k_line), k_line.size(), k); };
+  EXPECT_NE(load_error(with_k("  K: {size: 28, nonzeros: [[0, 0, 1.0], [0, 0, 2.0]]}\n"))
+                .find("matrices key 'K' key 'nonzeros': entry 1 gives row 0 column 0 again"),
+            std::string::npos);
+  EXPECT_NE(load_error(with_k("  K: {size: 28, nonzeros: [[28, 0, 1.0]]}\n"))
+                .find("entry 0: row 28 is out of range; accepted: 0 to 27"),
+            std::string::npos);
+  EXPECT_NE(load_error(with_k("  K: {size: 28, nonzeros: [[0, 2.5, 1.0]]}\n")).find("column 2.5 is out of range"),
+            std::string::npos);
+  EXPECT_NE(load_error(with_k("  K: {size: 12, nonzeros: []}\n"))
+                .find("key 'size': value 12 is out of range; accepted: 28 (the nodes' DOFs)"),
+            std::string::npos);
+  EXPECT_NE(
+      load_error(with_k("  K: {size: 28, nonzero: []}\n")).find("unknown key 'nonzero'; did you mean 'nonzeros'?"),
+      std::string::npos)
+      << load_error(with_k("  K: {size: 28, nonzero: []}\n"));
+  EXPECT_NE(load_error(with_k("  K: {size: 28, nonzeros: [[0, 0, .nan]]}\n")).find("value .nan is not finite"),
+            std::string::npos);
+}
+
 // Modal damping (the rotor file's modal_damping: {ratio}, ROSS's
 // modal_damping_ratio): C = M Phi diag(2 zeta w) Phi^T M makes each undamped
 // mode a damped oscillator of exactly that ratio where nothing else damps it

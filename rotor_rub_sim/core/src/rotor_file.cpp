@@ -99,15 +99,60 @@ YAML::Node sequence(const std::string& file, const YAML::Node& root, const std::
   return n;
 }
 
+// A square matrix of `size` rows from its nonzero entries, {size: N,
+// nonzeros: [[row, col, value], ...]} (0-based; every other entry 0): an FE
+// rotor's matrices are banded, so a 204-DOF rotor's are a few thousand
+// entries instead of 41616 each (docs/rotors.md).
+Eigen::MatrixXd read_sparse_matrix(const std::string& path, const YAML::Node& n, const std::string& key, int size) {
+  const Reader r(path, "matrices key '" + key + "'", n, {"size", "nonzeros"});
+  const double given = r.required("size", 1.0, false, 1e6);
+  if (static_cast<int>(given) != size || given != std::floor(given)) {
+    r.fail("key 'size': value " + n["size"].as<std::string>("?") +
+           " is out of range; accepted: " + std::to_string(size) + " (the nodes' DOFs)");
+  }
+  const YAML::Node entries = n["nonzeros"];
+  if (!entries || !entries.IsSequence()) r.fail("lacks the list 'nonzeros' ([row, column, value] per entry)");
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(size, size);
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> given_at = decltype(given_at)::Constant(size, size, false);
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const YAML::Node e = entries[k];
+    const std::string at = "key 'nonzeros': entry " + std::to_string(k);
+    if (!e.IsSequence() || e.size() != 3) r.fail(at + " is not [row, column, value]");
+    double v[3];
+    for (int c = 0; c < 3; ++c) {
+      try {
+        v[c] = e[c].as<double>();
+      } catch (const YAML::Exception&) {
+        r.fail(at + " holds '" + e[c].as<std::string>("?") + "', not a number");
+      }
+    }
+    for (int c = 0; c < 2; ++c) {
+      if (!(v[c] >= 0.0 && v[c] < size && v[c] == std::floor(v[c]))) {
+        r.fail(at + ": " + (c == 0 ? "row " : "column ") + e[c].as<std::string>("?") +
+               " is out of range; accepted: 0 to " + std::to_string(size - 1));
+      }
+    }
+    if (!std::isfinite(v[2])) r.fail(at + ": value " + e[2].as<std::string>("?") + " is not finite");
+    const int i = static_cast<int>(v[0]), j = static_cast<int>(v[1]);
+    if (given_at(i, j)) r.fail(at + " gives row " + std::to_string(i) + " column " + std::to_string(j) + " again");
+    given_at(i, j) = true;
+    m(i, j) = v[2];
+  }
+  return m;
+}
+
 // A square matrix of `size` rows from a list of rows (dofs_per_node: what
-// the error says a row holds per node).
-Eigen::MatrixXd read_matrix(const Reader& r, const YAML::Node& n, const std::string& key, int size, int dofs_per_node) {
+// the error says a row holds per node), or from its nonzeros (a map).
+Eigen::MatrixXd read_matrix(const Reader& r, const YAML::Node& n, const std::string& key, int size, int dofs_per_node,
+                            const std::string& path) {
   const YAML::Node rows = n[key];
+  if (rows && rows.IsMap()) return read_sparse_matrix(path, rows, key, size);
   if (!rows || !rows.IsSequence() || static_cast<int>(rows.size()) != size) {
     r.fail("key '" + key +
            "': " + (rows && rows.IsSequence() ? std::to_string(rows.size()) + " rows" : "no list of rows") +
            "; accepted: " + std::to_string(size) + " rows of " + std::to_string(size) + " numbers (" +
-           std::to_string(dofs_per_node) + " DOF per node)");
+           std::to_string(dofs_per_node) + " DOF per node), or {size: " + std::to_string(size) +
+           ", nonzeros: [[row, column, value], ...]}");
   }
   Eigen::MatrixXd m(size, size);
   for (int i = 0; i < size; ++i) {
@@ -195,11 +240,15 @@ void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor)
     rotor.imported_node_z_m.push_back(v);
   }
   const int nodes = static_cast<int>(z.size());
+  // ROSS's 6 DOF per node where M has 6 rows per node (or says so, sparse).
   const YAML::Node m_rows = n["M"];
-  const int dofs_per_node = m_rows && m_rows.IsSequence() && static_cast<int>(m_rows.size()) == 6 * nodes ? 6 : 4;
+  const bool six =
+      m_rows && ((m_rows.IsSequence() && static_cast<int>(m_rows.size()) == 6 * nodes) ||
+                 (m_rows.IsMap() && m_rows["size"] && m_rows["size"].as<std::string>("") == std::to_string(6 * nodes)));
+  const int dofs_per_node = six ? 6 : 4;
   const int size = dofs_per_node * nodes;
   auto matrix = [&](const char* key) -> Eigen::MatrixXd {
-    const Eigen::MatrixXd read = read_matrix(r, n, key, size, dofs_per_node);
+    const Eigen::MatrixXd read = read_matrix(r, n, key, size, dofs_per_node, path);
     return dofs_per_node == 6 ? lateral_of_six(r, key, read) : read;
   };
   RotorMatrices m;
