@@ -79,7 +79,8 @@ def states(topics):
 def send_sequence(run):
     """The changes every recorded run gets: friction and clearance at 1.0 s
     (the opened clearance takes the graze at 1.113 s away), a key that cannot
-    change at 0.8 s, a blade loss at 1.2 s, a seal wear ramp from 1.25 s."""
+    change at 0.8 s, a blade loss at 1.2 s, a seal wear ramp from 1.25 s and
+    one from 1.29 s that the run's end at 1.3 s cuts."""
     run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(1.0)), keys=["friction_coefficient",
                                         "clearance_m"], values=[0.3, 2.5e-3], change_id=1, source="test"))
     run.changes.publish(ParameterChange(header=rospy.Header(stamp=stamp(0.8)), keys=["method"], values=[1.0],
@@ -88,6 +89,8 @@ def send_sequence(run):
                              fault_id=3))
     run.faults.publish(Fault(header=rospy.Header(stamp=stamp(1.25)), kind=Fault.SEAL_WEAR, magnitude=RAMP_WEAR_M,
                              duration=RAMP_S, fault_id=4))
+    run.faults.publish(Fault(header=rospy.Header(stamp=stamp(1.29)), kind=Fault.SEAL_WEAR, magnitude=RAMP_WEAR_M,
+                             duration=0.05, fault_id=5))  # cut by the run's end at 1.3 s
 
 
 class LiveChangesTest(unittest.TestCase):
@@ -121,7 +124,7 @@ class LiveChangesTest(unittest.TestCase):
         self.assertFalse(by_id[2].accepted)
         self.assertIn("'method' cannot change while running", by_id[2].reason)
         # The fault: in the bag as asked, and as the change it made at its stamp.
-        self.assertEqual([m.fault_id for _, m in self.bags["fast"]["faults"]], [3, 4])
+        self.assertEqual([m.fault_id for _, m in self.bags["fast"]["faults"]], [3, 4, 5])
         self.assertTrue(by_id[3].accepted)
         self.assertEqual(by_id[3].source, "fault:blade_loss")
         self.assertEqual(by_id[3].effective_time, stamp(1.2).to_sec())  # exactly its stamp (rospy truncates to ns)
@@ -137,6 +140,13 @@ class LiveChangesTest(unittest.TestCase):
         self.assertEqual(list(ramp.keys), ["clearance_m"])
         self.assertEqual(list(ramp.from_values), [2.5e-3])
         self.assertAlmostEqual(ramp.values[0], 2.5e-3 + RAMP_WEAR_M, places=15)
+        # A ramp the run's end cuts: answered at the end with the steps it made.
+        cut = by_id[5]
+        self.assertTrue(cut.accepted, cut.reason)
+        self.assertEqual(cut.steps, 10)
+        self.assertAlmostEqual(cut.end_time, END_S, places=9)
+        self.assertIn("the ramp was cut at t = 1.300000 s after 10 steps: the run reached end_time_s", cut.reason)
+        self.assertAlmostEqual(cut.values[0], 2.6e-3 + 10 * RAMP_WEAR_M / 50, places=15)
 
     def test_the_same_stamped_changes_give_the_same_run_at_any_pace(self):
         self.assertEqual(states(self.bags["fast"]), states(self.bags["paced"]))
@@ -165,7 +175,7 @@ class LiveChangesTest(unittest.TestCase):
         with open(out_csv) as f:
             rows = list(csv.DictReader(f))
         self.assertEqual(len(rows), 1)
-        self.assertEqual(rows[0]["live_changes"], "3")  # the refused one changed nothing; the ramp is one
+        self.assertEqual(rows[0]["live_changes"], "4")  # the refused one changed nothing; a ramp is one
         self.assertEqual(float(rows[0]["first_change_s"]), stamp(1.0).to_sec())
         self.assertIn("clearance_m=0.0025 friction_coefficient=0.3", rows[0]["changes"])
         self.assertIn("blade_loss", rows[0]["changes"])
@@ -173,12 +183,13 @@ class LiveChangesTest(unittest.TestCase):
         pictures = temp_prefix("pictures")
         out = subprocess.run([find_binary("plot_run.py"), bag, "--out", pictures], check=True, capture_output=True,
                              text=True).stdout
-        self.assertIn("and 3 live changes", out)
+        self.assertIn("and 4 live changes", out)
         # The orbit draws each clearance in force: the scene's 2 mm, 2.5 mm from the first sample after
-        # the change stamped 1 s (the sample at 1 s is the state the change met), and the ramp's once,
-        # where it ended (2.6 mm after its last step at 1.27 s).
-        self.assertIn("orbit.png draws 3 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s, "
-                      "2.6 mm from 1.271 s", out)
+        # the change stamped 1 s (the sample at 1 s is the state the change met), each ramp's once, where
+        # it ended (2.6 mm after its last step at 1.27 s; the cut one's at the last sample, 1.3 s, which
+        # met its tenth step).
+        self.assertIn("orbit.png draws 4 clearances in force: 2 mm from 0.000 s, 2.5 mm from 1.001 s, "
+                      "2.6 mm from 1.271 s, 2.618 mm from 1.300 s", out)
         self.assertTrue(os.path.getsize(os.path.join(pictures, "displacement.png")) > 0)
 
     def test_a_ramp_is_one_mark_in_plot_run(self):
@@ -194,7 +205,7 @@ class LiveChangesTest(unittest.TestCase):
         spans = plot_run.change_spans(applied)
         self.assertEqual([(round(t0, 6), round(t1, 6), label) for t0, t1, label in spans],
                          [(1.0, 1.0, "clearance_m 0.0025, friction_coefficient 0.3"), (1.2, 1.2, "blade_loss"),
-                          (1.251, 1.27, "seal_wear (20 steps)")])
+                          (1.251, 1.27, "seal_wear (20 steps)"), (1.291, 1.3, "seal_wear (10 steps)")])
 
     def test_rate_diagnostics_of_state_and_keyphasor(self):
         names = {s.name for a in self.diagnostics.msgs for s in a.status}

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """The shell commands of docs/node.md after the set-up (issue 49): rosservice
-call step, dynparam get and set (an accepted value, and a refused one that
-fails the call and leaves the value in force), rostopic pub of a stamped
-parameter change, tf2_tools' echo.py between the node's frames, and a blade
-loss on a flexible rotor checked on receipt and applied. Each is run as a subprocess, as
-typed, and its output checked."""
+call step, dynparam list (naming the server), get and set (an accepted value,
+and a refused one that fails the call and leaves the value in force),
+rostopic pub of a stamped parameter change, tf2_tools' echo.py between the
+node's frames, and a blade loss on a flexible rotor checked on receipt and
+applied. Each is run as a subprocess, as typed, and its output checked."""
 import math
 import os
 import subprocess
@@ -37,7 +37,10 @@ class ShellTools(unittest.TestCase):
         self.assertIn("success: True", p.stdout)
         self.assertIn("sim_time: 0.1", p.stdout)
 
-    def test_b_dynparam_gets_sets_and_refuses_loudly(self):
+    def test_b_dynparam_lists_gets_sets_and_refuses_loudly(self):
+        p = shell("rosrun", "dynamic_reconfigure", "dynparam", "list")
+        self.assertEqual(p.returncode, 0, p.stdout)
+        self.assertIn(SERVER, p.stdout.split())
         p = shell("rosrun", "dynamic_reconfigure", "dynparam", "get", SERVER)
         self.assertEqual(p.returncode, 0, p.stdout)
         self.assertIn("'friction_coefficient': 0.1", p.stdout)

@@ -320,6 +320,7 @@ int SimNode::run() {
   }
   int exit_status = 0;
   if (sim_->failure()) exit_status = core::exit_status(sim_->failure()->failure_class);
+  close_open_ramps("the node stopped");  // answered, and recorded, before the bag closes
   if (recording_) {
     try {
       bag_.close();  // the index: the bag is complete, no reindex needed
@@ -418,6 +419,8 @@ bool SimNode::apply_change(const std::map<std::string, std::string>& changes, ui
 void SimNode::apply_ramp_step(const PendingCommand& c) {
   OpenRamp& r = ramps_[c.ramp];
   if (r.applied == 0) {
+    r.id = c.id;
+    r.source = c.source;
     r.start_s = sim_->time();
     r.from = values_now(c.changes);
   }
@@ -445,6 +448,21 @@ void SimNode::apply_ramp_step(const PendingCommand& c) {
                 applied ? ChangeSpan{r.start_s, r.applied, r.from} : ChangeSpan{});
   ramps_.erase(c.ramp);
   if (!o.accepted) check_end_or_failure();
+}
+
+void SimNode::close_open_ramps(const std::string& why) {
+  char at[64];
+  std::snprintf(at, sizeof at, "%.6f", sim_->time());
+  for (const auto& [serial, r] : ramps_) {
+    if (r.applied == 0) continue;
+    const std::string cut =
+        "the ramp was cut at t = " + std::string(at) + " s after " + std::to_string(r.applied) + " steps: " + why;
+    answer_change(r.reached, r.id, r.source, true, r.note.empty() ? cut : r.note + "; " + cut,
+                  ChangeSpan{r.start_s, r.applied, r.from});
+  }
+  ramps_.clear();
+  pending_.erase(std::remove_if(pending_.begin(), pending_.end(), [](const PendingCommand& p) { return p.ramp != 0; }),
+                 pending_.end());
 }
 
 std::map<std::string, double> SimNode::values_now(const std::map<std::string, std::string>& changes) const {
@@ -572,8 +590,10 @@ void SimNode::check_end_or_failure() {
   if (const auto& f = sim_->failure()) {
     ROS_ERROR("method %s failed (%s) at t = %.9g s: %s", core::to_string(scene_.solver.method),
               core::to_string(f->failure_class), f->time_s, f->message.c_str());
+    close_open_ramps("the method failed");
     set_status(Status::kFailed);
   } else if (config_.end_action != EndAction::kContinue && sim_->time() >= scene_.end_time_s) {
+    close_open_ramps("the run reached end_time_s");
     set_status(Status::kFinished);
     ROS_INFO("reached end_time_s = %g s: %lu states, %lu events published; achieved real-time factor %.2f",
              scene_.end_time_s, static_cast<unsigned long>(states_published_),
@@ -937,6 +957,7 @@ bool SimNode::on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_r
 
 bool SimNode::on_reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   const bool keep_running = status_ == Status::kRunning;
+  close_open_ramps("the node was reset");
   restart_simulation();
   status_ = Status::kPaused;  // counters were restarted: no running time to close
   set_status(keep_running ? Status::kRunning : Status::kPaused);

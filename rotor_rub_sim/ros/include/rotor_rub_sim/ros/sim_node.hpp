@@ -94,6 +94,8 @@ class SimNode : public core::SimulationObserver {
   // A ramp being applied: one answer for its steps, at the last one (or at
   // the first refused), spanning them.
   struct OpenRamp {
+    uint32_t id = 0;
+    std::string source;
     double start_s = 0.0;
     uint32_t applied = 0;
     std::map<std::string, double> from;          // the keys' values before its first step
@@ -129,6 +131,9 @@ class SimNode : public core::SimulationObserver {
                     bool stop_at_rotor = false, const std::vector<core::RotorUnbalance>& unbalances_added = {});
   // Applies one of a ramp's steps; answers once for the ramp.
   void apply_ramp_step(const PendingCommand& c);
+  // Answers for the ramps begun and not ended (the run ended, failed, or the
+  // node stops): the steps applied, and why the rest were not.
+  void close_open_ramps(const std::string& why);
   ChangeOutcome try_change(std::map<std::string, std::string> changes, bool stop_at_rotor,
                            const std::vector<core::RotorUnbalance>& unbalances_added);
   // The scene's values of these keys now (NaN: not a scene key).
