@@ -86,6 +86,29 @@ TEST(SceneKeys, UnknownKeySuggestsTheNearest) {
   EXPECT_NE(msg.find("did you mean 'clearance_m'"), std::string::npos) << msg;
 }
 
+// What is wrong is typed, for callers that act on it: an unknown key, and a
+// value the rotor file cannot take, with the key each concerns.
+TEST(SceneKeys, ErrorsSayTheirKeyAndKind) {
+  auto error = [](const std::map<std::string, std::string>& values) -> SceneError {
+    try {
+      core::scene_from_values(values);
+    } catch (const SceneError& e) {
+      return e;
+    }
+    return SceneError("none");
+  };
+  const SceneError unknown = error({{"clearence_m", "0.002"}});
+  EXPECT_EQ(unknown.kind(), SceneError::Kind::kUnknownKey);
+  EXPECT_EQ(unknown.key(), "clearence_m");
+  const SceneError modes =
+      error({{"rotor_file", test::source_path("config/rotors/seal_rub.yaml")}, {"rotor_planar_modes", "99"}});
+  EXPECT_EQ(modes.kind(), SceneError::Kind::kInvalid);
+  EXPECT_EQ(modes.key(), "rotor_planar_modes");
+  EXPECT_NE(std::string(modes.what()).find("scene key 'rotor_planar_modes': value 99 is out of range; accepted for"),
+            std::string::npos)
+      << modes.what();
+}
+
 TEST(SceneKeys, CrossKeyRules) {
   EXPECT_NE(error_of({{"integrator", "rosenbrock4"}, {"method", "switching"}}).find("with method 'penalty' only"),
             std::string::npos);

@@ -96,6 +96,14 @@ TEST(NodeConfig, UnknownKeysSuggestTheNearestOfBothTables) {
   EXPECT_NE(error_of({{"rtoll", "1e-6"}}).find("did you mean 'rtol'?"), std::string::npos);
   EXPECT_NE(error_of({{"real_time_factr", "1"}}).find("did you mean 'real_time_factor'?"), std::string::npos);
   EXPECT_NE(error_of({{"zzzzzzzzzzzz", "1"}}).find("unknown parameter 'zzzzzzzzzzzz'"), std::string::npos);
+  // Typed: the node's start-up tells a leftover parameter by its kind, not its text.
+  try {
+    node_setup_from_values({{"zzzzzzzzzzzz", "1"}});
+    ADD_FAILURE() << "accepted an unknown parameter";
+  } catch (const core::SceneError& e) {
+    EXPECT_EQ(e.kind(), core::SceneError::Kind::kUnknownKey);
+    EXPECT_EQ(e.key(), "zzzzzzzzzzzz");
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
 
 namespace rotor_rub::core {
 
@@ -114,6 +115,16 @@ std::vector<double> judged_speeds(double lo, double hi) {
 
 }  // namespace
 
+namespace {
+
+// A scene key's value the rotor file cannot take: "KEY: value ...", typed
+// with its key (validate_scene names it so).
+[[noreturn]] void refuse_key(const std::string& key, const std::string& what) {
+  throw SceneError(key + ": " + what, key);
+}
+
+}  // namespace
+
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2,
                                        double min_speed_rad_per_s, double max_speed_rad_per_s) {
   const FeRotor rotor = load_rotor_file(settings.file);
@@ -124,14 +135,13 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
   const long most = std::min<long>(kMaxPlanarModes, max_planar_modes(rotor));
   const bool automatic = settings.planar_modes == 0;
   if (!automatic && (settings.planar_modes < 1 || settings.planar_modes > most)) {
-    throw std::invalid_argument("rotor_planar_modes: value " + std::to_string(settings.planar_modes) +
-                                " is out of range; accepted for '" + settings.file + "': auto or 1 to " +
-                                std::to_string(most));
+    refuse_key("rotor_planar_modes", "value " + std::to_string(settings.planar_modes) +
+                                         " is out of range; accepted for '" + settings.file + "': auto or 1 to " +
+                                         std::to_string(most));
   }
   if (settings.probe_node >= rotor.nodes()) {
-    throw std::invalid_argument("rotor_probe_node: value " + std::to_string(settings.probe_node) +
-                                " is out of range; accepted for '" + settings.file + "': -1 to " +
-                                std::to_string(rotor.nodes() - 1));
+    refuse_key("rotor_probe_node", "value " + std::to_string(settings.probe_node) + " is out of range; accepted for '" +
+                                       settings.file + "': -1 to " + std::to_string(rotor.nodes() - 1));
   }
   const RotorMatrices full = assemble(rotor);
   std::vector<int> watched{rotor.rub_station_node};
@@ -145,10 +155,10 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
   long count = settings.planar_modes;
   if (automatic) {
     if (!judged) {
-      throw std::invalid_argument(
-          "rotor_planar_modes: value auto needs the rotor file's unbalances and a speed above 0 to judge the "
-          "unbalance response by; accepted for '" +
-          settings.file + "': 1 to " + std::to_string(most));
+      refuse_key("rotor_planar_modes",
+                 "value auto needs the rotor file's unbalances and a speed above 0 to judge the unbalance response "
+                 "by; accepted for '" +
+                     settings.file + "': 1 to " + std::to_string(most));
     }
     report.chosen = true;
     report.tolerance = settings.truncation_tolerance;
@@ -160,10 +170,10 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
     }
     if (count > most) {
       std::ostringstream os;
-      os << "rotor_planar_modes: value auto finds no model of 1 to " << most
+      os << "value auto finds no model of 1 to " << most
          << " planar modes within rotor_truncation_tolerance = " << settings.truncation_tolerance
          << " (the best: " << best << "); accepted for '" << settings.file << "': 1 to " << most;
-      throw std::invalid_argument(os.str());
+      refuse_key("rotor_planar_modes", os.str());
     }
   }
   const ReducedRotor reduced = reduce_rotor(rotor, full, rotor.rub_station_node, static_cast<int>(count));

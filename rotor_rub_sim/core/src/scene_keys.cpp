@@ -395,14 +395,12 @@ void validate_flexible_rotor(const Scene& s) {
   std::shared_ptr<const FlexibleRotorModel> rotor;
   try {
     rotor = flexible_rotor_of(s);
+  } catch (const SceneError& e) {
+    // A count or a node out of the file's range names its own key
+    // ("KEY: value ...", load_flexible_rotor).
+    throw SceneError("scene key '" + e.key() + "'" + std::string(e.what()).substr(e.key().size()), e.key());
   } catch (const std::invalid_argument& e) {
-    // A count or a node out of the file's range names its own key.
     const std::string what = e.what();
-    for (const char* key : {"rotor_planar_modes", "rotor_probe_node"}) {
-      if (what.rfind(std::string(key) + ": ", 0) == 0) {
-        throw SceneError("scene key '" + std::string(key) + "'" + what.substr(std::string(key).size()));
-      }
-    }
     // The file's own error names the item and its accepted range where it has one.
     const bool ranged = what.find("accepted") != std::string::npos;
     throw SceneError("scene key 'rotor_file': value '" + s.rotor.file + "' is not accepted: " + what +
@@ -488,7 +486,8 @@ void set_scene_value(Scene& scene, const std::string& key, const std::string& va
   }
   const std::string near = nearest_scene_key(key);
   throw SceneError("unknown scene key '" + key + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
-                   " (rotor_rub_run --list-keys prints every key)");
+                       " (rotor_rub_run --list-keys prints every key)",
+                   key, SceneError::Kind::kUnknownKey);
 }
 
 std::string live_key_inert_reason(const std::string& key, const Scene& scene) {

@@ -224,7 +224,8 @@ void set_node_value(NodeConfig& config, const std::string& key, const std::strin
   }
   const std::string near = core::nearest_key(key, all_key_names());
   throw SceneError("unknown parameter '" + key + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
-                   " (config/scene_template.yaml lists the scene keys, docs/node.md the node keys)");
+                       " (config/scene_template.yaml lists the scene keys, docs/node.md the node keys)",
+                   key, SceneError::Kind::kUnknownKey);
 }
 
 NodeSetup node_setup_from_values(const std::map<std::string, std::string>& values) {

@@ -4,7 +4,6 @@
 #include <ros/ros.h>
 
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -82,7 +81,7 @@ int main(int argc, char** argv) {
   } catch (const rotor_rub::core::SceneError& e) {
     // Parameters outlive a node on the master: an unknown key may be a typo
     // in this launch's YAML or one left over from an earlier run.
-    const bool unknown = std::strstr(e.what(), "unknown parameter") != nullptr;
+    const bool unknown = e.kind() == rotor_rub::core::SceneError::Kind::kUnknownKey;
     ROS_FATAL("bad parameter, not started: %s%s%s%s", e.what(),
               unknown ? "; the node reads every parameter under " : "",
               unknown ? private_nh.getNamespace().c_str() : "",

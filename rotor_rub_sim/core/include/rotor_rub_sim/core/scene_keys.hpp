@@ -4,20 +4,38 @@
 /// loader, the runner and the node, so every entry point validates alike.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rotor_rub_sim/core/parameters.hpp"
 
 namespace rotor_rub::core {
 
-/// A bad scene value: the message names the key, the value and the range.
+/// A bad scene value: the message names the key, the value and the range;
+/// key() and kind() say which key and what is wrong where a caller acts on
+/// it (the node's hint at a parameter left on the master), so that no
+/// caller reads the message's text.
 class SceneError : public std::invalid_argument {
  public:
-  using std::invalid_argument::invalid_argument;
+  /// What is wrong, as far as a caller needs to tell.
+  enum class Kind : uint8_t {
+    kInvalid,     ///< a value out of range, a rule between keys broken, a refused change
+    kUnknownKey,  ///< no such key
+  };
+  /// what: the message; key: the key it concerns ("" where none or several).
+  explicit SceneError(const std::string& what, std::string key = "", Kind kind = Kind::kInvalid)
+      : std::invalid_argument(what), key_(std::move(key)), kind_(kind) {}
+  const std::string& key() const { return key_; }  ///< the key concerned, or ""
+  Kind kind() const { return kind_; }              ///< see Kind
+
+ private:
+  std::string key_;
+  Kind kind_;
 };
 
 /// One scene key as the key table describes it (scene_keys(): --help,
