@@ -5,8 +5,8 @@ machine runs (fault_monitor.test). The scene: the paper's rotor at a constant
 start's free whirl has died out (tau = 0.08 s) before the first fault at
 0.5 s; its unbalance orbit is then a 0.52 mm circle in the 2 mm clearance.
 Faults go in through the inject_fault service while the node waits paused,
-so they land at their stamps exactly. Logged per case, and documented in
-docs/benchmarks.md: the fault's time, the first contact after it (ground
+so they land at their stamps exactly. Logged per case (docs/benchmarks.md
+keeps the blade loss's delay): the fault's time, the first contact after it (ground
 truth: contact_events), the monitor's first new channel after it (a channel
 raised that was not raised at the fault; the monitor publishes on every
 alarm change and at 20 Hz of simulated time besides, so a new channel under
