@@ -41,7 +41,7 @@ core::FaultKind fault_kind(uint8_t kind) {
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSetup& setup)
-    : scene_(setup.scene), config_(setup.config), diagnostics_(nh, private_nh) {
+    : scene_(setup.scene), config_(setup.config), schedule_(setup.scene.output_rate_hz), diagnostics_(nh, private_nh) {
   // Topics and services are relative to the node's namespace (as ROS users
   // expect: `ns` and `remap` place several simulators in one graph, and a
   // monitor in the same namespace finds "state" without knowing the node's
@@ -74,7 +74,11 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   if (config_.tf_rate_hz > 0.0) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   tf_prefix_ = nh.getNamespace() == "/" ? "" : nh.getNamespace().substr(1) + "/";
   reconfigure_.emplace(private_nh, scene_, [this](const std::map<std::string, std::string>& changes, bool& accepted) {
-    accepted = apply_change(changes, 0, "dynamic_reconfigure");
+    std::vector<core::ChangeAnswer> answers;  // unstamped: applied now, or refused
+    schedule_.change_parameters(*sim_, 0.0, changes, 0, "dynamic_reconfigure", answers);
+    accepted = !answers.empty() && answers.back().accepted;
+    answer(answers);
+    check_end_or_failure();
     return sim_->scene();
   });
   reset_srv_ = nh.advertiseService("reset", &SimNode::on_reset, this);
@@ -203,12 +207,9 @@ void SimNode::publish(const ros::Publisher& pub, const Msg& msg, double t_s) {
 
 void SimNode::restart_simulation() {
   sim_ = std::make_unique<core::Simulation>(scene_);
-  applied_target_ = scene_.speed.target_speed_rad_per_s;  // the scene's own run-up is the command in force
-  applied_accel_ = scene_.speed.acceleration_rad_per_s2;
   lockstep_awaited_s_ = -1.0;
   if (config_.end_action == EndAction::kContinue) sim_->set_end_time(std::numeric_limits<double>::infinity());
-  pending_.clear();
-  ramps_.clear();
+  schedule_.clear();
   states_published_ = events_published_ = 0;
   next_clock_s_ = next_stats_s_ = next_diag_s_ = next_marker_s_ = next_tf_s_ = 0.0;
   if (reconfigure_) reconfigure_->publish_values(scene_);  // a reset restores the scene's values
@@ -343,7 +344,7 @@ void SimNode::advance_to(double t_s) {
   apply_due_commands();
   while (!sim_->failure() && sim_->time() < t_s) {
     const double before = sim_->time();
-    const double stop = pending_.empty() ? t_s : std::min(t_s, pending_.front().time_s);
+    const double stop = std::min(t_s, schedule_.next_time_s());
     if (!sim_->advance_to(stop, *this)) break;
     apply_due_commands();
     if (sim_->time() <= before) break;  // the scene's end
@@ -378,210 +379,73 @@ bool SimNode::lockstep_wait() {
 }
 
 void SimNode::apply_due_commands() {
-  while (!pending_.empty() && pending_.front().time_s <= sim_->time()) {
-    const PendingCommand c = pending_.front();
-    pending_.erase(pending_.begin());
-    switch (c.kind) {
-      case PendingCommand::Kind::kSpeed:
-        sim_->command_speed(c.target_rad_per_s, c.accel_rad_per_s2);  // checked on receipt
-        applied_target_ = c.target_rad_per_s;
-        applied_accel_ = c.accel_rad_per_s2;
-        break;
-      case PendingCommand::Kind::kParameters:  // checked again: the state may forbid it now
-        if (c.ramp != 0) {
-          apply_ramp_step(c);
-        } else {
-          apply_change(c.changes, c.id, c.source, c.stop_at_rotor, c.unbalances_added);
-        }
-        break;
-      case PendingCommand::Kind::kFault:
-        apply_fault(c);
-        break;
-    }
-  }
-}
-
-void SimNode::enqueue(PendingCommand c) {
-  const auto at = std::upper_bound(pending_.begin(), pending_.end(), c.time_s,
-                                   [](double t, const PendingCommand& p) { return t < p.time_s; });
-  pending_.insert(at, std::move(c));
-}
-
-bool SimNode::apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                           bool stop_at_rotor, const std::vector<core::RotorUnbalance>& unbalances_added) {
-  ChangeSpan span{sim_->time(), 1, values_now(changes)};
-  const ChangeOutcome o = try_change(changes, stop_at_rotor, unbalances_added);
-  answer_change(o.echoed, id, source, o.accepted, o.reason, o.accepted ? span : ChangeSpan{});
-  if (!o.accepted) check_end_or_failure();
-  return o.accepted;
-}
-
-void SimNode::apply_ramp_step(const PendingCommand& c) {
-  OpenRamp& r = ramps_[c.ramp];
-  if (r.applied == 0) {
-    r.id = c.id;
-    r.source = c.source;
-    r.start_s = sim_->time();
-    r.from = values_now(c.changes);
-  }
-  const ChangeOutcome o = try_change(c.changes, c.stop_at_rotor, c.unbalances_added);
-  if (o.accepted) {
-    ++r.applied;
-    r.reached = o.echoed;
-    if (r.note.empty() && !o.reason.empty()) r.note = o.reason;
-    if (!c.ramp_last) return;
-  }
-  // One answer for the ramp: its span and where it took the keys; a step
-  // refused ends it there (the steps before it stand; the rest are dropped).
-  std::string reason = r.note;
-  if (!o.accepted) {
-    char at[64];
-    std::snprintf(at, sizeof at, "%.6f", sim_->time());
-    reason =
-        "the ramp stopped at t = " + std::string(at) + " s after " + std::to_string(r.applied) + " steps: " + o.reason;
-    pending_.erase(
-        std::remove_if(pending_.begin(), pending_.end(), [&](const PendingCommand& p) { return p.ramp == c.ramp; }),
-        pending_.end());
-  }
-  const bool applied = r.applied > 0;
-  answer_change(applied ? r.reached : o.echoed, c.id, c.source, applied, reason,
-                applied ? ChangeSpan{r.start_s, r.applied, r.from} : ChangeSpan{});
-  ramps_.erase(c.ramp);
-  if (!o.accepted) check_end_or_failure();
+  std::vector<core::ChangeAnswer> answers;
+  schedule_.apply_due(*sim_, answers);
+  answer(answers);
 }
 
 void SimNode::close_open_ramps(const std::string& why) {
-  char at[64];
-  std::snprintf(at, sizeof at, "%.6f", sim_->time());
-  for (const auto& [serial, r] : ramps_) {
-    if (r.applied == 0) continue;
-    const std::string cut =
-        "the ramp was cut at t = " + std::string(at) + " s after " + std::to_string(r.applied) + " steps: " + why;
-    answer_change(r.reached, r.id, r.source, true, r.note.empty() ? cut : r.note + "; " + cut,
-                  ChangeSpan{r.start_s, r.applied, r.from});
-  }
-  ramps_.clear();
-  pending_.erase(std::remove_if(pending_.begin(), pending_.end(), [](const PendingCommand& p) { return p.ramp != 0; }),
-                 pending_.end());
+  std::vector<core::ChangeAnswer> answers;
+  schedule_.close_open_ramps(*sim_, why, answers);
+  answer(answers);
 }
 
-std::map<std::string, double> SimNode::values_now(const std::map<std::string, std::string>& changes) const {
-  const std::map<std::string, std::string> scene = core::scene_values(sim_->scene());
-  std::map<std::string, double> out;
-  for (const auto& change : changes) {
-    const auto v = scene.find(change.first);
-    out[change.first] = v == scene.end() ? std::numeric_limits<double>::quiet_NaN() : std::stod(v->second);
-  }
-  return out;
+void SimNode::refuse_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
+                            const std::string& reason) {
+  core::ChangeAnswer a;
+  a.id = id;
+  a.source = source;
+  a.changes = changes;
+  for (const auto& c : changes) a.from[c.first] = std::numeric_limits<double>::quiet_NaN();
+  a.start_s = a.end_s = sim_->time();
+  a.reason = reason;
+  answer({a});
 }
 
-SimNode::ChangeOutcome SimNode::try_change(std::map<std::string, std::string> changes, bool stop_at_rotor,
-                                           const std::vector<core::RotorUnbalance>& unbalances_added) {
-  // The answer echoes an unbalance added (a flexible rotor's blade loss)
-  // as the change it made: its node, m e and angle on the shaft from the
-  // keyphasor's notch (the file's angle turned by unbalance_phase_rad).
-  ChangeOutcome o;
-  o.echoed = changes;
-  for (const core::RotorUnbalance& u : unbalances_added) {
-    o.echoed["added_unbalance_node"] = std::to_string(u.node);
-    o.echoed["added_unbalance_me_kg_m"] = core::exact_text(u.me_kg_m);
-    o.echoed["added_unbalance_phase_rad"] =
-        core::exact_text(std::remainder(u.phase_rad + sim_->scene().model.unbalance_phase_rad, 2.0 * M_PI));
-  }
-  try {
-    if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
-    const auto closure = changes.find("clearance_m");
-    if (stop_at_rotor && closure != changes.end()) {
-      // Down to the rotor, never up: a rotor pressed into the bore (the
-      // penalty method's overlap) leaves the clearance where it is.
-      const double floor_m = std::min(sim_->rotor_stator_distance_m(), sim_->scene().model.clearance_m);
-      if (std::stod(closure->second) < floor_m) {
-        closure->second = core::exact_text(floor_m);
-        o.echoed["clearance_m"] = closure->second;
-        char at[64];
-        std::snprintf(at, sizeof at, "%.6f", sim_->time());
-        o.reason = "the closure stopped at the rotor at t = " + std::string(at) + " s (clearance held at " +
-                   closure->second + " m)";
+void SimNode::answer(const std::vector<core::ChangeAnswer>& answers) {
+  bool applied = false;
+  for (const core::ChangeAnswer& a : answers) {
+    rotor_rub_msgs::ParameterChangeFeedback fb;
+    fb.header.stamp.fromSec(sim_->time());
+    fb.header.frame_id = config_.frame_id;
+    fb.change_id = a.id;
+    fb.source = a.source;
+    std::string listed;
+    for (const auto& [key, value] : a.changes) {
+      fb.keys.push_back(key);
+      double v = std::numeric_limits<double>::quiet_NaN();
+      try {
+        v = std::stod(value);
+      } catch (const std::exception&) {  // a non-number that was refused: NaN in the echo
       }
+      fb.values.push_back(v);
+      const auto from = a.from.find(key);
+      fb.from_values.push_back(from == a.from.end() ? std::numeric_limits<double>::quiet_NaN() : from->second);
+      listed += (listed.empty() ? "" : ", ") + key + " = " + value;
     }
-    sim_->change_parameters(changes, unbalances_added);
-  } catch (const std::exception& e) {  // SceneError: refused; anything else must not escape a callback
-    o.reason = e.what();
-    return o;
-  }
-  if (sim_->failure()) {
-    o.reason = "the method failed restarting under the change: " + sim_->failure()->message;
-    return o;
-  }
-  o.accepted = true;
-  if (reconfigure_) reconfigure_->publish_values(sim_->scene());
-  if (markers_) markers_->set_model(sim_->scene().model);  // the bore drawn where it now is
-  return o;
-}
-
-void SimNode::answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                            bool accepted, const std::string& reason, const ChangeSpan& span) {
-  rotor_rub_msgs::ParameterChangeFeedback fb;
-  fb.header.stamp.fromSec(sim_->time());
-  fb.header.frame_id = config_.frame_id;
-  fb.change_id = id;
-  fb.source = source;
-  std::string listed;
-  for (const auto& [key, value] : changes) {
-    fb.keys.push_back(key);
-    double v = std::numeric_limits<double>::quiet_NaN();
-    try {
-      v = std::stod(value);
-    } catch (const std::exception&) {  // a non-number that was refused: NaN in the echo
+    fb.accepted = a.accepted;
+    fb.effective_time = a.start_s;
+    fb.end_time = a.end_s;
+    fb.steps = a.steps;
+    fb.reason = a.reason;
+    // Every answer is logged once (a ramp once, at its end).
+    if (a.accepted && !a.reason.empty()) listed += " (" + a.reason + ")";
+    if (a.accepted && a.steps > 1) {
+      ROS_INFO("parameter change %u from %s applied from t = %.6f s to %.6f s in %u steps: %s", a.id, a.source.c_str(),
+               a.start_s, a.end_s, a.steps, listed.c_str());
+    } else if (a.accepted) {
+      ROS_INFO("parameter change %u from %s applied at t = %.6f s: %s", a.id, a.source.c_str(), a.start_s,
+               listed.c_str());
+    } else {
+      ROS_WARN("parameter change %u from %s refused at t = %.6f s, simulation unchanged: %s", a.id, a.source.c_str(),
+               a.end_s, a.reason.c_str());
     }
-    fb.values.push_back(v);
-    const auto from = span.from.find(key);
-    fb.from_values.push_back(from == span.from.end() ? std::numeric_limits<double>::quiet_NaN() : from->second);
-    listed += (listed.empty() ? "" : ", ") + key + " = " + value;
+    publish(change_feedback_pub_, fb, sim_->time());
+    applied = applied || a.accepted;
   }
-  fb.accepted = accepted;
-  fb.effective_time = std::isnan(span.start_s) ? sim_->time() : span.start_s;
-  fb.end_time = sim_->time();
-  fb.steps = span.steps;
-  fb.reason = reason;
-  // Every change is logged once (a ramp once, at its end).
-  if (accepted && !reason.empty()) listed += " (" + reason + ")";
-  if (accepted && span.steps > 1) {
-    ROS_INFO("parameter change %u from %s applied from t = %.6f s to %.6f s in %u steps: %s", id, source.c_str(),
-             fb.effective_time, fb.end_time, span.steps, listed.c_str());
-  } else if (accepted) {
-    ROS_INFO("parameter change %u from %s applied at t = %.6f s: %s", id, source.c_str(), sim_->time(), listed.c_str());
-  } else {
-    ROS_WARN("parameter change %u from %s refused at t = %.6f s, simulation unchanged: %s", id, source.c_str(),
-             sim_->time(), reason.c_str());
-  }
-  publish(change_feedback_pub_, fb, sim_->time());
-}
-
-void SimNode::apply_fault(const PendingCommand& c) {
-  const std::string source = std::string("fault:") + core::to_string(c.fault.kind);
-  std::vector<core::FaultStep> steps;
-  try {
-    steps = core::fault_steps(c.fault, sim_->scene(), scene_.output_rate_hz);
-  } catch (const std::invalid_argument& e) {  // checked on receipt; kept for a fault built in code
-    answer_change({}, c.id, source, false, e.what());
-    return;
-  }
-  // The steps from now on, in the queue with everything else (a ramp's
-  // later steps wait for their times; the first applies in this pass).
-  const uint64_t ramp = steps.size() > 1 ? next_ramp_++ : 0;
-  for (auto& step : steps) {
-    PendingCommand p;
-    p.ramp = ramp;
-    p.ramp_last = &step == &steps.back();
-    p.time_s = sim_->time() + step.offset_s;
-    p.kind = PendingCommand::Kind::kParameters;
-    p.changes = std::move(step.changes);
-    p.id = c.id;
-    p.source = source;
-    p.stop_at_rotor = step.stop_at_rotor;
-    p.unbalances_added = std::move(step.unbalances_added);
-    enqueue(std::move(p));
+  if (applied) {
+    if (reconfigure_) reconfigure_->publish_values(sim_->scene());
+    if (markers_) markers_->set_model(sim_->scene().model);  // the bore drawn where it now is
   }
 }
 
@@ -775,67 +639,30 @@ void SimNode::publish_stats() {
 
 void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg) {
   record(command_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
+  const double t_cmd = msg->header.stamp.toSec();
+  const core::SpeedAnswer a = schedule_.command_speed(*sim_, t_cmd, msg->target_speed, msg->acceleration_limit);
   rotor_rub_msgs::SpeedCommandFeedback fb;
   fb.header.stamp.fromSec(sim_->time());
   fb.header.frame_id = config_.frame_id;
   fb.command_id = msg->command_id;
   fb.target_speed = msg->target_speed;
-  // acceleration_limit 0 means the scene's acceleration.
-  const double accel = msg->acceleration_limit == 0.0 ? scene_.speed.acceleration_rad_per_s2 : msg->acceleration_limit;
-  fb.acceleration_limit = accel;
-  try {
-    if (status_ == Status::kFailed)
-      throw std::invalid_argument("the simulation has failed; call the reset service first");
-    if (!(msg->acceleration_limit >= 0.0) || std::isinf(msg->acceleration_limit)) {
-      std::ostringstream os;
-      os << "speed command acceleration_limit ";
-      if (std::isnan(msg->acceleration_limit)) {
-        os << "NaN";  // a NaN's sign bit is noise
-      } else {
-        os << msg->acceleration_limit;
-      }
-      os << " rad/s^2 " << (std::isfinite(msg->acceleration_limit) ? "is out of range" : "is not a finite number")
-         << "; accepted: (0, inf), or 0 for the scene's acceleration_rad_per_s2 = "
-         << scene_.speed.acceleration_rad_per_s2;
-      throw std::invalid_argument(os.str());
-    }
-    if (accel == 0.0) {  // a constant-speed scene's 0 would never reach the target (test_shell_tools.py)
-      throw std::invalid_argument(
-          "speed command acceleration_limit 0 takes the scene's acceleration_rad_per_s2, which is 0 (a "
-          "constant-speed scene); accepted: (0, inf)");
-    }
-    core::check_speed_command(scene_, msg->target_speed, accel);
-    const double t_cmd = msg->header.stamp.toSec();
+  fb.acceleration_limit = a.accel_rad_per_s2;
+  fb.accepted = a.accepted;
+  fb.effective_time = a.effective_time_s;
+  fb.reason = a.reason;
+  if (a.accepted) {
     if (lockstep_awaited_s_ >= 0.0 && t_cmd >= lockstep_awaited_s_ - 0.5 / scene_.output_rate_hz) {
       lockstep_replied_ = true;  // the controller's command for this period (stamps are rounded to ns)
     }
-    if (t_cmd <= sim_->time() && pending_.empty() && msg->target_speed == applied_target_ && accel == applied_accel_) {
-      fb.effective_time = sim_->time();  // a repeat of the command in force: nothing changes
-    } else if (t_cmd > sim_->time()) {
-      PendingCommand c;
-      c.time_s = t_cmd;
-      c.target_rad_per_s = msg->target_speed;
-      c.accel_rad_per_s2 = accel;
-      enqueue(std::move(c));
-      fb.effective_time = t_cmd;
-    } else {
-      sim_->command_speed(msg->target_speed, accel);
-      applied_target_ = msg->target_speed;
-      applied_accel_ = accel;
-      fb.effective_time = sim_->time();
-    }
-    fb.accepted = true;
     // The feedback answers every command; the log names accepted ones at
     // most once a second (a controller may command every few ms).
     ROS_INFO_THROTTLE(1.0, "speed command %u accepted: %g rad/s at %g rad/s^2 from t = %.6f s", msg->command_id,
-                      msg->target_speed, accel, fb.effective_time);
-  } catch (const std::invalid_argument& e) {
-    fb.accepted = false;
-    fb.reason = e.what();
+                      msg->target_speed, a.accel_rad_per_s2, a.effective_time_s);
+  } else {
     // Every command gets its feedback; the log gets at most one line a
     // second, so that a flood of bad commands cannot flood /rosout too.
     ++commands_rejected_;
-    ROS_WARN_THROTTLE(1.0, "speed command rejected, simulation unchanged: %s (%lu rejected so far)", e.what(),
+    ROS_WARN_THROTTLE(1.0, "speed command rejected, simulation unchanged: %s (%lu rejected so far)", a.reason.c_str(),
                       static_cast<unsigned long>(commands_rejected_));
   }
   publish(feedback_pub_, fb, sim_->time());
@@ -852,83 +679,30 @@ void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPt
   if (msg->keys.size() != msg->values.size()) {
     refused = "keys and values differ in number (" + std::to_string(msg->keys.size()) + " keys, " +
               std::to_string(msg->values.size()) + " values)";
-  } else if (msg->keys.empty()) {
-    refused = "no keys";
-  }
-  const double t_change = msg->header.stamp.toSec();
-  if (refused.empty()) refused = past_stamp(t_change);
-  // Checked on receipt against the model in force (nothing is queued that
-  // is bound to fail); applied changes are checked again at their stamp,
-  // where the state decides the rest (a clearance closed onto the rotor).
-  if (refused.empty()) {
-    try {
-      if (status_ == Status::kFailed) throw core::SceneError("the simulation has failed; call the reset service first");
-      core::with_live_changes(sim_->scene(), changes, false);  // the rules between keys: at the stamp
-    } catch (const core::SceneError& e) {
-      refused = e.what();
-    }
   }
   if (!refused.empty()) {
-    answer_change(changes, msg->change_id, msg->source, false, refused);
-  } else if (t_change > sim_->time()) {
-    PendingCommand c;
-    c.time_s = t_change;
-    c.kind = PendingCommand::Kind::kParameters;
-    c.changes = std::move(changes);
-    c.id = msg->change_id;
-    c.source = msg->source;
-    enqueue(std::move(c));
-  } else {
-    apply_change(changes, msg->change_id, msg->source);
+    refuse_change(changes, msg->change_id, msg->source, refused);
+    return;
   }
-}
-
-std::string SimNode::past_stamp(double t_s) const {
-  if (!(t_s > 0.0) || t_s >= sim_->time()) return "";
-  char buf[200];
-  std::snprintf(buf, sizeof buf,
-                "stamp %.9f s is in the past (simulated time %.9f s); accepted: 0 (the next instant reached) or a "
-                "time not yet simulated",
-                t_s, sim_->time());
-  return buf;
+  std::vector<core::ChangeAnswer> answers;
+  schedule_.change_parameters(*sim_, msg->header.stamp.toSec(), changes, msg->change_id, msg->source, answers);
+  answer(answers);
+  check_end_or_failure();  // a restart under a change may fail as a step may
 }
 
 double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
-  PendingCommand c;
-  c.kind = PendingCommand::Kind::kFault;
-  c.fault.kind = fault_kind(msg.kind);
-  c.fault.magnitude = msg.magnitude;
-  c.fault.phase_rad = msg.phase;
-  c.fault.duration_s = msg.duration;
-  c.fault.node = msg.node;
-  core::check_fault(c.fault, scene_.output_rate_hz);
-  if (c.fault.kind == core::FaultKind::kSupportLoosening && scene_.model.stator_model == core::StatorModel::kRigid) {
-    throw std::invalid_argument("fault support_loosening has no effect on a rigid stator (stator_model rigid)");
-  }
-  if (status_ == Status::kFailed)
-    throw std::invalid_argument("the simulation has failed; call the reset service first");
-  const std::string past = past_stamp(msg.header.stamp.toSec());
-  if (!past.empty()) throw std::invalid_argument(past);
-  // Checked on receipt as a parameter change is (its keys, their liveness
-  // and ranges), on the scene in force now: a fault the scene cannot take (a
-  // blade loss at a node without a disk) is refused to the caller, not
-  // accepted and then refused at its stamp (test_shell_tools.py). A ramp's
-  // first and last steps bound the rest.
-  const auto steps = core::fault_steps(c.fault, sim_->scene(), scene_.output_rate_hz);
-  if (!steps.empty()) {
-    core::with_live_changes(sim_->scene(), steps.front().changes, false);
-    core::with_live_changes(sim_->scene(), steps.back().changes, false);
-  }
-  c.time_s = std::max(msg.header.stamp.toSec(), sim_->time());
-  c.id = msg.fault_id;
-  c.source = std::string("fault:") + core::to_string(c.fault.kind);
-  const double first_s =
-      c.time_s +
-      (c.fault.duration_s > 0.0 ? c.fault.duration_s / std::ceil(c.fault.duration_s * scene_.output_rate_hz) : 0.0);
-  ROS_INFO("fault %u (%s, magnitude %g, phase %g rad, duration %g s) scheduled at t = %.6f s", c.id, c.source.c_str(),
-           c.fault.magnitude, c.fault.phase_rad, c.fault.duration_s, c.time_s);
-  enqueue(std::move(c));
-  apply_due_commands();  // one due now applies at once, as an unstamped change
+  core::Fault f;
+  f.kind = fault_kind(msg.kind);
+  f.magnitude = msg.magnitude;
+  f.phase_rad = msg.phase;
+  f.duration_s = msg.duration;
+  f.node = msg.node;
+  std::vector<core::ChangeAnswer> answers;
+  const double first_s = schedule_.inject_fault(*sim_, msg.header.stamp.toSec(), f, msg.fault_id, answers);
+  ROS_INFO("fault %u (%s, magnitude %g, phase %g rad, duration %g s, node %d) scheduled at t = %.6f s", msg.fault_id,
+           fault_source(msg.kind).c_str(), f.magnitude, f.phase_rad, f.duration_s, f.node, first_s);
+  answer(answers);  // one due now applied at once, as an unstamped change
+  check_end_or_failure();
   return first_s;
 }
 
@@ -937,7 +711,7 @@ void SimNode::on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg) {
   try {
     schedule_fault(*msg);
   } catch (const std::exception& e) {  // invalid_argument: refused; anything else must not escape a callback
-    answer_change({}, msg->fault_id, fault_source(msg->kind), false, e.what());
+    refuse_change({}, msg->fault_id, fault_source(msg->kind), e.what());
   }
 }
 
@@ -950,7 +724,7 @@ bool SimNode::on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_r
   } catch (const std::exception& e) {
     res.accepted = false;
     res.reason = e.what();
-    answer_change({}, req.fault.fault_id, fault_source(req.fault.kind), false, e.what());
+    refuse_change({}, req.fault.fault_id, fault_source(req.fault.kind), e.what());
   }
   return true;
 }

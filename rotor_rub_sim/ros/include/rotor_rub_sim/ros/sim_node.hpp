@@ -39,6 +39,7 @@
 #include "rotor_rub_msgs/SolverStats.h"
 #include "rotor_rub_msgs/SpeedCommand.h"
 #include "rotor_rub_msgs/StepSimulation.h"
+#include "rotor_rub_sim/core/command_schedule.hpp"
 #include "rotor_rub_sim/core/faults.hpp"
 #include "rotor_rub_sim/core/probes.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
@@ -73,82 +74,20 @@ class SimNode : public core::SimulationObserver {
 
  private:
   enum class Status : uint8_t { kRunning, kPaused, kFinished, kFailed };
-  // A queued input: a speed command, a parameter change (a fault's step,
-  // say) or a fault (turned into its changes at its stamp, from the model
-  // then in force).
-  struct PendingCommand {
-    enum class Kind : uint8_t { kSpeed, kParameters, kFault };
-    double time_s = 0.0;
-    Kind kind = Kind::kSpeed;
-    double target_rad_per_s = 0.0;
-    double accel_rad_per_s2 = 0.0;
-    std::map<std::string, std::string> changes;
-    core::Fault fault;
-    uint32_t id = 0;
-    std::string source;
-    bool stop_at_rotor = false;                          // a clearance closure (core::FaultStep)
-    std::vector<core::RotorUnbalance> unbalances_added;  // a flexible rotor's blade loss (core::FaultStep)
-    uint64_t ramp = 0;                                   // a ramp's steps share it (ramps_); 0: not a ramp
-    bool ramp_last = false;                              // the ramp's last step: its feedback is due
-  };
-  // A ramp being applied: one answer for its steps, at the last one (or at
-  // the first refused), spanning them.
-  struct OpenRamp {
-    uint32_t id = 0;
-    std::string source;
-    double start_s = 0.0;
-    uint32_t applied = 0;
-    std::map<std::string, double> from;          // the keys' values before its first step
-    std::map<std::string, std::string> reached;  // as its last applied step left them
-    std::string note;                            // the first step's note (a closure stopped at the rotor)
-  };
-  // What an answer spans: applied from start_s (NaN: now) in steps steps,
-  // the keys' values before it.
-  struct ChangeSpan {
-    double start_s = std::numeric_limits<double>::quiet_NaN();
-    uint32_t steps = 0;
-    std::map<std::string, double> from;
-  };
-  // A change tried now: accepted, or refused and why; the keys and values
-  // as applied (a closure clamped at the rotor; an unbalance added by its
-  // node, m e and angle on the shaft).
-  struct ChangeOutcome {
-    bool accepted = false;
-    std::string reason;
-    std::map<std::string, std::string> echoed;
-  };
-
   bool wait_for_subscribers();
   void restart_simulation();
   // Advances to t_s, applying queued commands at their times on the way.
   void advance_to(double t_s);
+  // Applies the queued commands due now and answers them.
   void apply_due_commands();
-  // Queues c at its time, after any queued for the same time.
-  void enqueue(PendingCommand c);
-  // Applies a parameter change now; answers on parameter_change_feedback.
-  // Returns whether it was applied.
-  bool apply_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                    bool stop_at_rotor = false, const std::vector<core::RotorUnbalance>& unbalances_added = {});
-  // Applies one of a ramp's steps; answers once for the ramp.
-  void apply_ramp_step(const PendingCommand& c);
-  // Answers for the ramps begun and not ended (the run ended, failed, or the
-  // node stops): the steps applied, and why the rest were not.
+  // Publishes and logs each answer (parameter_change_feedback); an applied
+  // change updates what shows the scene (reconfigure's values, the bore).
+  void answer(const std::vector<core::ChangeAnswer>& answers);
+  // A refusal on receipt, before the schedule sees it (a malformed message).
+  void refuse_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
+                     const std::string& reason);
+  // Answers the ramps begun and not ended (core::CommandSchedule::close_open_ramps).
   void close_open_ramps(const std::string& why);
-  ChangeOutcome try_change(std::map<std::string, std::string> changes, bool stop_at_rotor,
-                           const std::vector<core::RotorUnbalance>& unbalances_added);
-  // The scene's values of these keys now (NaN: not a scene key).
-  std::map<std::string, double> values_now(const std::map<std::string, std::string>& changes) const;
-  void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                     bool accepted, const std::string& reason, const ChangeSpan& span);
-  // A refusal: nothing applied.
-  void answer_change(const std::map<std::string, std::string>& changes, uint32_t id, const std::string& source,
-                     bool accepted, const std::string& reason) {
-    answer_change(changes, id, source, accepted, reason, ChangeSpan());
-  }
-  // A stamp is refused when it lies before the simulated time reached (0
-  // means "now"); "" when it is fine.
-  std::string past_stamp(double t_s) const;
-  void apply_fault(const PendingCommand& c);
   void publish_tf(const core::Sample& s);
   void check_end_or_failure();
   void set_status(Status s);
@@ -203,9 +142,7 @@ class SimNode : public core::SimulationObserver {
   ros::WallTime next_bag_flush_;
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
-  std::vector<PendingCommand> pending_;  // sorted by time, stable in arrival order
-  std::map<uint64_t, OpenRamp> ramps_;   // by PendingCommand::ramp
-  uint64_t next_ramp_ = 1;
+  core::CommandSchedule schedule_;  // speed commands, changes and faults by their stamps
 
   ros::Publisher state_pub_, event_pub_, stats_pub_, feedback_pub_, clock_pub_, marker_pub_, lockstep_pub_;
   ros::Publisher keyphasor_pub_, probes_pub_, change_feedback_pub_, tf_pub_, shaft_pub_;
@@ -225,9 +162,6 @@ class SimNode : public core::SimulationObserver {
   double lockstep_awaited_s_ = -1.0;           // the boundary a reply is awaited for
   bool lockstep_replied_ = false;
   uint64_t lockstep_timeouts_ = 0;
-  // The last command applied (target, acceleration): a repeat changes
-  // nothing, so it is not applied (the integration is not restarted).
-  double applied_target_ = 0.0, applied_accel_ = 0.0;
   ros::Subscriber command_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, resume_srv_, step_srv_;
   diagnostic_updater::Updater diagnostics_;
