@@ -1,0 +1,240 @@
+// Stability of the synchronous full annular rub (full_rub_stability.hpp):
+// the equilibrium of the turning frame, the rigid stator's closed form, and
+// the runs of the rigid-contact methods started a little off the full rub,
+// which grow or decay as the eigenvalues say (and leave the full rub where
+// it is unstable).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/full_rub_stability.hpp"
+#include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+using cd = std::complex<double>;
+
+namespace {
+
+core::ModelParameters paper(core::StatorModel stator, double f) {
+  core::ModelParameters p = test::paper_scene().model;
+  p.stator_model = stator;
+  p.friction_coefficient = f;
+  return p;
+}
+
+// The equilibrium as a state (velocities 0 in the turning frame).
+Eigen::VectorXd equilibrium(const core::ModelParameters& p, const core::FullRub& rub) {
+  const double theta = std::arg(rub.rotor_m - rub.stator_m);
+  if (p.stator_model == core::StatorModel::kRigid) return (Eigen::VectorXd(2) << theta, 0.0).finished();
+  return (Eigen::VectorXd(6) << rub.stator_m.real(), rub.stator_m.imag(), theta, 0.0, 0.0, 0.0).finished();
+}
+
+// theta(t) - theta* of the linearisation, from theta - theta* = d at t = 0
+// (the rest at equilibrium): V e^{Lambda t} V^-1 x0.
+double linear_dtheta(const core::FullRubStability& s, double d, double t_s) {
+  const int n = static_cast<int>(s.jacobian.rows()), th = n / 2 - 1;
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(s.jacobian);
+  const Eigen::MatrixXcd v = eig.eigenvectors();
+  Eigen::VectorXcd x0 = Eigen::VectorXcd::Zero(n);
+  x0(th) = d;
+  const Eigen::VectorXcd c = v.fullPivLu().solve(x0);
+  cd out = 0.0;
+  for (int k = 0; k < n; ++k) out += v(th, k) * c(k) * std::exp(eig.eigenvalues()(k) * t_s);
+  return out.real();
+}
+
+struct Track {
+  std::vector<double> t_s, dtheta_rad;
+  bool stayed_in_contact = true;
+};
+
+// A rigid-contact method started on the full rub at w with the rotor turned
+// by d on the bore (the stator and the velocities the full rub's), sampled
+// every dt_s to end_s: theta - theta* in the turning frame.
+Track perturbed_run(core::Method method, const core::ModelParameters& p, double w, const core::FullRub& rub, double d,
+                    double dt_s, double end_s) {
+  core::Scene s;
+  s.model = p;
+  s.solver.method = method;
+  s.solver.integrator = core::Integrator::kDop853;
+  s.solver.rtol = 1e-10;
+  s.solver.atol = 1e-14;
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
+  s.speed.acceleration_rad_per_s2 = 0.0;
+  s.speed.max_speed_rad_per_s = std::max(s.speed.max_speed_rad_per_s, w);
+  s.end_time_s = end_s;
+  const core::SpeedProfile profile(s.speed);
+  const std::unique_ptr<core::ContactMethod> m = core::make_contact_method(s);
+  const double theta0 = std::arg(rub.rotor_m - rub.stator_m);
+  const cd zr = rub.stator_m + p.clearance_m * std::polar(1.0, theta0 + d), vr = cd(0.0, w) * zr;
+  const cd vs = cd(0.0, w) * rub.stator_m;
+  core::Kinematics k = core::JeffcottModel(p).initial_kinematics(profile.at(0.0));
+  k.rotor_pos = core::Vec2(zr.real(), zr.imag());
+  k.rotor_vel = core::Vec2(vr.real(), vr.imag());
+  if (p.stator_model == core::StatorModel::kElastic) {
+    k.stator_pos = core::Vec2(rub.stator_m.real(), rub.stator_m.imag());
+    k.stator_vel = core::Vec2(vs.real(), vs.imag());
+  }
+  m->start(0.0, k, profile.segment_at(0.0));
+  std::vector<core::ContactEvent> events;
+  m->change_model(0.0, p, events);  // in contact: decided as at a touchdown without closing speed
+  Track out;
+  const long samples = std::lround(end_s / dt_s);
+  for (long j = 0; j <= samples; ++j) {
+    const double t = std::min(end_s, static_cast<double>(j) * dt_s);
+    while (m->step_end() < t) m->step(end_s, events);
+    const core::Sample smp = m->sample(t);
+    const cd gap = cd(smp.kin.rotor_pos.x() - smp.kin.stator_pos.x(), smp.kin.rotor_pos.y() - smp.kin.stator_pos.y());
+    out.t_s.push_back(t);
+    out.dtheta_rad.push_back(std::arg(gap * std::polar(1.0, -w * t - theta0)));
+    out.stayed_in_contact = out.stayed_in_contact && (j == 0 || smp.in_contact);  // t = 0: the start's instant
+  }
+  return out;
+}
+
+}  // namespace
+
+// The full rub is a rest point of the turning frame: its rates vanish there
+// and the multiplier is the closed form's N (1e-9 of the forces' scale: the
+// solve's rounding).
+TEST(FullRubStability, TheFullRubIsARestPointOfTheTurningFrame) {
+  struct Case {
+    core::StatorModel stator;
+    double f, w;
+  };
+  for (const Case& c : {Case{core::StatorModel::kRigid, 0.1, 300.0}, Case{core::StatorModel::kRigid, 0.3, 100.0},
+                        Case{core::StatorModel::kElastic, 0.1, 120.0}, Case{core::StatorModel::kElastic, 0.1, 400.0}}) {
+    const core::ModelParameters p = paper(c.stator, c.f);
+    const auto branches = core::full_rub_stability(p, c.w);
+    ASSERT_EQ(branches.size(), 2u) << c.w;
+    for (const auto& b : branches) {
+      double n = 0.0;
+      const Eigen::VectorXd rates = core::full_rub_rates(p, c.w, equilibrium(p, b.rub), &n);
+      const double scale = p.rotor_mass_kg * p.eccentricity_m * c.w * c.w;  // the unbalance force [N]
+      EXPECT_NEAR(n, b.rub.normal_force_N, 1e-9 * scale);
+      EXPECT_LT(rates.cwiseAbs().maxCoeff(), 1e-9 * c.w);
+    }
+  }
+}
+
+// Rigid stator: the linearisation's eigenvalues are the closed form's,
+// m C l^2 + (c + 2 f m w) C l + |F| (cos phi - f sin phi) = 0, to the
+// central differences' 1e-7; the upper branch (the larger N, where run-ups
+// land) a stable focus or node, the lower a saddle, as cos phi - f sin phi
+// says; at f = 0.3 and 120 rad/s both roots are real.
+TEST(FullRubStability, RigidStatorIsTheClosedForm) {
+  for (double f : {0.1, 0.3}) {
+    for (double w : {100.0, 120.0, 300.0, 600.0}) {
+      const core::ModelParameters p = paper(core::StatorModel::kRigid, f);
+      const auto branches = core::full_rub_stability(p, w);
+      if (f == 0.3 && w > 120.0) {
+        EXPECT_TRUE(branches.empty()) << w;  // no full rub (docs/steady_response.md)
+        continue;
+      }
+      ASSERT_EQ(branches.size(), 2u) << f << " " << w;
+      for (std::size_t k = 0; k < 2; ++k) {
+        const auto& b = branches[k];
+        const auto closed = core::rigid_full_rub_eigenvalues(p, w, b.rub);
+        ASSERT_EQ(b.eigenvalues.size(), 2u);
+        for (int j = 0; j < 2; ++j) {
+          EXPECT_NEAR(std::abs(b.eigenvalues[j] - closed[j]), 0.0, 1e-7 * std::abs(closed[j])) << f << " " << w;
+        }
+        const double phi = std::arg(b.rub.rotor_m) - p.unbalance_phase_rad;
+        EXPECT_EQ(b.stable(), std::cos(phi) - f * std::sin(phi) > 0.0);
+        EXPECT_EQ(b.stable(), k == 0) << "the upper branch stable, the lower a saddle: " << f << " " << w;
+      }
+    }
+  }
+}
+
+// The runs: switching and iteration (dop853, rtol 1e-10) started on a branch
+// with the rotor turned by d on the bore follow the linearisation's theta(t)
+// to kLinear of the envelope d e^{max Re l t}: the nonlinear terms, O(d) =
+// 1e-4 relative at most here, and the integration's error (measured: 4e-5):
+// the rigid stator's stable upper branch at 300 rad/s (a focus, -31.6 +-
+// 120.4i) and its saddle (+96.9), the elastic stator's upper branch at 120
+// rad/s (stable: -3.2 +- 304.7i, its slowest mode, over 1 s) and at 300 rad/s, which flutters (+28.6 +- 114.9i: the run
+// leaves the full rub, as the paper's run-up does above 2.79 s).
+TEST(FullRubStability, RunsGrowAndDecayAtThePredictedRates) {
+  struct Case {
+    core::StatorModel stator;
+    double w;
+    std::size_t branch;
+    double d, end_s;
+  };
+  for (const core::Method method : {core::Method::kSwitching, core::Method::kIteration}) {
+    for (const Case& c :
+         {Case{core::StatorModel::kRigid, 300.0, 0, 1e-4, 0.1}, Case{core::StatorModel::kRigid, 300.0, 1, 1e-6, 0.03},
+          Case{core::StatorModel::kElastic, 120.0, 0, 1e-4, 1.0},
+          Case{core::StatorModel::kElastic, 300.0, 0, 1e-6, 0.1}}) {
+      const core::ModelParameters p = paper(c.stator, 0.1);
+      const auto branches = core::full_rub_stability(p, c.w);
+      ASSERT_GT(branches.size(), c.branch);
+      const core::FullRubStability& b = branches[c.branch];
+      SCOPED_TRACE(std::string(core::to_string(method)) + " " + core::to_string(c.stator) + " w " +
+                   std::to_string(c.w) + " branch " + std::to_string(c.branch));
+      const Track run = perturbed_run(method, p, c.w, b.rub, c.d, 1e-3, c.end_s);
+      const double growth = b.eigenvalues.front().real();
+      double worst = 0.0;
+      for (std::size_t j = 0; j < run.t_s.size(); ++j) {
+        const double envelope = c.d * std::exp(std::max(growth, 0.0) * run.t_s[j]);
+        worst = std::max(worst, std::abs(run.dtheta_rad[j] - linear_dtheta(b, c.d, run.t_s[j])) / envelope);
+      }
+      std::printf("%s %s w %g branch %zu: growth %.4g /s, run against the linearisation within %.2e of d e^{gt}\n",
+                  core::to_string(method), core::to_string(c.stator), c.w, c.branch, growth, worst);
+      constexpr double kLinear = 1e-3;
+      EXPECT_LT(worst, kLinear) << "growth rate " << growth;
+      EXPECT_TRUE(run.stayed_in_contact);
+      if (growth > 0.0) {  // it grew as predicted: more than tenfold
+        EXPECT_GT(std::abs(run.dtheta_rad.back()), 10.0 * c.d);
+      } else {
+        EXPECT_LT(std::abs(run.dtheta_rad.back()), 0.1 * c.d);
+      }
+    }
+  }
+}
+
+// Where the full rub flutters, the run leaves it: the elastic stator at 300
+// rad/s (f = 0.1), 1e-6 rad off the upper branch, lifts off within a second
+// (the growth 28.6 /s takes 1e-6 to 1 in 0.48 s); the stable branch at 120
+// rad/s holds through the same second.
+TEST(FullRubStability, AnUnstableFullRubIsLeft) {
+  const core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+  const Track unstable =
+      perturbed_run(core::Method::kSwitching, p, 300.0, core::full_rub_stability(p, 300.0)[0].rub, 1e-6, 1e-3, 1.0);
+  EXPECT_FALSE(unstable.stayed_in_contact);
+  const Track stable =
+      perturbed_run(core::Method::kSwitching, p, 120.0, core::full_rub_stability(p, 120.0)[0].rub, 1e-6, 1e-3, 1.0);
+  EXPECT_TRUE(stable.stayed_in_contact);
+}
+
+// The paper scene's full rub (elastic stator, f = 0.1) folds at 167.94 rad/s:
+// its upper and lower branches meet there (an eigenvalue through 0) and no
+// full rub exists up to 224 rad/s. Run up at 70 rad/s^2 and held: at 165
+// rad/s (the stable branch: -2.5 +- 4.3i) the rotor stays in full rub to the
+// end; at 170 rad/s, past the fold, it leaves it.
+TEST(FullRubStability, PastItsFoldTheFullRubIsLeft) {
+  const core::ModelParameters p = test::paper_scene().model;
+  const auto at_fold = core::full_rub_stability(p, 167.9364);  // 4e-5 rad/s below the fold
+  ASSERT_EQ(at_fold.size(), 2u);
+  for (const auto& b : at_fold) {
+    // One eigenvalue near 0, as 2.6 sqrt(distance): 0.015 /s here, 5 /s at 165 rad/s ...
+    EXPECT_LT(std::abs(b.eigenvalues.front()), 0.05);
+  }
+  EXPECT_TRUE(core::full_rub_stability(p, 167.95).empty());  // ... and no full rub beyond
+  for (const double w : {165.0, 170.0}) {
+    core::Scene s = test::paper_scene();
+    s.speed.target_speed_rad_per_s = w;
+    s.end_time_s = 8.0;
+    const test::Run run = test::run(s);
+    ASSERT_FALSE(run.result.failure) << run.result.failure->message;
+    EXPECT_EQ(run.out.samples.back().in_contact, w < 167.94) << w;
+  }
+}
