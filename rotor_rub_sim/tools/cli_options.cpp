@@ -70,6 +70,22 @@ CLI::Validator integer_in(long lo, long hi) {
       accepted, "integer_in");
 }
 
+CLI::Validator key_value() {
+  return CLI::Validator(
+      [](std::string& kv) -> std::string {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0) return "value '" + kv + "' is not accepted; accepted: key=value";
+        rotor_rub::core::Scene scratch;
+        try {
+          rotor_rub::core::set_scene_value(scratch, kv.substr(0, eq), kv.substr(eq + 1));
+        } catch (const rotor_rub::core::SceneError& e) {
+          return e.what();
+        }
+        return std::string();
+      },
+      "", "key_value");
+}
+
 CLI::Validator scene_key(const std::string& key) {
   const core::SceneKeyInfo& info = key_info(key);
   return CLI::Validator(

@@ -21,6 +21,9 @@ CLI::Validator existing_file();
 // A value the scene key `key` accepts (its range or names, from the core's
 // key table), with the key table's message when it does not.
 CLI::Validator scene_key(const std::string& key);
+// --set KEY=VALUE: a scene key and a value it accepts (the key table's
+// message when not).
+CLI::Validator key_value();
 // The description of an option that sets scene key `key`: the key table's
 // line (with the unit) and the key's name.
 std::string scene_key_description(const std::string& key);

@@ -33,23 +33,6 @@ constexpr int kExitOutput = 6;
   std::exit(kExitBadInput);
 }
 
-// --set key=value: the key and value as the scene key table takes them.
-CLI::Validator key_value() {
-  return CLI::Validator(
-      [](std::string& kv) -> std::string {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0) return "value '" + kv + "' is not accepted; accepted: key=value";
-        core::Scene scratch;
-        try {
-          core::set_scene_value(scratch, kv.substr(0, eq), kv.substr(eq + 1));
-        } catch (const core::SceneError& e) {
-          return e.what();
-        }
-        return std::string();
-      },
-      "", "key_value");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,7 +63,7 @@ int main(int argc, char** argv) {
                  "the same key")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false)
-      ->check(key_value());
+      ->check(cli::key_value());
   app.add_option("--csv", csv_path, "write the samples to this CSV file (one row per sample at t = k / rate)")
       ->type_name("FILE");
   app.add_option("--summary", summary_path, "write the JSON summary (status, events, stats) to this file")

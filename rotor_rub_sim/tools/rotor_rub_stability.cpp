@@ -1,0 +1,146 @@
+// rotor_rub_stability: which synchronous full rubs a Jeffcott scene has over
+// a range of speeds, and whether each holds (full_rub_stability.hpp): per
+// speed and branch the normal force, the orbits, the least stable
+// eigenvalue in the frame turning with the shaft; the folds where branches
+// meet, and the speeds where a branch's stability changes, located between
+// the grid's speeds (docs/steady_response.md).
+//
+// Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_options.hpp"
+#include "rotor_rub_sim/core/full_rub_stability.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
+
+namespace {
+
+using namespace rotor_rub;
+
+[[noreturn]] void bad_input(const std::string& msg) {
+  std::cerr << "rotor_rub_stability: " << msg << "\n";
+  std::exit(2);
+}
+
+// The speed in [lo, hi] where pred turns from pred(lo) to !pred(lo), by
+// bisection to 1e-9 rad/s (pred changes once in the bracket: the grid's).
+template <class Pred>
+double located(double lo, double hi, Pred pred) {
+  const bool at_lo = pred(lo);
+  while (hi - lo > 1e-9) {
+    const double mid = 0.5 * (lo + hi);
+    (pred(mid) == at_lo ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace cli = tools::cli;
+  std::string scene_path, csv_path;
+  std::vector<std::string> sets;
+  std::vector<double> range;
+  int speeds = 101;
+  CLI::App app(
+      "Which synchronous full rubs a scene has between two speeds, and which hold: each branch's normal force, "
+      "orbits and least stable eigenvalue (the frame turning with the shaft), the folds and the changes of "
+      "stability between them. The Jeffcott rotor under the prescribed drive, rigid contact, no gravity.",
+      "rotor_rub_stability");
+  app.add_option("--scene", scene_path, "the scene file (flat YAML of scene keys); required")
+      ->type_name("FILE")
+      ->check(cli::existing_file());
+  app.add_option("--set", sets, "sets any scene key, repeatable")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false)
+      ->check(cli::key_value());
+  app.add_option("--speeds", range, "the lowest and highest speed [rad/s]; required")
+      ->type_name("LO HI")
+      ->expected(2)
+      ->check(cli::number_in(0.0, 1e7, true));
+  app.add_option("--points", speeds, "speeds on the grid, evenly from LO to HI")
+      ->type_name("N")
+      ->capture_default_str()
+      ->check(cli::integer_in(2, 1000000));
+  app.add_option("--csv", csv_path,
+                 "write speed_rad_per_s, branch, normal_force_N, rotor_orbit_m, stator_orbit_m, growth_rate_per_s, "
+                 "frequency_rad_per_s, stable per row (branch 0: the larger normal force)")
+      ->type_name("FILE");
+  app.footer("Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).");
+  cli::parse_or_exit(app, argc, argv);
+  if (scene_path.empty()) cli::usage_error(app, "--scene is required");
+  if (range.size() != 2 || !(range[0] < range[1])) cli::usage_error(app, "--speeds needs LO < HI");
+  std::map<std::string, std::string> overrides;
+  for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
+  core::Scene scene;
+  try {
+    scene = core::load_scene(scene_path, overrides);
+  } catch (const std::exception& e) {
+    bad_input(e.what());
+  }
+  if (!scene.rotor.file.empty()) {
+    bad_input("scene key 'rotor_file' is '" + scene.rotor.file +
+              "': the flexible rotor's full rub is not linearised here; accepted: the Jeffcott rotor (rotor_file "
+              "empty)");
+  }
+  const core::ModelParameters& p = scene.model;
+  std::vector<std::vector<core::FullRubStability>> grid;
+  std::vector<double> w(static_cast<std::size_t>(speeds));
+  try {
+    for (int j = 0; j < speeds; ++j) {
+      w[j] = range[0] + (range[1] - range[0]) * j / (speeds - 1);
+      grid.push_back(core::full_rub_stability(p, w[j]));
+    }
+  } catch (const std::invalid_argument& e) {
+    bad_input(e.what());  // gravity, a motor
+  }
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    if (!csv) bad_input("--csv: cannot write '" + csv_path + "'");
+    csv.precision(10);
+    csv << "speed_rad_per_s,branch,normal_force_N,rotor_orbit_m,stator_orbit_m,growth_rate_per_s,"
+           "frequency_rad_per_s,stable\n";
+  }
+  std::printf("%s: synchronous full rub, %s stator, f = %g, %d speeds from %g to %g rad/s\n", scene_path.c_str(),
+              core::to_string(p.stator_model), p.friction_coefficient, speeds, range[0], range[1]);
+  std::printf("  w [rad/s]  branch  N [N]        |z_r| [m]    growth [1/s]  freq [rad/s]  stable\n");
+  for (std::size_t j = 0; j < grid.size(); ++j) {
+    for (std::size_t b = 0; b < grid[j].size(); ++b) {
+      const core::FullRubStability& s = grid[j][b];
+      const std::complex<double> l = s.eigenvalues.front();
+      std::printf("  %9.4f  %6zu  %11.5g  %11.5g  %12.5g  %12.5g  %s\n", w[j], b, s.rub.normal_force_N,
+                  std::abs(s.rub.rotor_m), l.real(), std::abs(l.imag()), s.stable() ? "yes" : "no");
+      if (csv.is_open()) {
+        csv << w[j] << "," << b << "," << s.rub.normal_force_N << "," << std::abs(s.rub.rotor_m) << ","
+            << std::abs(s.rub.stator_m) << "," << l.real() << "," << std::abs(l.imag()) << "," << (s.stable() ? 1 : 0)
+            << "\n";
+      }
+    }
+  }
+  // Between grid speeds: a fold where the branches' count changes, a change
+  // of stability where the upper branch's verdict flips.
+  for (std::size_t j = 1; j < grid.size(); ++j) {
+    auto count = [&p](double x) { return core::synchronous_full_rub(p, x).size(); };
+    if (grid[j].size() != grid[j - 1].size()) {
+      const double at = located(w[j - 1], w[j], [&](double x) { return count(x) == grid[j - 1].size(); });
+      std::printf("fold at %.6f rad/s: %zu branches below, %zu above\n", at, grid[j - 1].size(), grid[j].size());
+    } else if (!grid[j].empty() && grid[j].front().stable() != grid[j - 1].front().stable()) {
+      auto stable = [&p](double x) {
+        const auto b = core::full_rub_stability(p, x);
+        return !b.empty() && b.front().stable();
+      };
+      const double at = located(w[j - 1], w[j], stable);
+      const auto there = core::full_rub_stability(p, at);
+      const bool pair = !there.empty() && std::abs(there.front().eigenvalues.front().imag()) > 0.0;
+      std::printf("the upper branch turns %s at %.6f rad/s (%s)\n", grid[j].front().stable() ? "stable" : "unstable",
+                  at, pair ? "a complex pair crosses: flutter" : "a real eigenvalue crosses");
+    }
+  }
+  return 0;
+}

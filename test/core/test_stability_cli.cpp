@@ -1,0 +1,64 @@
+// rotor_rub_stability's command line: the paper scene's branches, folds and
+// their CSV, a rigid stator's change of stability, and bad input as one line
+// with exit status 2.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <string>
+
+#include "cli_support.hpp"
+#include "temp_dir.hpp"
+
+namespace {
+
+using Result = rotor_rub::test::CliResult;
+
+Result stability(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_STABILITY, args); }
+
+std::string config(const std::string& name) { return std::string(ROTOR_RUB_SOURCE_DIR) + "/config/" + name; }
+
+}  // namespace
+
+// The paper scene (elastic stator, f = 0.1): two branches up to the fold at
+// 167.936436 rad/s, none to 224.043009, the upper stable below the fold,
+// unstable beyond the gap (FullRubStability's figures); one CSV row per
+// branch and speed.
+TEST(StabilityCli, PaperSceneFoldsAndItsCsv) {
+  const std::string csv = rotor_rub::test::tmp() + "/branches.csv";
+  const Result r = stability("--scene " + config("paper_runup.yaml") + " --speeds 100 300 --points 11 --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("fold at 167.936436 rad/s: 2 branches below, 0 above"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fold at 224.043009 rad/s: 0 branches below, 2 above"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("   120.0000       0        10.52    0.0024088       -3.2028        304.73  yes"),
+            std::string::npos)
+      << r.out;
+  std::ifstream in(csv);
+  std::string line;
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 1 + 2 * 8);  // the header; two branches at 100..160 and 240..300
+}
+
+// A rigid stator at f = 0.1 (--set): its upper branch is stable everywhere it
+// exists, so no change of stability is reported; a flexible rotor's scene, a
+// motor, a reversed range are refused.
+TEST(StabilityCli, RigidStatorAndBadInput) {
+  const Result r =
+      stability("--scene " + config("paper_runup.yaml") + " --set stator_model=rigid --speeds 100 600 --points 6");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.find("turns"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 2 + 2 * 6) << r.out;  // two branches at every speed
+  for (const auto& [args, part] :
+       {std::pair<std::string, std::string>{"--scene " + config("seal_rub_runup.yaml") + " --speeds 100 300",
+                                            "the flexible rotor's full rub is not linearised here"},
+        {"--scene " + config("machine_runup.yaml") + " --speeds 100 300", "the prescribed drive only"},
+        {"--scene " + config("paper_runup.yaml") + " --speeds 300 100", "--speeds needs LO < HI"},
+        {"--scene " + config("paper_runup.yaml") + " --speeds 100 300 --set friction_coefficent=0.2",
+         "did you mean 'friction_coefficient'"}}) {
+    const Result bad = stability(args);
+    EXPECT_EQ(bad.status, 2) << args << "\n" << bad.out;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_NE(bad.err.find(part), std::string::npos) << bad.err;
+  }
+}
