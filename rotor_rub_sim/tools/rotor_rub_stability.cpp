@@ -3,19 +3,24 @@
 // speed and branch the normal force, the orbits, the least stable
 // eigenvalue in the frame turning with the shaft; the folds where branches
 // meet, and the speeds where a branch's stability changes, located between
-// the grid's speeds (docs/steady_response.md).
+// the grid's speeds (docs/steady_response.md). A flexible rotor (rotor_file)
+// is reduced as the scene's runs reduce it; it must be isotropic.
 //
 // Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "cli_options.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/full_rub_stability.hpp"
+#include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 
 namespace {
@@ -50,7 +55,9 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Which synchronous full rubs a scene has between two speeds, and which hold: each branch's normal force, "
       "orbits and least stable eigenvalue (the frame turning with the shaft), the folds and the changes of "
-      "stability between them. The Jeffcott rotor under the prescribed drive, rigid contact, no gravity.",
+      "stability between them. The Jeffcott or an isotropic flexible rotor (reduced as the scene's runs reduce it) "
+      "under "
+      "the prescribed drive, rigid contact, no gravity.",
       "rotor_rub_stability");
   app.add_option("--scene", scene_path, "the scene file (flat YAML of scene keys); required")
       ->type_name("FILE")
@@ -83,21 +90,47 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     bad_input(e.what());
   }
-  if (!scene.rotor.file.empty()) {
-    bad_input("scene key 'rotor_file' is '" + scene.rotor.file +
-              "': the flexible rotor's full rub is not linearised here; accepted: the Jeffcott rotor (rotor_file "
-              "empty)");
-  }
   const core::ModelParameters& p = scene.model;
+  // The Jeffcott, or a flexible rotor reduced as the scene's runs reduce it.
+  std::function<std::vector<core::FullRubStability>(double)> branches;
+  std::function<std::size_t(double)> count;
+  core::FeRotor rotor;
+  core::RotorMatrices full;
+  std::shared_ptr<const core::FlexibleRotorModel> reduced;
+  try {
+    if (scene.rotor.file.empty()) {
+      branches = [&p](double x) { return core::full_rub_stability(p, x); };
+      count = [&p](double x) { return core::synchronous_full_rub(p, x).size(); };
+    } else {
+      if (p.gravity_m_per_s2 != 0.0 || p.drive_model != core::DriveModel::kPrescribed) {
+        core::full_rub_stability(p, range[0]);  // its refusal names the key
+      }
+      rotor = core::load_rotor_file(scene.rotor.file);
+      full = core::assemble(rotor);
+      reduced = core::flexible_rotor_of(scene);
+      const core::StationStator stator = core::station_stator(p);
+      branches = [&, stator](double x) {
+        return core::full_rub_stability(full, rotor.rub_station_node, rotor.unbalances, stator, p.clearance_m,
+                                        p.friction_coefficient, x, &reduced->rotor());
+      };
+      count = [&, stator](double x) {
+        return core::synchronous_full_rub(full, rotor.rub_station_node, rotor.unbalances, stator, p.clearance_m,
+                                          p.friction_coefficient, x)
+            .size();
+      };
+    }
+  } catch (const std::exception& e) {
+    bad_input(e.what());  // gravity, a motor, an anisotropic rotor
+  }
   std::vector<std::vector<core::FullRubStability>> grid;
   std::vector<double> w(static_cast<std::size_t>(speeds));
   try {
     for (int j = 0; j < speeds; ++j) {
       w[j] = range[0] + (range[1] - range[0]) * j / (speeds - 1);
-      grid.push_back(core::full_rub_stability(p, w[j]));
+      grid.push_back(branches(w[j]));
     }
-  } catch (const std::invalid_argument& e) {
-    bad_input(e.what());  // gravity, a motor
+  } catch (const std::exception& e) {
+    bad_input(e.what());  // gravity, a motor, an anisotropic rotor, a rest point Newton cannot find
   }
   std::ofstream csv;
   if (!csv_path.empty()) {
@@ -107,18 +140,19 @@ int main(int argc, char** argv) {
     csv << "speed_rad_per_s,branch,normal_force_N,rotor_orbit_m,stator_orbit_m,growth_rate_per_s,"
            "frequency_rad_per_s,stable\n";
   }
-  std::printf("%s: synchronous full rub, %s stator, f = %g, %d speeds from %g to %g rad/s\n", scene_path.c_str(),
-              core::to_string(p.stator_model), p.friction_coefficient, speeds, range[0], range[1]);
+  const std::string modes = reduced ? ", " + std::to_string(reduced->rotor().planar_modes) + " planar modes" : "";
+  std::printf("%s: synchronous full rub, %s stator, f = %g, %d speeds from %g to %g rad/s%s\n", scene_path.c_str(),
+              core::to_string(p.stator_model), p.friction_coefficient, speeds, range[0], range[1], modes.c_str());
   std::printf("  w [rad/s]  branch  N [N]        |z_r| [m]    growth [1/s]  freq [rad/s]  stable\n");
   for (std::size_t j = 0; j < grid.size(); ++j) {
     for (std::size_t b = 0; b < grid[j].size(); ++b) {
       const core::FullRubStability& s = grid[j][b];
       const std::complex<double> l = s.eigenvalues.front();
-      std::printf("  %9.4f  %6zu  %11.5g  %11.5g  %12.5g  %12.5g  %s\n", w[j], b, s.rub.normal_force_N,
-                  std::abs(s.rub.rotor_m), l.real(), std::abs(l.imag()), s.stable() ? "yes" : "no");
+      std::printf("  %9.4f  %6zu  %11.5g  %11.5g  %12.5g  %12.5g  %s\n", w[j], b, s.normal_force_N,
+                  std::abs(s.station_m), l.real(), std::abs(l.imag()), s.stable() ? "yes" : "no");
       if (csv.is_open()) {
-        csv << w[j] << "," << b << "," << s.rub.normal_force_N << "," << std::abs(s.rub.rotor_m) << ","
-            << std::abs(s.rub.stator_m) << "," << l.real() << "," << std::abs(l.imag()) << "," << (s.stable() ? 1 : 0)
+        csv << w[j] << "," << b << "," << s.normal_force_N << "," << std::abs(s.station_m) << ","
+            << std::abs(s.stator_m) << "," << l.real() << "," << std::abs(l.imag()) << "," << (s.stable() ? 1 : 0)
             << "\n";
       }
     }
@@ -126,17 +160,16 @@ int main(int argc, char** argv) {
   // Between grid speeds: a fold where the branches' count changes, a change
   // of stability where the upper branch's verdict flips.
   for (std::size_t j = 1; j < grid.size(); ++j) {
-    auto count = [&p](double x) { return core::synchronous_full_rub(p, x).size(); };
     if (grid[j].size() != grid[j - 1].size()) {
       const double at = located(w[j - 1], w[j], [&](double x) { return count(x) == grid[j - 1].size(); });
       std::printf("fold at %.6f rad/s: %zu branches below, %zu above\n", at, grid[j - 1].size(), grid[j].size());
     } else if (!grid[j].empty() && grid[j].front().stable() != grid[j - 1].front().stable()) {
-      auto stable = [&p](double x) {
-        const auto b = core::full_rub_stability(p, x);
+      auto stable = [&branches](double x) {
+        const auto b = branches(x);
         return !b.empty() && b.front().stable();
       };
       const double at = located(w[j - 1], w[j], stable);
-      const auto there = core::full_rub_stability(p, at);
+      const auto there = branches(at);
       const bool pair = !there.empty() && std::abs(there.front().eigenvalues.front().imag()) > 0.0;
       std::printf("the upper branch turns %s at %.6f rad/s (%s)\n", grid[j].front().stable() ? "stable" : "unstable",
                   at, pair ? "a complex pair crosses: flutter" : "a real eigenvalue crosses");

@@ -3,72 +3,218 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rotor_rub::core {
 namespace {
 
 using cd = std::complex<double>;
+using Vec2d = Eigen::Vector2d;
 
-bool rigid_stator(const ModelParameters& p) { return p.stator_model == StatorModel::kRigid; }
+const Eigen::Matrix2d kTurn2 = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();
 
-// The equilibrium as a state [q; q'] (velocities 0 in the turning frame).
-Eigen::VectorXd equilibrium_state(const ModelParameters& p, const FullRub& rub) {
-  const double theta = std::arg(rub.rotor_m - rub.stator_m);
-  if (rigid_stator(p)) return (Eigen::VectorXd(2) << theta, 0.0).finished();
-  return (Eigen::VectorXd(6) << rub.stator_m.real(), rub.stator_m.imag(), theta, 0.0, 0.0, 0.0).finished();
+// The coordinates but the station's, in order.
+std::vector<int> free_coordinates(const TurningRotor& r) {
+  std::vector<int> out;
+  for (int i = 0; i < r.matrices.M.rows(); ++i) {
+    if (i != r.station_x && i != r.station_y) out.push_back(i);
+  }
+  return out;
+}
+
+// q's size: the free coordinates, the stator's two when elastic, theta.
+int coordinates(const TurningRotor& r, const StationStator& s) {
+  return static_cast<int>(r.matrices.M.rows()) - 2 + (s.rigid ? 0 : 2) + 1;
+}
+
+// Whether J commutes with every matrix (isotropy) to 1e-9 of its size.
+void check_isotropic(const TurningRotor& r, const char* what) {
+  const Eigen::MatrixXd& J = r.turn;
+  for (const auto* m : {&r.matrices.M, &r.matrices.K, &r.matrices.C, &r.matrices.G}) {
+    const double scale = std::max(m->cwiseAbs().maxCoeff(), 1e-300);
+    if ((J * *m - *m * J).cwiseAbs().maxCoeff() > 1e-9 * scale) {
+      throw std::invalid_argument(std::string(what) +
+                                  ": not isotropic (its matrices do not commute with the rotation: bearings or seals "
+                                  "with kxx != kyy or kxy != -kyx, say); the full rub is then no equilibrium of the "
+                                  "turning frame");
+    }
+  }
 }
 
 }  // namespace
 
-Eigen::VectorXd full_rub_rates(const ModelParameters& p, double w, const Eigen::VectorXd& state,
-                               double* normal_force_N) {
-  const double m = p.rotor_mass_kg, c = p.rotor_damping_N_s_per_m, k = p.rotor_stiffness_N_per_m;
-  const double C = p.clearance_m, f = p.friction_coefficient;
-  const cd F = m * p.eccentricity_m * w * w * std::polar(1.0, p.unbalance_phase_rad);
-  const cd I(0.0, 1.0);
-  const bool rigid = rigid_stator(p);
-  const int q = rigid ? 1 : 3;  // coordinates
-  const double theta = state(q - 1), theta_rate = state(2 * q - 1);
-  const cd u_s = rigid ? cd(0.0) : cd(state(0), state(1));
-  const cd v_s = rigid ? cd(0.0) : cd(state(3), state(4));
-  const cd n = std::polar(1.0, theta), t = I * n, fn = cd(1.0, f) * n;
-  const cd u_r = u_s + C * n, v_r = v_s + C * theta_rate * t;
-  // The rotor's equation less its unknown accelerations and N, and the stator's.
-  const cd rotor_rest = F - (m * (-C * theta_rate * theta_rate * n + 2.0 * I * w * v_r - w * w * u_r) +
-                             c * (v_r + I * w * u_r) + k * u_r);
-  // Unknowns: [u_s'' (x, y), theta'', N] (elastic) or [theta'', N] (rigid).
-  const int unknowns = rigid ? 2 : 4;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(unknowns, unknowns);
-  Eigen::VectorXd b(unknowns);
-  const int th = rigid ? 0 : 2, nf = rigid ? 1 : 3;
-  // The rotor's x and y rows.
-  for (int row = 0; row < 2; ++row) {
-    auto part = [row](cd z) { return row == 0 ? z.real() : z.imag(); };
-    if (!rigid) a(row, row) = m;
-    a(row, th) = m * C * part(t);
-    a(row, nf) = part(fn);
-    b(row) = part(rotor_rest);
+StationStator station_stator(const ModelParameters& p) {
+  StationStator s;
+  s.rigid = p.stator_model == StatorModel::kRigid;
+  s.mass_kg = p.stator_mass_kg;
+  s.stiffness_N_per_m = p.stator_stiffness_N_per_m;
+  s.damping_N_s_per_m = p.stator_damping_N_s_per_m;
+  return s;
+}
+
+TurningRotor turning_rotor(const ModelParameters& p) {
+  TurningRotor r;
+  const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+  r.matrices.M = p.rotor_mass_kg * I;
+  r.matrices.K = p.rotor_stiffness_N_per_m * I;
+  r.matrices.C = p.rotor_damping_N_s_per_m * I;
+  r.matrices.G = Eigen::Matrix2d::Zero();
+  r.turn = kTurn2;
+  r.unbalance_kg_m =
+      p.rotor_mass_kg * p.eccentricity_m * Vec2d(std::cos(p.unbalance_phase_rad), std::sin(p.unbalance_phase_rad));
+  return r;
+}
+
+TurningRotor turning_rotor(const RotorMatrices& m, const std::vector<RotorUnbalance>& unbalances, int station_node) {
+  TurningRotor r;
+  r.matrices = m;
+  const int n = static_cast<int>(m.M.rows());
+  r.turn = Eigen::MatrixXd::Zero(n, n);
+  for (int base = 0; base < n; base += 2) r.turn.block<2, 2>(base, base) = kTurn2;  // (x, y), (alpha, beta)
+  check_isotropic(r, "the rotor");
+  r.unbalance_kg_m = Eigen::VectorXd::Zero(n);
+  for (const RotorUnbalance& u : unbalances) {
+    r.unbalance_kg_m(dof_index(u.node, kDofX)) += u.me_kg_m * std::cos(u.phase_rad);
+    r.unbalance_kg_m(dof_index(u.node, kDofY)) += u.me_kg_m * std::sin(u.phase_rad);
   }
-  if (!rigid) {
-    const double ms = p.stator_mass_kg, cs = p.stator_damping_N_s_per_m, ks = p.stator_stiffness_N_per_m;
-    const cd stator_rest = -(ms * (2.0 * I * w * v_s - w * w * u_s) + cs * (v_s + I * w * u_s) + ks * u_s);
-    for (int row = 0; row < 2; ++row) {
-      auto part = [row](cd z) { return row == 0 ? z.real() : z.imag(); };
-      a(2 + row, row) = ms;
-      a(2 + row, nf) = -part(fn);
-      b(2 + row) = part(stator_rest);
-    }
+  r.station_x = dof_index(station_node, kDofX);
+  r.station_y = dof_index(station_node, kDofY);
+  return r;
+}
+
+TurningRotor turning_rotor(const ReducedRotor& reduced, const RotorMatrices& m,
+                           const std::vector<RotorUnbalance>& unbalances) {
+  const TurningRotor full = turning_rotor(m, unbalances, reduced.station_node);
+  const Eigen::MatrixXd& E = reduced.expansion;
+  TurningRotor r;
+  r.matrices = reduced.matrices;
+  // J in the basis: M_r^-1 E^T M J E, exact when the basis holds the rotation.
+  r.turn = reduced.matrices.M.ldlt().solve(E.transpose() * m.M * full.turn * E);
+  if ((E * r.turn - full.turn * E).cwiseAbs().maxCoeff() > 1e-8 * E.cwiseAbs().maxCoeff()) {
+    throw std::invalid_argument("the reduced rotor's basis does not hold the rotation (its planes are no twins)");
+  }
+  check_isotropic(r, "the reduced rotor");
+  r.unbalance_kg_m = E.transpose() * full.unbalance_kg_m;
+  r.station_x = ReducedRotor::kStationX;
+  r.station_y = ReducedRotor::kStationY;
+  return r;
+}
+
+Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
+                               const Eigen::VectorXd& state, double* normal_force_N) {
+  const RotorMatrices& mat = rotor.matrices;
+  const Eigen::MatrixXd& J = rotor.turn;
+  const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator);
+  const std::vector<int> free = free_coordinates(rotor);
+  const int nf = static_cast<int>(free.size());
+  const double theta = state(nq - 1), theta_rate = state(2 * nq - 1);
+  const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(nf), state(nf + 1));
+  const Vec2d v_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(nq + nf), state(nq + nf + 1));
+  const Vec2d nrm(std::cos(theta), std::sin(theta)), tng = kTurn2 * nrm;
+  // The rotor's coordinates and rates, the station's from the stator and theta.
+  Eigen::VectorXd v(n), vd(n);
+  for (int i = 0; i < nf; ++i) {
+    v(free[i]) = state(i);
+    vd(free[i]) = state(nq + i);
+  }
+  const Vec2d st = u_s + C * nrm, st_rate = v_s + C * theta_rate * tng;
+  v(rotor.station_x) = st.x(), v(rotor.station_y) = st.y();
+  vd(rotor.station_x) = st_rate.x(), vd(rotor.station_y) = st_rate.y();
+  // The station's acceleration: u_s'' + C theta'' t - C theta'^2 n.
+  Eigen::MatrixXd st_cols(n, 2);
+  st_cols.col(0) = mat.M.col(rotor.station_x);
+  st_cols.col(1) = mat.M.col(rotor.station_y);
+  const Eigen::MatrixXd CG = mat.C + w * mat.G;
+  Eigen::VectorXd rotor_rest = w * w * rotor.unbalance_kg_m - mat.M * (2.0 * w * (J * vd) - w * w * v) -
+                               CG * (vd + w * (J * v)) - mat.K * v + st_cols * (C * theta_rate * theta_rate * nrm);
+  // Unknowns: [free accelerations, u_s'' (elastic), theta'', N].
+  const int unknowns = nq + 1, th = nq - 1, nn = nq;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + (stator.rigid ? 0 : 2), unknowns);
+  Eigen::VectorXd b(a.rows());
+  for (int i = 0; i < nf; ++i) a.block(0, i, n, 1) = mat.M.col(free[i]);
+  if (!stator.rigid) a.block(0, nf, n, 2) = st_cols;
+  a.block(0, th, n, 1) = st_cols * (C * tng);
+  const Vec2d push = nrm + f * tng;  // the contact force on the rotor is -N push
+  a(rotor.station_x, nn) = push.x();
+  a(rotor.station_y, nn) = push.y();
+  b.head(n) = rotor_rest;
+  if (!stator.rigid) {
+    const double ms = stator.mass_kg, cs = stator.damping_N_s_per_m, ks = stator.stiffness_N_per_m;
+    a.block<2, 2>(n, nf) = ms * Eigen::Matrix2d::Identity();
+    a.block<2, 1>(n, nn) = -push;
+    b.tail<2>() = -(ms * (2.0 * w * (kTurn2 * v_s) - w * w * u_s) + cs * (v_s + w * (kTurn2 * u_s)) + ks * u_s);
   }
   const Eigen::VectorXd x = a.fullPivLu().solve(b);
-  if (normal_force_N != nullptr) *normal_force_N = x(nf);
-  Eigen::VectorXd rates(2 * q);
-  rates.head(q) = state.tail(q);
-  if (rigid) {
-    rates(1) = x(0);
-  } else {
-    rates.tail(3) = x.head(3);
-  }
+  if (normal_force_N != nullptr) *normal_force_N = x(nn);
+  Eigen::VectorXd rates(2 * nq);
+  rates.head(nq) = state.tail(nq);
+  rates.tail(nq) = x.head(nq);
   return rates;
+}
+
+FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationStator& stator, double C, double f,
+                                     double w, const Eigen::VectorXd& guess) {
+  const int nq = coordinates(rotor, stator);
+  FullRubStability s;
+  s.state = guess;
+  // Each coordinate's scale: its own size, at least the clearance's (or a
+  // modal coordinate's typical size); a rate's, w times that.
+  Eigen::VectorXd scale(2 * nq);
+  for (int j = 0; j < nq; ++j) {
+    const bool angle = j == nq - 1;
+    scale(j) = angle ? 1.0 : std::max(std::abs(guess(j)), 1e-3 * C);
+    scale(nq + j) = w * scale(j);
+  }
+  auto accelerations = [&](const Eigen::VectorXd& positions) {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nq);
+    x.head(nq) = positions;
+    return Eigen::VectorXd(full_rub_rates(rotor, stator, C, f, w, x).tail(nq));
+  };
+  // Newton on the rest point: accelerations(q) = 0 at zero rates.
+  // Done when every acceleration is below 1e-12 of w^2 times its
+  // coordinate's scale (a closed form's guess already is; near a fold the
+  // Jacobian is nearly singular and Newton would only amplify rounding), or
+  // when the step is below 1e-12 of the scale (a stiff mode's acceleration
+  // keeps the rounding of k/m times its coordinate).
+  Eigen::VectorXd q = guess.head(nq);
+  for (int it = 0;; ++it) {
+    const Eigen::VectorXd r = accelerations(q);
+    if ((r.cwiseQuotient(w * w * scale.head(nq))).cwiseAbs().maxCoeff() < 1e-12) break;
+    if (it == 50) throw std::runtime_error("full rub: Newton on the turning frame's rest point did not converge");
+    Eigen::MatrixXd jac(nq, nq);
+    for (int j = 0; j < nq; ++j) {
+      const double h = 1e-6 * scale(j);
+      Eigen::VectorXd up = q, down = q;
+      up(j) += h;
+      down(j) -= h;
+      jac.col(j) = (accelerations(up) - accelerations(down)) / (2.0 * h);
+    }
+    const Eigen::VectorXd dq = jac.fullPivLu().solve(-r);
+    q += dq;
+    if ((dq.cwiseQuotient(scale.head(nq))).cwiseAbs().maxCoeff() < 1e-12) break;  // a stiff mode's own rounding
+  }
+  s.state = Eigen::VectorXd::Zero(2 * nq);
+  s.state.head(nq) = q;
+  const Eigen::VectorXd rest = full_rub_rates(rotor, stator, C, f, w, s.state, &s.normal_force_N);
+  static_cast<void>(rest);
+  const double theta = q(nq - 1);
+  const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(q(nq - 3), q(nq - 2));
+  s.stator_m = cd(u_s.x(), u_s.y());
+  s.station_m = s.stator_m + C * std::polar(1.0, theta);
+  s.jacobian.resize(2 * nq, 2 * nq);
+  for (int j = 0; j < 2 * nq; ++j) {
+    const double h = 1e-6 * scale(j);
+    Eigen::VectorXd up = s.state, down = s.state;
+    up(j) += h;
+    down(j) -= h;
+    s.jacobian.col(j) =
+        (full_rub_rates(rotor, stator, C, f, w, up) - full_rub_rates(rotor, stator, C, f, w, down)) / (2.0 * h);
+  }
+  const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(s.jacobian).eigenvalues();
+  s.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
+  std::sort(s.eigenvalues.begin(), s.eigenvalues.end(),
+            [](cd a, cd b) { return a.real() != b.real() ? a.real() > b.real() : a.imag() > b.imag(); });
+  return s;
 }
 
 std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, double w) {
@@ -78,28 +224,44 @@ std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, doubl
   if (p.drive_model != DriveModel::kPrescribed) {
     throw std::invalid_argument("full rub stability: the prescribed drive only (drive_model prescribed)");
   }
+  const TurningRotor rotor = turning_rotor(p);
+  const StationStator stator = station_stator(p);
   std::vector<FullRubStability> out;
   for (const FullRub& rub : synchronous_full_rub(p, w)) {
-    FullRubStability s;
-    s.rub = rub;
-    const Eigen::VectorXd x0 = equilibrium_state(p, rub);
-    const int n = static_cast<int>(x0.size()), q = n / 2;
-    s.jacobian.resize(n, n);
-    // Central differences, each coordinate on its own scale (C, 1 rad, w C, w).
-    for (int j = 0; j < n; ++j) {
-      const bool angle = j % q == q - 1;
-      const double scale = (angle ? 1.0 : p.clearance_m) * (j >= q ? w : 1.0);
-      const double h = 1e-6 * scale;
-      Eigen::VectorXd up = x0, down = x0;
-      up(j) += h;
-      down(j) -= h;
-      s.jacobian.col(j) = (full_rub_rates(p, w, up) - full_rub_rates(p, w, down)) / (2.0 * h);
+    const int nq = stator.rigid ? 1 : 3;
+    Eigen::VectorXd guess = Eigen::VectorXd::Zero(2 * nq);
+    if (!stator.rigid) guess.head<2>() << rub.stator_m.real(), rub.stator_m.imag();
+    guess(nq - 1) = std::arg(rub.rotor_m - rub.stator_m);
+    out.push_back(linearised_full_rub(rotor, stator, p.clearance_m, p.friction_coefficient, w, guess));
+  }
+  return out;
+}
+
+std::vector<FullRubStability> full_rub_stability(const RotorMatrices& m, int station_node,
+                                                 const std::vector<RotorUnbalance>& unbalances,
+                                                 const StationStator& stator, double C, double f, double w,
+                                                 const ReducedRotor* reduced) {
+  const TurningRotor rotor =
+      reduced != nullptr ? turning_rotor(*reduced, m, unbalances) : turning_rotor(m, unbalances, station_node);
+  const int nq = coordinates(rotor, stator);
+  const std::vector<int> free = free_coordinates(rotor);
+  std::vector<FullRubStability> out;
+  for (const FlexibleFullRub& rub : synchronous_full_rub(m, station_node, unbalances, stator, C, f, w)) {
+    // The full model's rest point at spin angle 0, in the rotor's coordinates
+    // (a reduced rotor's: the M-orthogonal projection onto its basis).
+    const Eigen::VectorXd full = rub.response.real();
+    const Eigen::VectorXd v =
+        reduced != nullptr
+            ? Eigen::VectorXd(reduced->matrices.M.ldlt().solve(reduced->expansion.transpose() * m.M * full))
+            : full;
+    Eigen::VectorXd guess = Eigen::VectorXd::Zero(2 * nq);
+    for (std::size_t i = 0; i < free.size(); ++i) guess(static_cast<Eigen::Index>(i)) = v(free[i]);
+    if (!stator.rigid) {
+      guess(nq - 3) = rub.stator_m.real();
+      guess(nq - 2) = rub.stator_m.imag();
     }
-    const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(s.jacobian).eigenvalues();
-    s.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
-    std::sort(s.eigenvalues.begin(), s.eigenvalues.end(),
-              [](cd a, cd b) { return a.real() != b.real() ? a.real() > b.real() : a.imag() > b.imag(); });
-    out.push_back(std::move(s));
+    guess(nq - 1) = std::arg(rub.station_m - rub.stator_m);
+    out.push_back(linearised_full_rub(rotor, stator, C, f, w, guess));
   }
   return out;
 }
