@@ -4,7 +4,9 @@
 // eigenvalue in the frame turning with the shaft; the folds where branches
 // meet, and the speeds where a branch's stability changes, located between
 // the grid's speeds (docs/steady_response.md). A flexible rotor (rotor_file)
-// is reduced as the scene's runs reduce it; it must be isotropic.
+// is reduced as the scene's runs reduce it; it must be isotropic. The
+// contact is the scene method's: rigid (switching, iteration) or the
+// penalty's spring and damper (the Jeffcott only).
 //
 // Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).
 #include <cmath>
@@ -22,6 +24,7 @@
 #include "rotor_rub_sim/core/full_rub_stability.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
 
 namespace {
 
@@ -98,10 +101,16 @@ int main(int argc, char** argv) {
   core::RotorMatrices full;
   std::shared_ptr<const core::FlexibleRotorModel> reduced;
   try {
+    const bool penalty = scene.solver.method == core::Method::kPenalty;
     if (scene.rotor.file.empty()) {
-      branches = [&p](double x) { return core::full_rub_stability(p, x); };
+      branches = [&p, penalty](double x) { return core::full_rub_stability(p, x, penalty); };
       count = [&p](double x) { return core::synchronous_full_rub(p, x).size(); };
     } else {
+      if (penalty) {
+        bad_input(
+            "scene key 'method' is 'penalty': a flexible rotor's full rub is linearised with the rigid contact "
+            "only; accepted: switching, iteration");
+      }
       if (p.gravity_m_per_s2 != 0.0 || p.drive_model != core::DriveModel::kPrescribed) {
         core::full_rub_stability(p, range[0]);  // its refusal names the key
       }
@@ -141,8 +150,13 @@ int main(int argc, char** argv) {
            "frequency_rad_per_s,stable\n";
   }
   const std::string modes = reduced ? ", " + std::to_string(reduced->rotor().planar_modes) + " planar modes" : "";
-  std::printf("%s: synchronous full rub, %s stator, f = %g, %d speeds from %g to %g rad/s%s\n", scene_path.c_str(),
-              core::to_string(p.stator_model), p.friction_coefficient, speeds, range[0], range[1], modes.c_str());
+  const std::string contact =
+      scene.solver.method == core::Method::kPenalty
+          ? "the penalty contact (k_c " + core::exact_text(p.contact_stiffness_N_per_m) + " N/m)"
+          : std::string("the rigid contact");
+  std::printf("%s: synchronous full rub, %s stator, %s, f = %g, %d speeds from %g to %g rad/s%s\n", scene_path.c_str(),
+              core::to_string(p.stator_model), contact.c_str(), p.friction_coefficient, speeds, range[0], range[1],
+              modes.c_str());
   std::printf("  w [rad/s]  branch  N [N]        |z_r| [m]    growth [1/s]  freq [rad/s]  stable\n");
   for (std::size_t j = 0; j < grid.size(); ++j) {
     for (std::size_t b = 0; b < grid[j].size(); ++b) {

@@ -57,7 +57,7 @@ Track perturbed_run(core::Method method, const core::ModelParameters& p, double 
   core::Scene s;
   s.model = p;
   s.solver.method = method;
-  s.solver.integrator = core::Integrator::kDop853;
+  s.solver.integrator = method == core::Method::kPenalty ? core::Integrator::kRosenbrock4 : core::Integrator::kDop853;
   s.solver.rtol = 1e-10;
   s.solver.atol = 1e-14;
   s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
@@ -67,7 +67,7 @@ Track perturbed_run(core::Method method, const core::ModelParameters& p, double 
   const core::SpeedProfile profile(s.speed);
   const std::unique_ptr<core::ContactMethod> m = core::make_contact_method(s);
   const double theta0 = std::arg(rub.station_m - rub.stator_m);
-  const cd zr = rub.stator_m + p.clearance_m * std::polar(1.0, theta0 + d), vr = cd(0.0, w) * zr;
+  const cd zr = rub.stator_m + (rub.station_m - rub.stator_m) * std::polar(1.0, d), vr = cd(0.0, w) * zr;
   const cd vs = cd(0.0, w) * rub.stator_m;
   core::Kinematics k = core::JeffcottModel(p).initial_kinematics(profile.at(0.0));
   k.rotor_pos = core::Vec2(zr.real(), zr.imag());
@@ -262,4 +262,73 @@ TEST(FullRubStability, TheSealRotorFluttersWithTwelveModesAndMore) {
         modes, upper.normal_force_N, l.real(), l.imag(), std::abs(l.imag()) / (2.0 * M_PI));
     EXPECT_EQ(upper.stable(), modes == 4 || modes == 8);
   }
+}
+
+// The penalty contact (k_c, c_c): its full rub is the rigid one with the bore
+// moved out by N / k_c; its slow eigenvalues tend to the rigid contact's as
+// k_c grows (the overlap's share, N / (k_c C), and the contact mode's
+// coupling fall as 1 / k_c), and it adds the contact mode (sqrt(k_c / m)).
+// The penalty method on dopri5 started on it with the rotor turned by 1e-4
+// rad follows its linearisation as the rigid methods follow theirs.
+TEST(FullRubStability, ThePenaltyContactTendsToTheRigidOne) {
+  core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  const double w = 300.0;
+  const auto rigid = core::full_rub_stability(p, w);
+  double previous = 1.0;
+  for (const double k_c : {1e7, 1e8, 1e9}) {
+    p.contact_stiffness_N_per_m = k_c;
+    const auto penalty = core::full_rub_stability(p, w, true);
+    ASSERT_EQ(penalty.size(), 2u);
+    const auto& upper = penalty.front();
+    EXPECT_NEAR(upper.normal_force_N, rigid.front().normal_force_N, 1e-2 * rigid.front().normal_force_N);
+    EXPECT_NEAR(std::abs(upper.station_m), p.clearance_m + upper.normal_force_N / k_c, 1e-12);
+    // The slow pair: the two eigenvalues nearest the rigid focus.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& l : upper.eigenvalues) nearest = std::min(nearest, std::abs(l - rigid.front().eigenvalues[0]));
+    const double relative = nearest / std::abs(rigid.front().eigenvalues[0]);
+    std::printf("penalty k_c %.0e: slow eigenvalue within %.2e of the rigid contact's; stable %d\n", k_c, relative,
+                upper.stable());
+    EXPECT_LT(relative, 0.5 * previous) << k_c;  // falls with k_c
+    previous = relative;
+    EXPECT_EQ(upper.stable(), rigid.front().stable());
+    EXPECT_EQ(penalty[1].stable(), rigid[1].stable());
+  }
+}
+
+// The penalty method (rosenbrock4, rtol 1e-10) started on the penalty
+// contact's full rub (k_c 1e9, rigid stator, 300 rad/s) with the rotor turned
+// by 1e-4 rad about the stator: the gap's angle follows the linearisation
+// (the station's coordinates free, the contact mode among the eigenvalues)
+// to kLinear of d, as the rigid methods do.
+TEST(FullRubStability, ThePenaltyMethodFollowsItsLinearisation) {
+  const core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  const double w = 300.0, d = 1e-4;
+  const core::FullRubStability b = core::full_rub_stability(p, w, true).front();
+  const Track run = perturbed_run(core::Method::kPenalty, p, w, b, d, 1e-3, 0.1);
+  // The linear prediction: the station's coordinates turned by d about the
+  // stator, rates 0; the gap's angle from its normal and tangent parts.
+  const int n = static_cast<int>(b.jacobian.rows());
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(b.jacobian);
+  const Eigen::MatrixXcd v = eig.eigenvectors();
+  const cd gap = b.station_m - b.stator_m, moved = gap * std::polar(1.0, d) - gap;
+  Eigen::VectorXcd x0 = Eigen::VectorXcd::Zero(n);
+  x0(0) = moved.real();
+  x0(1) = moved.imag();
+  const Eigen::VectorXcd c = v.fullPivLu().solve(x0);
+  double worst = 0.0;
+  for (std::size_t j = 0; j < run.t_s.size(); ++j) {
+    cd dx = 0.0, dy = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const cd e = c(k) * std::exp(eig.eigenvalues()(k) * run.t_s[j]);
+      dx += v(0, k) * e;
+      dy += v(1, k) * e;
+    }
+    const cd dgap(dx.real(), dy.real());
+    const double dtheta = std::imag(dgap / gap);  // the angle's first-order change
+    worst = std::max(worst, std::abs(run.dtheta_rad[j] - dtheta) / d);
+  }
+  std::printf("penalty rigid w %g: run against the linearisation within %.2e of d\n", w, worst);
+  constexpr double kLinear = 1e-3;  // as RunsGrowAndDecayAtThePredictedRates
+  EXPECT_LT(worst, kLinear);
+  EXPECT_TRUE(run.stayed_in_contact);
 }

@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
+#include "rotor_rub_sim/core/model.hpp"
+
 namespace rotor_rub::core {
 namespace {
 
@@ -22,9 +25,43 @@ std::vector<int> free_coordinates(const TurningRotor& r) {
   return out;
 }
 
-// q's size: the free coordinates, the stator's two when elastic, theta.
-int coordinates(const TurningRotor& r, const StationStator& s) {
-  return static_cast<int>(r.matrices.M.rows()) - 2 + (s.rigid ? 0 : 2) + 1;
+// q's size: the free coordinates, the stator's two when elastic, theta (the
+// rigid contact); every coordinate and the stator's (the penalty contact).
+int coordinates(const TurningRotor& r, const StationStator& s, const PenaltyContact* penalty) {
+  const int n = static_cast<int>(r.matrices.M.rows()), stator = s.rigid ? 0 : 2;
+  return penalty != nullptr ? n + stator : n - 2 + stator + 1;
+}
+
+// The penalty contact's rates: the rotor's and the stator's equations with
+// the contact force of the state (no constraint).
+Eigen::VectorXd penalty_rates(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
+                              const PenaltyContact& penalty, const Eigen::VectorXd& state, double* normal_force_N) {
+  const RotorMatrices& mat = rotor.matrices;
+  const Eigen::MatrixXd& J = rotor.turn;
+  const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator, &penalty);
+  const Eigen::VectorXd v = state.head(n), vd = state.segment(nq, n);
+  const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(n), state(n + 1));
+  const Vec2d v_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(nq + n), state(nq + n + 1));
+  const Vec2d gap = Vec2d(v(rotor.station_x), v(rotor.station_y)) - u_s;
+  const Vec2d gap_rate = Vec2d(vd(rotor.station_x), vd(rotor.station_y)) - v_s;
+  const Vec2d nrm = gap.normalized(), tng = kTurn2 * nrm;
+  // n . (the gap's rate in the casing's frame) = n . gap_rate: n . J gap = 0.
+  const double N = penalty.stiffness_N_per_m * (gap.norm() - C) + penalty.damping_N_s_per_m * nrm.dot(gap_rate);
+  if (normal_force_N != nullptr) *normal_force_N = N;
+  const Vec2d push = N * (nrm + f * tng);  // the contact force on the rotor is -push
+  Eigen::VectorXd force = w * w * rotor.unbalance_kg_m - mat.M * (2.0 * w * (J * vd) - w * w * v) -
+                          (mat.C + w * mat.G) * (vd + w * (J * v)) - mat.K * v;
+  force(rotor.station_x) -= push.x();
+  force(rotor.station_y) -= push.y();
+  Eigen::VectorXd rates(2 * nq);
+  rates.head(nq) = state.tail(nq);
+  rates.segment(nq, n) = mat.M.ldlt().solve(force);
+  if (!stator.rigid) {
+    const double ms = stator.mass_kg, cs = stator.damping_N_s_per_m, ks = stator.stiffness_N_per_m;
+    rates.tail<2>() =
+        (push - ms * (2.0 * w * (kTurn2 * v_s) - w * w * u_s) - cs * (v_s + w * (kTurn2 * u_s)) - ks * u_s) / ms;
+  }
+  return rates;
 }
 
 // Whether J commutes with every matrix (isotropy) to 1e-9 of its size.
@@ -101,10 +138,11 @@ TurningRotor turning_rotor(const ReducedRotor& reduced, const RotorMatrices& m,
 }
 
 Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
-                               const Eigen::VectorXd& state, double* normal_force_N) {
+                               const Eigen::VectorXd& state, double* normal_force_N, const PenaltyContact* penalty) {
+  if (penalty != nullptr) return penalty_rates(rotor, stator, C, f, w, *penalty, state, normal_force_N);
   const RotorMatrices& mat = rotor.matrices;
   const Eigen::MatrixXd& J = rotor.turn;
-  const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator);
+  const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator, nullptr);
   const std::vector<int> free = free_coordinates(rotor);
   const int nf = static_cast<int>(free.size());
   const double theta = state(nq - 1), theta_rate = state(2 * nq - 1);
@@ -153,22 +191,21 @@ Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& s
 }
 
 FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationStator& stator, double C, double f,
-                                     double w, const Eigen::VectorXd& guess) {
-  const int nq = coordinates(rotor, stator);
+                                     double w, const Eigen::VectorXd& guess, const PenaltyContact* penalty) {
+  const int nq = coordinates(rotor, stator, penalty);
   FullRubStability s;
-  s.state = guess;
   // Each coordinate's scale: its own size, at least the clearance's (or a
   // modal coordinate's typical size); a rate's, w times that.
   Eigen::VectorXd scale(2 * nq);
   for (int j = 0; j < nq; ++j) {
-    const bool angle = j == nq - 1;
+    const bool angle = penalty == nullptr && j == nq - 1;
     scale(j) = angle ? 1.0 : std::max(std::abs(guess(j)), 1e-3 * C);
     scale(nq + j) = w * scale(j);
   }
   auto accelerations = [&](const Eigen::VectorXd& positions) {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nq);
     x.head(nq) = positions;
-    return Eigen::VectorXd(full_rub_rates(rotor, stator, C, f, w, x).tail(nq));
+    return Eigen::VectorXd(full_rub_rates(rotor, stator, C, f, w, x, nullptr, penalty).tail(nq));
   };
   // Newton on the rest point: accelerations(q) = 0 at zero rates.
   // Done when every acceleration is below 1e-12 of w^2 times its
@@ -195,20 +232,25 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
   }
   s.state = Eigen::VectorXd::Zero(2 * nq);
   s.state.head(nq) = q;
-  const Eigen::VectorXd rest = full_rub_rates(rotor, stator, C, f, w, s.state, &s.normal_force_N);
-  static_cast<void>(rest);
-  const double theta = q(nq - 1);
-  const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(q(nq - 3), q(nq - 2));
-  s.stator_m = cd(u_s.x(), u_s.y());
-  s.station_m = s.stator_m + C * std::polar(1.0, theta);
+  full_rub_rates(rotor, stator, C, f, w, s.state, &s.normal_force_N, penalty);
+  if (penalty != nullptr) {
+    const int n = static_cast<int>(rotor.matrices.M.rows());
+    s.station_m = cd(q(rotor.station_x), q(rotor.station_y));
+    s.stator_m = stator.rigid ? cd(0.0) : cd(q(n), q(n + 1));
+  } else {
+    const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(q(nq - 3), q(nq - 2));
+    s.stator_m = cd(u_s.x(), u_s.y());
+    s.station_m = s.stator_m + C * std::polar(1.0, q(nq - 1));
+  }
   s.jacobian.resize(2 * nq, 2 * nq);
   for (int j = 0; j < 2 * nq; ++j) {
     const double h = 1e-6 * scale(j);
     Eigen::VectorXd up = s.state, down = s.state;
     up(j) += h;
     down(j) -= h;
-    s.jacobian.col(j) =
-        (full_rub_rates(rotor, stator, C, f, w, up) - full_rub_rates(rotor, stator, C, f, w, down)) / (2.0 * h);
+    s.jacobian.col(j) = (full_rub_rates(rotor, stator, C, f, w, up, nullptr, penalty) -
+                         full_rub_rates(rotor, stator, C, f, w, down, nullptr, penalty)) /
+                        (2.0 * h);
   }
   const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(s.jacobian).eigenvalues();
   s.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
@@ -217,7 +259,7 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
   return s;
 }
 
-std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, double w) {
+std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, double w, bool penalty_contact) {
   if (p.gravity_m_per_s2 != 0.0) {
     throw std::invalid_argument("full rub stability: gravity_m_per_s2 must be 0 (it breaks the circular symmetry)");
   }
@@ -226,13 +268,25 @@ std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, doubl
   }
   const TurningRotor rotor = turning_rotor(p);
   const StationStator stator = station_stator(p);
+  PenaltyContact penalty;
+  penalty.stiffness_N_per_m = p.contact_stiffness_N_per_m;
+  penalty.damping_N_s_per_m = contact_damping_N_s_per_m(JeffcottModel(p));
   std::vector<FullRubStability> out;
   for (const FullRub& rub : synchronous_full_rub(p, w)) {
-    const int nq = stator.rigid ? 1 : 3;
+    const int nq = coordinates(rotor, stator, penalty_contact ? &penalty : nullptr);
     Eigen::VectorXd guess = Eigen::VectorXd::Zero(2 * nq);
-    if (!stator.rigid) guess.head<2>() << rub.stator_m.real(), rub.stator_m.imag();
-    guess(nq - 1) = std::arg(rub.rotor_m - rub.stator_m);
-    out.push_back(linearised_full_rub(rotor, stator, p.clearance_m, p.friction_coefficient, w, guess));
+    if (penalty_contact) {
+      // The rigid rest point with the bore moved out by the overlap N / k_c.
+      const cd gap = rub.rotor_m - rub.stator_m;
+      const cd rotor_m = rub.stator_m + gap * (1.0 + rub.normal_force_N / (penalty.stiffness_N_per_m * std::abs(gap)));
+      guess.head<2>() << rotor_m.real(), rotor_m.imag();
+      if (!stator.rigid) guess.segment<2>(2) << rub.stator_m.real(), rub.stator_m.imag();
+    } else {
+      if (!stator.rigid) guess.head<2>() << rub.stator_m.real(), rub.stator_m.imag();
+      guess(nq - 1) = std::arg(rub.rotor_m - rub.stator_m);
+    }
+    out.push_back(linearised_full_rub(rotor, stator, p.clearance_m, p.friction_coefficient, w, guess,
+                                      penalty_contact ? &penalty : nullptr));
   }
   return out;
 }
@@ -243,7 +297,7 @@ std::vector<FullRubStability> full_rub_stability(const RotorMatrices& m, int sta
                                                  const ReducedRotor* reduced) {
   const TurningRotor rotor =
       reduced != nullptr ? turning_rotor(*reduced, m, unbalances) : turning_rotor(m, unbalances, station_node);
-  const int nq = coordinates(rotor, stator);
+  const int nq = coordinates(rotor, stator, nullptr);
   const std::vector<int> free = free_coordinates(rotor);
   std::vector<FullRubStability> out;
   for (const FlexibleFullRub& rub : synchronous_full_rub(m, station_node, unbalances, stator, C, f, w)) {

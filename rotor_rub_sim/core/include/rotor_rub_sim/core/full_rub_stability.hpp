@@ -60,12 +60,22 @@ TurningRotor turning_rotor(const RotorMatrices& m, const std::vector<RotorUnbala
 TurningRotor turning_rotor(const ReducedRotor& r, const RotorMatrices& m,
                            const std::vector<RotorUnbalance>& unbalances);
 
+/// The penalty method's contact in place of the rigid one (contact_law.hpp):
+/// N = k_c p + c_c p' while pressed (p the overlap |u_r - u_s| - C), the
+/// friction f N against the forward slip. The station is then free: q is
+/// every coordinate, and the stator's when elastic.
+struct PenaltyContact {
+  double stiffness_N_per_m = 0.0;  ///< k_c
+  double damping_N_s_per_m = 0.0;  ///< c_c
+};
+
 /// One full rub of a turning rotor, linearised.
 struct FullRubStability {
   double normal_force_N = 0.0;
   std::complex<double> station_m, stator_m;  ///< the station and the stator at spin angle 0
   /// [q; q'] at the equilibrium (q: the coordinates but the station's, the
-  /// stator's x, y when elastic, theta), and d/dt of it there.
+  /// stator's x, y when elastic, theta; with the penalty contact every
+  /// coordinate and the stator's), and d/dt of it there.
   Eigen::VectorXd state;
   Eigen::MatrixXd jacobian;
   /// Its eigenvalues [1/s], the largest real part first: e^{lambda t} in the
@@ -80,17 +90,22 @@ struct FullRubStability {
 /// there [N] (the equations above solved for q'' and N).
 Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& stator, double clearance_m,
                                double friction_coefficient, double w_rad_per_s, const Eigen::VectorXd& state,
-                               double* normal_force_N = nullptr);
+                               double* normal_force_N = nullptr, const PenaltyContact* penalty = nullptr);
 
 /// The full rub near a guess (the station, the stator and N of a closed
 /// form), found by Newton on the turning frame's rest point, then
 /// linearised. Throws std::runtime_error when Newton does not converge.
 FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationStator& stator, double clearance_m,
-                                     double friction_coefficient, double w_rad_per_s, const Eigen::VectorXd& guess);
+                                     double friction_coefficient, double w_rad_per_s, const Eigen::VectorXd& guess,
+                                     const PenaltyContact* penalty = nullptr);
 
-/// Every branch of the Jeffcott's synchronous_full_rub(p, w), linearised.
-/// Throws std::invalid_argument for gravity or a motor drive.
-std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, double w_rad_per_s);
+/// Every branch of the Jeffcott's synchronous_full_rub(p, w), linearised:
+/// with the rigid contact, or with the penalty method's (p's k_c and c_c:
+/// its rest point the rigid one's with the bore moved out by N / k_c,
+/// polished by Newton). Throws std::invalid_argument for gravity or a motor
+/// drive.
+std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, double w_rad_per_s,
+                                                 bool penalty_contact = false);
 
 /// Every branch of a flexible rotor's full rub (the full FE model, or a
 /// reduced one when `reduced` is given), from rotor_steady_response.hpp's
