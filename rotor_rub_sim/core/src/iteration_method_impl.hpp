@@ -136,9 +136,8 @@ class ContactForceSolver {
       // Separating without help: released, no force. The stick force keeps
       // its meaning, what rolling would need with F_n = 0: at a lift-off in
       // stick it need not vanish, and the breakaway's function |F_t,stick| -
-      // f F_n must read it there, not a clamped zero, for the breakaway
-      // before the lift-off to be bracketed (the transitions sweep: f 1,
-      // elastic stator, 3 us before the lift-off).
+      // f F_n must read it there, not a clamped zero, for a breakaway just
+      // before the lift-off to be bracketed (test_transitions.cpp).
       if ((mode.stick || want_stick_force) && !model_->motor()) {
         f.stick_N = stick_force(k, d, g, free, 0.0, t_s, iterations);
       }
@@ -227,9 +226,9 @@ struct IterationSystem {
   // central difference of the derivative along (dxdt, 1) over
   // kHermiteJerkStep_s, but from the step's side of a release. Engaged, the
   // force is clamped at zero where nothing needs to press (a kink): a
-  // difference across it is the clamp's, not the step's (a dop853 step that
-  // ended 0.57 us before a lift-off had its interpolant bent 1.7e-9 m into
-  // the stator mid-step, both ends on the bore). Where the two points differ
+  // difference across it is the clamp's, not the step's, and would bend the
+  // interpolant of a step that ends just before a lift-off into the stator
+  // (PaperScene.IterationLocatesItsLiftOffs). Where the two points differ
   // in being pressed, the second-order one-sided difference into the step
   // is taken (one evaluation more): at a step's end the pressed side, also
   // where the end lies on the kink itself (a step redone to end on its
@@ -714,13 +713,13 @@ class IterationMethod final : public ContactMethod {
   }
 
   // Redoes the engaged step just taken to end at t_s, a lift-off located
-  // inside it: past the lift-off the force is clamped at zero (a kink), and
-  // the step's interpolant across it is not the pressed motion (at a located
-  // lift-off one was 6.3e-12 m into the stator under other last bits, rtol
-  // 1e-10, the limit 3e-12 m). Redone, the state there is integrated on the
-  // pressed side. Returns false when error control cut the redone step short
-  // of t_s (it then ends where it got to). The first try counts as a
-  // rejected step (RunStats), as a method's own rejection does.
+  // inside it: past the lift-off the force is clamped at zero (a kink), so
+  // the step's interpolant across it is not the pressed motion; redone, the
+  // state there is integrated on the pressed side (Golden.
+  // OtherLibmIsInEffectWhenPreloaded holds the golden runs under other last
+  // bits). Returns false when error control cut the redone step short of
+  // t_s (it then ends where it got to). The first try counts as a rejected
+  // step (RunStats), as a method's own rejection does.
   bool redo_step_to(double t_s) {
     const double dt_s = t_s - integrator_.t_old();
     integrator_.retreat(dt_s, stats_);
@@ -731,10 +730,9 @@ class IterationMethod final : public ContactMethod {
 
   // Ends the step at a located lift-off (te on the side where the pressing
   // is <= 0): the free flight restarts there from the dense output's state
-  // placed on the bore, as a held step's end is. Unplaced, its drift (up to
-  // a few atol, inward as often as not) made the first free step start
-  // beyond the gap tolerance, and every free step was rejected until the
-  // run stalled (paper run-up, iteration at rtol 1e-5, 2.889 s).
+  // placed on the bore, as a held step's end is, since the interpolant's
+  // drift of a few atol could start it beyond the gap tolerance
+  // (PaperScene.IterationLocatesItsLiftOffs).
   void lift_off_at(double te, std::vector<ContactEvent>& events) {
     valid_end_ = te;
     State x;

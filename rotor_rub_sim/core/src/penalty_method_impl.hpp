@@ -266,10 +266,9 @@ class PenaltyMethod final : public ContactMethod {
   // Restarts at t_s from state k. After an edge (crossed_edge_ >= 0) the
   // mode is the one the crossing located on the dense output leads to: the
   // step to t_s taken again (end_step_at) may end a rounding short of the
-  // edge (measured: 5e-15 m of penetration short of a touchdown), and
-  // deciding the mode from that state would find the same edge again at
-  // once, a few times, and end in a fallback. The edge's value is taken as
-  // on its new side, so only a crossing back is seen.
+  // edge, where deciding the mode from the state would find the same edge
+  // again at once. The edge's value is taken as on its new side, so only a
+  // crossing back is seen.
   void restart(double t_s, const Kinematics& k, const ModalState& modal, double dt_s) {
     pending_ = false;
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
@@ -331,12 +330,12 @@ class PenaltyMethod final : public ContactMethod {
   // An edge found at the very start of a step that began at an edge (no
   // progress: the new mode's field turns straight back across it) is a
   // graze: the edge touched with zero slope, or a contact force below what
-  // the tolerance resolves (at rtol 1e-3 the position error allowed is
-  // about 400 times the penetration, 3e-6 m against 8e-9 m). The modes
-  // would hand the state back and forth at one instant (measured: 1e7
-  // restarts at t = 1.1141 s on the paper scene at rtol 1e-3). Such a step
-  // is taken again on the clamped law itself, which is always the law, only
-  // not smooth; the next step restarts in the mode of the state it reaches.
+  // the tolerance resolves (at a loose rtol the position error allowed can
+  // be hundreds of times the penetration). The modes would hand the state
+  // back and forth at one instant, so such a step is taken again on the
+  // clamped law itself, which is always the law, only not smooth; the next
+  // step restarts in the mode of the state it reaches (ContactEvents.
+  // EveryGrazeCloses).
   void on_edge(double t_s, int edge, std::vector<ContactEvent>& events) {
     const double t0 = integrator_.t_old();
     const double h = integrator_.t_new() - t0;

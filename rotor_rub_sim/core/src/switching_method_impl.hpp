@@ -719,15 +719,10 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   // Points per step where the event functions are checked (the last at the
-  // step's end). With dopri5 two, not the four of earlier versions: an
-  // excursion to the far side and back between two points is missed either
-  // way in principle (a graze is not, while the gap has one extremum
-  // between two points: the gap's rate locates it), and the quarter points
-  // cost a constrained-dynamics evaluation each. Every test passes as with
-  // four; only a forced contact (scan()) moves, by a few atol, as it is
-  // placed from the scan's points. rkf78's and dop853's steps are 4-6 times
-  // longer (up to ~3 rad of the spin at rtol 1e-3), so they keep the
-  // quarter points.
+  // step's end): two with dopri5, whose short steps leave at most one
+  // extremum of the gap between two points (the gap's rate locates a
+  // graze there: ShallowGraze.ContactShorterThanAStepIsFelt), four with
+  // rkf78 and dop853, whose steps turn the spin by up to about 3 rad.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
   JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)

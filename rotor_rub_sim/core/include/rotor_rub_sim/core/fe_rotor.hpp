@@ -1,7 +1,7 @@
 /// @file
 /// A flexible rotor as finite elements: the model and its modal analysis
-/// (rotor_reduction.hpp reduces it; the contact methods still run the
-/// Jeffcott model).
+/// (rotor_reduction.hpp reduces it to its rub station and a few modes, which
+/// the contact methods run: flexible_rotor_model.hpp).
 ///
 /// Coordinates: z along the shaft, 4 DOF per node, in the order
 /// q = [x, y, alpha, beta] (alpha a rotation about x, beta about y; beta goes
