@@ -125,6 +125,25 @@ TEST(CommandSchedule, AFaultIsComputedFromTheSceneAtItsStamp) {
   EXPECT_EQ(loss.from.at("eccentricity_m"), 0.0006);
 }
 
+// A fault takes its place among the commands of its instant: a blade loss
+// stamped 0.1 s, then a change of the eccentricity stamped 0.1 s too, which
+// arrived later, applies after it and stands (the fault's step, computed
+// at the stamp, does not overwrite it).
+TEST(CommandSchedule, FaultsTakeTheirPlaceAtTheirStamp) {
+  core::Simulation sim(short_paper_scene(0.2));
+  core::CommandSchedule schedule(sim.scene().output_rate_hz);
+  std::vector<core::ChangeAnswer> answers;
+  const double m = sim.scene().model.rotor_mass_kg;
+  schedule.inject_fault(sim, 0.1, {core::FaultKind::kBladeLoss, 0.5 * m * 0.0004, M_PI, 0.0}, 1, answers);
+  schedule.change_parameters(sim, 0.1, {{"eccentricity_m", "0.0002"}}, 2, "test", answers);
+  test::Collect out;
+  advance(sim, schedule, 0.2, out, answers);
+  ASSERT_EQ(answers.size(), 2u);
+  EXPECT_EQ(answers[0].id, 1u);
+  EXPECT_EQ(answers[1].id, 2u);
+  EXPECT_EQ(sim.scene().model.eccentricity_m, 0.0002);
+}
+
 // A thermal closure onto the rotor stops where the bore meets it: the
 // clearance is held at the rotor-stator distance, and the answer says when.
 TEST(CommandSchedule, AClosureStopsAtTheRotor) {
@@ -173,6 +192,14 @@ TEST(CommandSchedule, ARampIsAnsweredOnceSpanningItsSteps) {
   EXPECT_NE(cut.reason.find("the ramp was cut at t = 0.160000 s after 10 steps: the node was reset"), std::string::npos)
       << cut.reason;
   EXPECT_TRUE(schedule.empty());  // its later steps dropped
+  // One cut before its first step is answered too: refused, nothing made.
+  schedule.inject_fault(sim, 0.0, {core::FaultKind::kSealWear, 1e-4, 0.0, 0.1}, 3, answers);
+  schedule.close_open_ramps(sim, "the run reached end_time_s", answers);
+  ASSERT_EQ(answers.size(), 3u);
+  EXPECT_EQ(answers[2].id, 3u);
+  EXPECT_FALSE(answers[2].accepted);
+  EXPECT_EQ(answers[2].steps, 0u);
+  EXPECT_TRUE(schedule.empty());
 }
 
 // The contract: the same stamped commands give the same run, sample for

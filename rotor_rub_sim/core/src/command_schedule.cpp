@@ -180,7 +180,7 @@ double CommandSchedule::inject_fault(Simulation& sim, double stamp_s, const Faul
 void CommandSchedule::apply_due(Simulation& sim, std::vector<ChangeAnswer>& answers) {
   while (!pending_.empty() && pending_.front().time_s <= sim.time()) {
     const Pending p = pending_.front();
-    pending_.erase(pending_.begin());
+    pending_.pop_front();
     switch (p.kind) {
       case Pending::Kind::kSpeed:
         sim.command_speed(p.target_rad_per_s, p.accel_rad_per_s2);  // checked on receipt
@@ -306,14 +306,13 @@ void CommandSchedule::apply_ramp_step(Simulation& sim, const Pending& p, std::ve
 void CommandSchedule::close_open_ramps(const Simulation& sim, const std::string& why,
                                        std::vector<ChangeAnswer>& answers) {
   for (const auto& [serial, r] : ramps_) {
-    if (r.applied == 0) continue;
     ChangeAnswer a;
     a.id = r.id;
     a.source = r.source;
-    a.accepted = true;
+    a.accepted = r.applied > 0;  // cut before its first step: nothing changed
     a.changes = r.reached;
     a.from = r.from;
-    a.start_s = r.start_s;
+    a.start_s = r.applied > 0 ? r.start_s : sim.time();
     a.end_s = sim.time();
     a.steps = r.applied;
     const std::string cut =
@@ -339,9 +338,17 @@ void CommandSchedule::expand_fault(Simulation& sim, const Pending& p, std::vecto
     answers.push_back(std::move(a));
     return;
   }
-  // The steps from now on, in the queue with everything else (a ramp's
-  // later steps wait for their times; the first applies in this pass).
+  // A step at the fault's instant applies now, in the fault's place among
+  // the commands of that instant (queued, it would land after commands
+  // that arrived later and overwrite them: FaultsTakeTheirPlaceAtTheirStamp);
+  // a ramp's steps wait in the queue for their times, its record opened now
+  // so that a ramp cut before its first step is answered too.
   const std::uint64_t ramp = steps.size() > 1 ? next_ramp_++ : 0;
+  if (ramp != 0) {
+    OpenRamp& r = ramps_[ramp];
+    r.id = p.id;
+    r.source = p.source;
+  }
   for (FaultStep& step : steps) {
     Pending q;
     q.time_s = sim.time() + step.offset_s;
@@ -353,7 +360,11 @@ void CommandSchedule::expand_fault(Simulation& sim, const Pending& p, std::vecto
     q.source = p.source;
     q.stop_at_rotor = step.stop_at_rotor;
     q.unbalances_added = std::move(step.unbalances_added);
-    enqueue(std::move(q));
+    if (ramp == 0 && step.offset_s == 0.0) {
+      apply_change(sim, q, answers);
+    } else {
+      enqueue(std::move(q));
+    }
   }
 }
 

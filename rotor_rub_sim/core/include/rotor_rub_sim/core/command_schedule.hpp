@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <map>
 #include <string>
@@ -141,7 +142,7 @@ class CommandSchedule {
   void expand_fault(Simulation& sim, const Pending& p, std::vector<ChangeAnswer>& answers);
 
   double output_rate_hz_;
-  std::vector<Pending> pending_;  // sorted by time, stable in arrival order
+  std::deque<Pending> pending_;  // sorted by time, stable in arrival order (taken from the front)
   std::map<std::uint64_t, OpenRamp> ramps_;
   std::uint64_t next_ramp_ = 1;
   // The speed command in force (a repeat of it changes nothing); NaN until
