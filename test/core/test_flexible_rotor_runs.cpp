@@ -1,6 +1,6 @@
 // The contact methods on a flexible rotor (scene key rotor_file): the rigid
 // ones (switching, iteration) on each of their integrators, the penalty
-// method on dopri5 and rosenbrock4 (rk4: test_flexible_rk4.cpp). The seam (flexible_rotor_model.hpp, docs/rotors.md)
+// method on dopri5 and rosenbrock4 (rk4: test_flexible_rk4.cpp). The seam (flexible_rotor_model.hpp, docs/rotor_theory.md)
 // against the Jeffcott it must reduce to, the closed-form full annular rub
 // of a multi-DOF rotor, the methods against each other, and their promises
 // on the seal-rub example.
@@ -161,7 +161,7 @@ TEST(FlexibleRotorRuns, TheJeffcottAsARotorFileRunsTheJeffcottsRun) {
 }
 
 // The same under a motor drive (the spin a state, the unbalance's lever
-// coupling it to the station, docs/rotors.md): the file's train inertia is
+// coupling it to the station, docs/rotor_theory.md): the file's train inertia is
 // the Jeffcott's about its mass centre plus m e^2, so that J_eff = J - (m
 // e)^2 / m_st is the Jeffcott's J_G. At constant reference speed: the
 // motor's feed-forward J A_ref would otherwise differ by m e^2 A_ref (the
@@ -271,9 +271,9 @@ core::Scene isotropic_full_rub_scene(long planar_modes) {
 // through the full FE model's receptance (rotor_steady_response.hpp). What
 // is left is the truncation of the reduced model: with 4 planar modes (of
 // 26) 9.2e-4 of N, with 8 1.1e-5 (measured). With 12 and more this full rub
-// is no longer the attractor at f = 0.1 (docs/rotors.md: a higher shaft mode
-// coupled by friction turns it into an intermittent rub), so 8 is the
-// test's model.
+// is no longer the attractor at f = 0.1 (a shaft mode at 2.4 kHz that the
+// friction makes flutter: FullRubStability.TheSealRotorFluttersWithTwelve
+// ModesAndMore), so 8 is the test's model.
 TEST(FlexibleRotorRuns, SettlesOntoTheClosedFormFullAnnularRub) {
   const core::FeRotor rotor = core::load_rotor_file(test::source_path("test/data/rotors/isotropic_seal.yaml"));
   const double w = 300.0, f = 0.1, c = 20e-6;

@@ -239,7 +239,7 @@ TEST(FullRubStability, PastItsFoldTheFullRubIsLeft) {
 // The flexible rotor: the isotropic seal rotor (test/data/rotors/
 // isotropic_seal.yaml) in full rub on a rigid seal of 20 um at 300 rad/s,
 // f = 0.1, settles onto the closed form with 4 and 8 planar modes and breaks
-// into an intermittent rub with 12 and 16 (docs/rotors.md, measured): the
+// into an intermittent rub with 12 and 16 (docs/rotor_theory.md, measured): the
 // linearisation says why, a shaft mode that friction makes flutter, stable
 // with 4 and 8 modes, unstable with 12, 16 and the full FE model. The
 // reduced models' rest points are the full model's projected, polished by

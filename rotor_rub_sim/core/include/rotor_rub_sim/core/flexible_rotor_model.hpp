@@ -2,7 +2,7 @@
 /// The reduced flexible rotor's free forces (rotor_reduction.hpp) in the
 /// form the contact methods take the Jeffcott's (model.hpp): the force on the
 /// rub station, a point of mass m_st, and the accelerations of the modal
-/// coordinates, which no contact force reaches (docs/rotors.md, the seam).
+/// coordinates, which no contact force reaches (docs/rotor_theory.md, the seam).
 ///
 /// In q = [u, xi] (M = diag(m_st I, I)):
 ///   M q'' = -K q - (C + w G) q' + f(phi, w, A) + [F_contact; 0],

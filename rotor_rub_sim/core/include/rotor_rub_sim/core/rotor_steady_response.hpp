@@ -2,7 +2,7 @@
 /// The synchronous full annular rub at the rub station of a flexible rotor
 /// (fe_rotor.hpp), in closed form through the station's receptance: the
 /// Jeffcott's quadratic in the normal force N (steady_response.hpp)
-/// generalised. Derivation (docs/rotors.md): in complex notation z = x + i y,
+/// generalised. Derivation (docs/rotor_theory.md): in complex notation z = x + i y,
 /// for an isotropic rotor (bearings with kxx = kyy, kxy = -kyx and the same
 /// for damping) a forward force turning at w gives a forward response. The
 /// station then moves as z_r = U0 - h N (1 + i f) n, U0 the unbalances'
