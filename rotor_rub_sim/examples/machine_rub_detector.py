@@ -284,13 +284,16 @@ def synchronous(z, phi, span, orders, window=None):
     return {h: complex(np.sum(w * z * np.exp(-1j * h * phi)) / wsum) for h in orders}
 
 
-def noise_distortion(z, phi, revolutions, window, orders, fwd):
+def noise_distortion(z, phi, revolutions, window, orders, fwd, harmonics):
     """The distortion the probes' noise alone would read: the noise's level
-    per axis from the second differences of z (1.4826 x their median
-    absolute value / sqrt(6) for white noise; an impact's few samples do not
-    move a median), its share of each harmonic's estimate sqrt(sum w^2) /
-    sum w, times sqrt(orders), against the forward 1X fwd."""
-    d2 = z[2:] - 2.0 * z[1:-1] + z[:-2]
+    per axis from the second differences of what the synchronous harmonics
+    leave of z (the orbit's own curvature removed, which at a few samples per
+    revolution would read as noise; 1.4826 x their median absolute value /
+    sqrt(6) for white noise; an impact's few samples do not move a median),
+    its share of each harmonic's estimate sqrt(sum w^2) / sum w, times
+    sqrt(orders), against the forward 1X fwd."""
+    rest = z - sum(c * np.exp(1j * h * phi) for h, c in harmonics.items())
+    d2 = rest[2:] - 2.0 * rest[1:-1] + rest[:-2]
     if len(d2) == 0 or fwd <= 0:
         return float("inf")
     sigma = 1.4826 * float(np.median(np.abs(np.concatenate((d2.real, d2.imag))))) / math.sqrt(6.0)
@@ -480,7 +483,7 @@ class MachineRubDetector(object):
         phi = spin_angles(ts[sel], span_marks)
         zs = z[sel]
         hann = 0.5 - 0.5 * np.cos(phi / M)
-        H = synchronous(zs, phi, 2 * math.pi * M, (-3, -2, -1, 1, 2, 3), hann)
+        H = synchronous(zs, phi, 2 * math.pi * M, (-3, -2, -1, 0, 1, 2, 3), hann)
         fwd = abs(H[1])
         orders = (-3, -2, -1, 2, 3) if self.s["backward_1x_in_distortion"] else (-3, -2, 2, 3)
         other = math.sqrt(sum(abs(H[h]) ** 2 for h in orders))
@@ -491,7 +494,7 @@ class MachineRubDetector(object):
         rev.distortion = other / fwd if fwd > 0 else float("inf")
         rev.backward_share, rev.whirl_frequency_hz, rev.span_orbit_ratio = share, wf, orbit
         rev.judged = (fwd >= self.s["min_1x_ratio"] * self.clearance_m
-                      and noise_distortion(zs, phi, M, hann, len(orders), fwd) <= 0.5 * self.s["distortion_clear"])
+                      and noise_distortion(zs, phi, M, hann, len(orders), fwd, H) <= 0.5 * self.s["distortion_clear"])
         self.channels["orbit_distorted"].update(
             t, rev.judged and rev.distortion >= self.s["distortion_raise"],
             not rev.judged or rev.distortion < self.s["distortion_clear"])

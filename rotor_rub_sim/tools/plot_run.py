@@ -55,8 +55,9 @@ def change_spans(applied):
     """(start, end, label) per change the node answered: a ramp is one
     answer spanning its steps (start its first, end its last), labelled with
     the steps' count."""
-    return [(m.effective_time, m.end_time, change_label(m) if m.steps <= 1 else "%s (%d steps)" % (change_label(m), m.steps))
-            for m in applied]
+    # A bag recorded before the fields end_time and steps: one entry per step.
+    spans = [(m.effective_time, getattr(m, "end_time", m.effective_time), getattr(m, "steps", 1), m) for m in applied]
+    return [(t0, t1, change_label(m) if n <= 1 else "%s (%d steps)" % (change_label(m), n)) for t0, t1, n, m in spans]
 
 
 def change_label(m):

@@ -9,6 +9,7 @@
 // penalty's spring and damper (the Jeffcott only).
 //
 // Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -36,11 +37,13 @@ using namespace rotor_rub;
 }
 
 // The speed in [lo, hi] where pred turns from pred(lo) to !pred(lo), by
-// bisection to 1e-9 rad/s (pred changes once in the bracket: the grid's).
+// bisection to 1e-9 rad/s or the doubles' resolution there (pred changes
+// once in the bracket: the grid's).
 template <class Pred>
 double located(double lo, double hi, Pred pred) {
   const bool at_lo = pred(lo);
-  while (hi - lo > 1e-9) {
+  for (int halvings = 0; halvings < 200 && hi - lo > std::max(1e-9, 4.0 * std::nextafter(hi, 2.0 * hi) - 4.0 * hi);
+       ++halvings) {
     const double mid = 0.5 * (lo + hi);
     (pred(mid) == at_lo ? lo : hi) = mid;
   }
@@ -171,23 +174,27 @@ int main(int argc, char** argv) {
       }
     }
   }
-  // Between grid speeds: a fold where the branches' count changes, a change
-  // of stability where the upper branch's verdict flips.
-  for (std::size_t j = 1; j < grid.size(); ++j) {
-    if (grid[j].size() != grid[j - 1].size()) {
-      const double at = located(w[j - 1], w[j], [&](double x) { return count(x) == grid[j - 1].size(); });
-      std::printf("fold at %.6f rad/s: %zu branches below, %zu above\n", at, grid[j - 1].size(), grid[j].size());
-    } else if (!grid[j].empty() && grid[j].front().stable() != grid[j - 1].front().stable()) {
-      auto stable = [&branches](double x) {
-        const auto b = branches(x);
-        return !b.empty() && b.front().stable();
-      };
-      const double at = located(w[j - 1], w[j], stable);
-      const auto there = branches(at);
-      const bool pair = !there.empty() && std::abs(there.front().eigenvalues.front().imag()) > 0.0;
-      std::printf("the upper branch turns %s at %.6f rad/s (%s)\n", grid[j].front().stable() ? "stable" : "unstable",
-                  at, pair ? "a complex pair crosses: flutter" : "a real eigenvalue crosses");
+  try {
+    // Between grid speeds: a fold where the branches' count changes, a change
+    // of stability where the upper branch's verdict flips.
+    for (std::size_t j = 1; j < grid.size(); ++j) {
+      if (grid[j].size() != grid[j - 1].size()) {
+        const double at = located(w[j - 1], w[j], [&](double x) { return count(x) == grid[j - 1].size(); });
+        std::printf("fold at %.6f rad/s: %zu branches below, %zu above\n", at, grid[j - 1].size(), grid[j].size());
+      } else if (!grid[j].empty() && grid[j].front().stable() != grid[j - 1].front().stable()) {
+        auto stable = [&branches](double x) {
+          const auto b = branches(x);
+          return !b.empty() && b.front().stable();
+        };
+        const double at = located(w[j - 1], w[j], stable);
+        const auto there = branches(at);
+        const bool pair = !there.empty() && std::abs(there.front().eigenvalues.front().imag()) > 0.0;
+        std::printf("the upper branch turns %s at %.6f rad/s (%s)\n", grid[j].front().stable() ? "stable" : "unstable",
+                    at, pair ? "a complex pair crosses: flutter" : "a real eigenvalue crosses");
+      }
     }
+  } catch (const std::exception& e) {
+    bad_input(e.what());  // a rest point Newton cannot find near a fold
   }
   return 0;
 }

@@ -221,6 +221,18 @@ class NoFalseAlarm(unittest.TestCase):
             self.assertEqual(changes, [], "seed %d" % seed)
             self.assertFalse(det.last_revolution.judged)
 
+    def test_few_samples_per_revolution_are_judged(self):
+        # At 2 kHz and 700 rad/s a revolution has 18 samples: the orbit's own
+        # curvature is no noise (the gate reads what the harmonics leave), so a
+        # clean circle is judged, and a truncated one raises.
+        det = detector()
+        run(det, Drive(700.0), lambda t, phi: 0.5 * C * np.exp(1j * phi), 1.0)
+        self.assertTrue(det.last_revolution.judged)
+        det = detector()
+        run(det, Drive(700.0), lambda t, phi: complex(max(0.5 * C * math.cos(phi), -0.25 * C),
+                                                     0.5 * C * math.sin(phi)), 1.0)
+        self.assertIn("orbit_distorted", det.reasons())
+
     def test_free_whirl_beside_1x_does_not_raise(self):
         # Non-synchronous motion (the free whirl at 1.29 X left by a start or
         # the critical speed, forward and backward modes) is no rub.

@@ -266,6 +266,11 @@ std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, doubl
   if (p.drive_model != DriveModel::kPrescribed) {
     throw std::invalid_argument("full rub stability: the prescribed drive only (drive_model prescribed)");
   }
+  if (p.stator_model == StatorModel::kRigid && (p.stator_offset_x_m != 0.0 || p.stator_offset_y_m != 0.0)) {
+    throw std::invalid_argument(
+        "full rub stability: stator_offset_x_m and stator_offset_y_m must be 0 (an offset bore breaks the circular "
+        "symmetry)");
+  }
   const TurningRotor rotor = turning_rotor(p);
   const StationStator stator = station_stator(p);
   PenaltyContact penalty;

@@ -242,9 +242,8 @@ void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor)
   const int nodes = static_cast<int>(z.size());
   // ROSS's 6 DOF per node where M has 6 rows per node (or says so, sparse).
   const YAML::Node m_rows = n["M"];
-  const bool six =
-      m_rows && ((m_rows.IsSequence() && static_cast<int>(m_rows.size()) == 6 * nodes) ||
-                 (m_rows.IsMap() && m_rows["size"] && m_rows["size"].as<std::string>("") == std::to_string(6 * nodes)));
+  const bool six = m_rows && ((m_rows.IsSequence() && static_cast<int>(m_rows.size()) == 6 * nodes) ||
+                              (m_rows.IsMap() && m_rows["size"] && m_rows["size"].as<double>(0.0) == 6.0 * nodes));
   const int dofs_per_node = six ? 6 : 4;
   const int size = dofs_per_node * nodes;
   auto matrix = [&](const char* key) -> Eigen::MatrixXd {
