@@ -1,9 +1,8 @@
 // The contact methods on a flexible rotor (scene key rotor_file): the rigid
 // ones (switching, iteration) on each of their integrators, the penalty
-// method on dopri5 and rosenbrock4 (rk4: test_flexible_rk4.cpp). The seam (flexible_rotor_model.hpp, docs/rotor_theory.md)
-// against the Jeffcott it must reduce to, the closed-form full annular rub
-// of a multi-DOF rotor, the methods against each other, and their promises
-// on the seal-rub example.
+// method on dopri5 and rosenbrock4 (rk4: test_flexible_rk4.cpp). The seam (flexible_rotor_model.hpp,
+// docs/rotor_theory.md) against the Jeffcott it must reduce to, the closed-form full annular rub of a multi-DOF rotor,
+// the methods against each other, and their promises on the seal-rub example.
 #include <gtest/gtest.h>
 
 #include <algorithm>
