@@ -78,7 +78,56 @@ void check_isotropic(const TurningRotor& r, const char* what) {
   }
 }
 
+// Balances a in place (Parlett and Reinsch: D^-1 a D with D a diagonal of
+// powers of 2, each row's and column's off-diagonal norms made alike), and
+// returns D. A flexible rotor's Jacobian spans its modes' w^2, 1e0 to 1e10;
+// unbalanced, the eigensolver's rounding moved a flutter's growth rate by
+// hundreds per second (TheSealRotorsRunsFollowTheLinearisation).
+Eigen::VectorXd balance(Eigen::MatrixXd& a) {
+  const Eigen::Index n = a.rows();
+  Eigen::VectorXd d = Eigen::VectorXd::Ones(n);
+  for (bool done = false; !done;) {
+    done = true;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double c = a.col(i).cwiseAbs().sum() - std::abs(a(i, i)), r = a.row(i).cwiseAbs().sum() - std::abs(a(i, i));
+      if (c == 0.0 || r == 0.0) continue;
+      const double s = c + r;
+      double f = 1.0;
+      while (c < r / 2.0) f *= 2.0, c *= 4.0;
+      while (c > r * 2.0) f /= 2.0, c /= 4.0;
+      if ((c + r) / f < 0.95 * s) {
+        done = false;
+        d(i) *= f;
+        a.row(i) /= f;
+        a.col(i) *= f;
+      }
+    }
+  }
+  return d;
+}
+
 }  // namespace
+
+std::vector<std::complex<double>> balanced_eigenvalues(const Eigen::MatrixXd& a) {
+  Eigen::MatrixXd b = a;
+  balance(b);
+  const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(b, false).eigenvalues();
+  std::vector<std::complex<double>> out(lambda.data(), lambda.data() + lambda.size());
+  std::sort(out.begin(), out.end(),
+            [](cd x, cd y) { return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag(); });
+  return out;
+}
+
+Eigen::VectorXd linear_response(const Eigen::MatrixXd& a, const Eigen::VectorXd& x0, double t_s) {
+  Eigen::MatrixXd b = a;
+  const Eigen::VectorXd d = balance(b);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(b);
+  const Eigen::MatrixXcd v = eig.eigenvectors();
+  const Eigen::VectorXcd c = v.fullPivLu().solve(x0.cwiseQuotient(d).cast<cd>());
+  Eigen::VectorXcd y = Eigen::VectorXcd::Zero(a.rows());
+  for (Eigen::Index k = 0; k < a.rows(); ++k) y += v.col(k) * (c(k) * std::exp(eig.eigenvalues()(k) * t_s));
+  return y.real().cwiseProduct(d);
+}
 
 StationStator station_stator(const ModelParameters& p) {
   StationStator s;
@@ -137,9 +186,18 @@ TurningRotor turning_rotor(const ReducedRotor& reduced, const RotorMatrices& m,
   return r;
 }
 
-Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
-                               const Eigen::VectorXd& state, double* normal_force_N, const PenaltyContact* penalty) {
-  if (penalty != nullptr) return penalty_rates(rotor, stator, C, f, w, *penalty, state, normal_force_N);
+namespace {
+
+// The rigid contact's equations at a state, solved: A x = b with x = [free
+// accelerations, u_s'' (elastic), theta'', N] (full_rub_rates).
+struct ConstrainedSolve {
+  Eigen::MatrixXd a, station_columns;  // A; M's columns of the station's x and y
+  Eigen::VectorXd x;
+  Vec2d nrm, tng;
+};
+
+ConstrainedSolve solve_constrained(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
+                                   const Eigen::VectorXd& state) {
   const RotorMatrices& mat = rotor.matrices;
   const Eigen::MatrixXd& J = rotor.turn;
   const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator, nullptr);
@@ -148,45 +206,111 @@ Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& s
   const double theta = state(nq - 1), theta_rate = state(2 * nq - 1);
   const Vec2d u_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(nf), state(nf + 1));
   const Vec2d v_s = stator.rigid ? Vec2d::Zero() : Vec2d(state(nq + nf), state(nq + nf + 1));
-  const Vec2d nrm(std::cos(theta), std::sin(theta)), tng = kTurn2 * nrm;
+  ConstrainedSolve c;
+  c.nrm = Vec2d(std::cos(theta), std::sin(theta));
+  c.tng = kTurn2 * c.nrm;
   // The rotor's coordinates and rates, the station's from the stator and theta.
   Eigen::VectorXd v(n), vd(n);
   for (int i = 0; i < nf; ++i) {
     v(free[i]) = state(i);
     vd(free[i]) = state(nq + i);
   }
-  const Vec2d st = u_s + C * nrm, st_rate = v_s + C * theta_rate * tng;
+  const Vec2d st = u_s + C * c.nrm, st_rate = v_s + C * theta_rate * c.tng;
   v(rotor.station_x) = st.x(), v(rotor.station_y) = st.y();
   vd(rotor.station_x) = st_rate.x(), vd(rotor.station_y) = st_rate.y();
   // The station's acceleration: u_s'' + C theta'' t - C theta'^2 n.
-  Eigen::MatrixXd st_cols(n, 2);
-  st_cols.col(0) = mat.M.col(rotor.station_x);
-  st_cols.col(1) = mat.M.col(rotor.station_y);
+  c.station_columns.resize(n, 2);
+  c.station_columns.col(0) = mat.M.col(rotor.station_x);
+  c.station_columns.col(1) = mat.M.col(rotor.station_y);
   const Eigen::MatrixXd CG = mat.C + w * mat.G;
-  Eigen::VectorXd rotor_rest = w * w * rotor.unbalance_kg_m - mat.M * (2.0 * w * (J * vd) - w * w * v) -
-                               CG * (vd + w * (J * v)) - mat.K * v + st_cols * (C * theta_rate * theta_rate * nrm);
-  // Unknowns: [free accelerations, u_s'' (elastic), theta'', N].
-  const int unknowns = nq + 1, th = nq - 1, nn = nq;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + (stator.rigid ? 0 : 2), unknowns);
-  Eigen::VectorXd b(a.rows());
-  for (int i = 0; i < nf; ++i) a.block(0, i, n, 1) = mat.M.col(free[i]);
-  if (!stator.rigid) a.block(0, nf, n, 2) = st_cols;
-  a.block(0, th, n, 1) = st_cols * (C * tng);
-  const Vec2d push = nrm + f * tng;  // the contact force on the rotor is -N push
-  a(rotor.station_x, nn) = push.x();
-  a(rotor.station_y, nn) = push.y();
+  const Eigen::VectorXd rotor_rest = w * w * rotor.unbalance_kg_m - mat.M * (2.0 * w * (J * vd) - w * w * v) -
+                                     CG * (vd + w * (J * v)) - mat.K * v +
+                                     c.station_columns * (C * theta_rate * theta_rate * c.nrm);
+  const int th = nq - 1, nn = nq;
+  c.a = Eigen::MatrixXd::Zero(n + (stator.rigid ? 0 : 2), nq + 1);
+  Eigen::VectorXd b(c.a.rows());
+  for (int i = 0; i < nf; ++i) c.a.block(0, i, n, 1) = mat.M.col(free[i]);
+  if (!stator.rigid) c.a.block(0, nf, n, 2) = c.station_columns;
+  c.a.block(0, th, n, 1) = c.station_columns * (C * c.tng);
+  const Vec2d push = c.nrm + f * c.tng;  // the contact force on the rotor is -N push
+  c.a(rotor.station_x, nn) = push.x();
+  c.a(rotor.station_y, nn) = push.y();
   b.head(n) = rotor_rest;
   if (!stator.rigid) {
     const double ms = stator.mass_kg, cs = stator.damping_N_s_per_m, ks = stator.stiffness_N_per_m;
-    a.block<2, 2>(n, nf) = ms * Eigen::Matrix2d::Identity();
-    a.block<2, 1>(n, nn) = -push;
+    c.a.block<2, 2>(n, nf) = ms * Eigen::Matrix2d::Identity();
+    c.a.block<2, 1>(n, nn) = -push;
     b.tail<2>() = -(ms * (2.0 * w * (kTurn2 * v_s) - w * w * u_s) + cs * (v_s + w * (kTurn2 * u_s)) + ks * u_s);
   }
-  const Eigen::VectorXd x = a.fullPivLu().solve(b);
-  if (normal_force_N != nullptr) *normal_force_N = x(nn);
+  c.x = c.a.fullPivLu().solve(b);
+  return c;
+}
+
+// The rigid contact's Jacobian of [q; q'] at a state, analytic: the
+// equations are linear in every coordinate but theta, whose terms are
+// differentiated by hand, so no difference step meets a stiff mode's
+// rounding (TheSealRotorsRunsFollowTheLinearisation). d x = A^-1 (d b - d A x).
+Eigen::MatrixXd rigid_jacobian(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
+                               const Eigen::VectorXd& state) {
+  const RotorMatrices& mat = rotor.matrices;
+  const Eigen::MatrixXd& J = rotor.turn;
+  const int n = static_cast<int>(mat.M.rows()), nq = coordinates(rotor, stator, nullptr);
+  const std::vector<int> free = free_coordinates(rotor);
+  const int nf = static_cast<int>(free.size()), th = nq - 1, nn = nq;
+  const double theta_rate = state(2 * nq - 1);
+  const ConstrainedSolve c = solve_constrained(rotor, stator, C, f, w, state);
+  const int sx = rotor.station_x, sy = rotor.station_y;
+  // d v and d v' as maps of d [q; q'].
+  Eigen::MatrixXd pv = Eigen::MatrixXd::Zero(n, 2 * nq), pvd = Eigen::MatrixXd::Zero(n, 2 * nq);
+  for (int i = 0; i < nf; ++i) {
+    pv(free[i], i) = 1.0;
+    pvd(free[i], nq + i) = 1.0;
+  }
+  if (!stator.rigid) {
+    pv(sx, nf) = pv(sy, nf + 1) = 1.0;
+    pvd(sx, nq + nf) = pvd(sy, nq + nf + 1) = 1.0;
+  }
+  pv(sx, th) = C * c.tng.x(), pv(sy, th) = C * c.tng.y();
+  pvd(sx, nq + th) = C * c.tng.x(), pvd(sy, nq + th) = C * c.tng.y();
+  pvd(sx, th) = -C * theta_rate * c.nrm.x(), pvd(sy, th) = -C * theta_rate * c.nrm.y();
+  const Eigen::MatrixXd CG = mat.C + w * mat.G;
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(c.a.rows(), 2 * nq);
+  d.topRows(n) = (w * w * mat.M - mat.K - w * CG * J) * pv - (2.0 * w * mat.M * J + CG) * pvd;
+  d.block(0, th, n, 1) += c.station_columns * (C * theta_rate * theta_rate * c.tng);
+  d.block(0, nq + th, n, 1) += c.station_columns * (2.0 * C * theta_rate * c.nrm);
+  if (!stator.rigid) {
+    const double ms = stator.mass_kg, cs = stator.damping_N_s_per_m, ks = stator.stiffness_N_per_m;
+    const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
+    d.block<2, 2>(n, nf) = (ms * w * w - ks) * I2 - cs * w * kTurn2;
+    d.block<2, 2>(n, nq + nf) = -2.0 * w * ms * kTurn2 - cs * I2;
+  }
+  // The columns of A that turn with theta: the one of theta'' (C t at the
+  // station) and the one of N (push = n + f t).
+  const Vec2d dpush = c.tng - f * c.nrm;
+  Eigen::VectorXd da_x = Eigen::VectorXd::Zero(c.a.rows());
+  da_x.head(n) = c.station_columns * (-C * c.nrm) * c.x(th);
+  da_x(sx) += dpush.x() * c.x(nn);
+  da_x(sy) += dpush.y() * c.x(nn);
+  if (!stator.rigid) da_x.tail<2>() = -dpush * c.x(nn);
+  d.col(th) -= da_x;
+  const Eigen::MatrixXd dx = c.a.fullPivLu().solve(d);
+  Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(2 * nq, 2 * nq);
+  jac.topRightCorner(nq, nq).setIdentity();
+  jac.bottomRows(nq) = dx.topRows(nq);
+  return jac;
+}
+
+}  // namespace
+
+Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& stator, double C, double f, double w,
+                               const Eigen::VectorXd& state, double* normal_force_N, const PenaltyContact* penalty) {
+  if (penalty != nullptr) return penalty_rates(rotor, stator, C, f, w, *penalty, state, normal_force_N);
+  const int nq = coordinates(rotor, stator, nullptr);
+  const ConstrainedSolve c = solve_constrained(rotor, stator, C, f, w, state);
+  if (normal_force_N != nullptr) *normal_force_N = c.x(nq);
   Eigen::VectorXd rates(2 * nq);
   rates.head(nq) = state.tail(nq);
-  rates.tail(nq) = x.head(nq);
+  rates.tail(nq) = c.x.head(nq);
   return rates;
 }
 
@@ -194,12 +318,15 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
                                      double w, const Eigen::VectorXd& guess, const PenaltyContact* penalty) {
   const int nq = coordinates(rotor, stator, penalty);
   FullRubStability s;
-  // Each coordinate's scale: its own size, at least the clearance's (or a
-  // modal coordinate's typical size); a rate's, w times that.
+  // Each coordinate's scale: its own size, at least the clearance (a stiff
+  // mode's coordinate is tiny at the rest point, and a difference step
+  // scaled by it would drown in the rounding of its k/m times it: the
+  // rates are linear in every coordinate but theta, so a step of C 1e-6 is
+  // exact for them); a rate's, w times that.
   Eigen::VectorXd scale(2 * nq);
   for (int j = 0; j < nq; ++j) {
     const bool angle = penalty == nullptr && j == nq - 1;
-    scale(j) = angle ? 1.0 : std::max(std::abs(guess(j)), 1e-3 * C);
+    scale(j) = angle ? 1.0 : std::max(std::abs(guess(j)), C);
     scale(nq + j) = w * scale(j);
   }
   auto accelerations = [&](const Eigen::VectorXd& positions) {
@@ -219,7 +346,12 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
     if ((r.cwiseQuotient(w * w * scale.head(nq))).cwiseAbs().maxCoeff() < 1e-12) break;
     if (it == 50) throw std::runtime_error("full rub: Newton on the turning frame's rest point did not converge");
     Eigen::MatrixXd jac(nq, nq);
-    for (int j = 0; j < nq; ++j) {
+    if (penalty == nullptr) {
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nq);
+      x.head(nq) = q;
+      jac = rigid_jacobian(rotor, stator, C, f, w, x).bottomLeftCorner(nq, nq);
+    }
+    for (int j = 0; penalty != nullptr && j < nq; ++j) {
       const double h = 1e-6 * scale(j);
       Eigen::VectorXd up = q, down = q;
       up(j) += h;
@@ -242,8 +374,12 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
     s.stator_m = cd(u_s.x(), u_s.y());
     s.station_m = s.stator_m + C * std::polar(1.0, q(nq - 1));
   }
-  s.jacobian.resize(2 * nq, 2 * nq);
-  for (int j = 0; j < 2 * nq; ++j) {
+  if (penalty == nullptr) {
+    s.jacobian = rigid_jacobian(rotor, stator, C, f, w, s.state);
+  } else {
+    s.jacobian.resize(2 * nq, 2 * nq);
+  }
+  for (int j = 0; penalty != nullptr && j < 2 * nq; ++j) {
     const double h = 1e-6 * scale(j);
     Eigen::VectorXd up = s.state, down = s.state;
     up(j) += h;
@@ -252,10 +388,7 @@ FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationSta
                          full_rub_rates(rotor, stator, C, f, w, down, nullptr, penalty)) /
                         (2.0 * h);
   }
-  const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(s.jacobian).eigenvalues();
-  s.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
-  std::sort(s.eigenvalues.begin(), s.eigenvalues.end(),
-            [](cd a, cd b) { return a.real() != b.real() ? a.real() > b.real() : a.imag() > b.imag(); });
+  s.eigenvalues = balanced_eigenvalues(s.jacobian);
   return s;
 }
 

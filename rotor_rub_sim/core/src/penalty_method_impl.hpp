@@ -67,10 +67,26 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
+    start_from(t_s, k, segment, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState());
+  }
+  void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
+                        const ModalState& modal) override {
+    if constexpr (!kFlexible) {
+      ContactMethod::start_with_modes(t_s, k, segment, modal);
+    } else {
+      if (modal.size() != 2 * flexible_->modal_size()) {
+        throw std::invalid_argument("start_with_modes: a modal block of " + std::to_string(modal.size()) +
+                                    " entries; accepted: " + std::to_string(2 * flexible_->modal_size()) +
+                                    " ([xi; xi'] of this rotor)");
+      }
+      start_from(t_s, k, segment, modal);
+    }
+  }
+  void start_from(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
     system_.segment = segment;
     crossed_edge_ = -1;
     fallback_ = false;
-    restart(t_s, k, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState(), initial_step_s_);
+    restart(t_s, k, modal, initial_step_s_);
   }
 
   void change_segment(double t_s, const SpeedSegment& segment) override {

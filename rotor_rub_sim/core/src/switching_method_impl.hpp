@@ -207,11 +207,27 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
+    start_from(t_s, k, segment, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState());  // at rest
+  }
+  void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
+                        const ModalState& modal) override {
+    if constexpr (!kFlexible) {
+      ContactMethod::start_with_modes(t_s, k, segment, modal);
+    } else {
+      if (modal.size() != 2 * flexible_->modal_size()) {
+        throw std::invalid_argument("start_with_modes: a modal block of " + std::to_string(modal.size()) +
+                                    " entries; accepted: " + std::to_string(2 * flexible_->modal_size()) +
+                                    " ([xi; xi'] of this rotor)");
+      }
+      start_from(t_s, k, segment, modal);
+    }
+  }
+  void start_from(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
     end_sample_valid_ = false;
     free_sys_.segment = contact_sys_.segment = segment;
     regime_ = Regime::kFree;
     pending_ = false;
-    if (kFlexible) next_modal_ = ModalState::Zero(2 * flexible_->modal_size());  // at rest
+    if (kFlexible) next_modal_ = modal;
     enter_free(t_s, k, initial_step_s_);
   }
 

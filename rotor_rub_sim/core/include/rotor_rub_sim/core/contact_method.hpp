@@ -28,6 +28,15 @@ class ContactMethod {
   /// Until the first step, [step_begin(), step_end()] is the instant t_s,
   /// where sample() answers that state.
   virtual void start(double t_s, const Kinematics& k, const SpeedSegment& segment) = 0;
+  /// A flexible rotor's start with its modal block [xi; xi'] given (start()
+  /// starts it at rest): a run from any state, e.g. a little off a steady
+  /// motion (test_full_rub_stability). Throws std::invalid_argument for a
+  /// block of the wrong size; the Jeffcott's methods have none:
+  /// std::logic_error.
+  virtual void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
+    static_cast<void>(t_s), static_cast<void>(k), static_cast<void>(segment), static_cast<void>(modal);
+    throw std::logic_error("start_with_modes: this method runs the Jeffcott rotor");
+  }
 
   /// Restarts integration at t_s in [step_begin(), step_end()] from the
   /// method's own state there, under a new drive segment (a drive

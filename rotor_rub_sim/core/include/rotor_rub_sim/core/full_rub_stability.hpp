@@ -20,8 +20,9 @@
 ///   m_s (u_s'' + 2 w J u_s' - w^2 u_s) + c_s (u_s' + w J u_s) + k_s u_s = N (n + f J n)
 /// (a rigid stator: u_s = 0). N is the constraint's multiplier, eliminated:
 /// the state is [q; q'], q = (the coordinates but the station's, u_s when
-/// elastic, theta); its Jacobian at the equilibrium by central differences,
-/// and its eigenvalues. The Jeffcott on a rigid stator, in closed form
+/// elastic, theta); its Jacobian at the equilibrium (analytic: linear but in
+/// theta; the penalty contact's by central differences), and its
+/// eigenvalues after balancing. The Jeffcott on a rigid stator, in closed form
 /// (docs/steady_response.md):
 ///   m C lambda^2 + (c + 2 f m w) C lambda + |F| (cos phi - f sin phi) = 0,
 /// phi = theta - beta: stable iff cos phi - f sin phi > 0. Valid while the
@@ -98,6 +99,13 @@ Eigen::VectorXd full_rub_rates(const TurningRotor& rotor, const StationStator& s
 FullRubStability linearised_full_rub(const TurningRotor& rotor, const StationStator& stator, double clearance_m,
                                      double friction_coefficient, double w_rad_per_s, const Eigen::VectorXd& guess,
                                      const PenaltyContact* penalty = nullptr);
+
+/// The eigenvalues of a, the largest real part first, after balancing it
+/// (a diagonal similarity; a stiff rotor's Jacobian spans many decades).
+std::vector<std::complex<double>> balanced_eigenvalues(const Eigen::MatrixXd& a);
+/// x(t) of x' = a x from x0, through a's balanced eigendecomposition (a
+/// diagonalisable; the runs' tests compare with it).
+Eigen::VectorXd linear_response(const Eigen::MatrixXd& a, const Eigen::VectorXd& x0, double t_s);
 
 /// Every branch of the Jeffcott's synchronous_full_rub(p, w), linearised:
 /// with the rigid contact, or with the penalty method's (p's k_c and c_c:
