@@ -419,3 +419,25 @@ TEST(FullRubStability, TheSealRotorsRunsFollowTheLinearisation) {
     EXPECT_TRUE(in_contact);
   }
 }
+
+// start_with_modes refuses a modal block of the wrong size, naming both
+// sizes (4 planar modes: 6 modal coordinates, a block of 12); a Jeffcott
+// method has no modes (a logic error to call it).
+TEST(FullRubStability, StartWithModesChecksTheBlock) {
+  core::Scene s;
+  s.rotor.file = test::source_path("test/data/rotors/isotropic_seal.yaml");
+  s.rotor.planar_modes = 4;
+  core::load_rotor(s);
+  const core::SpeedProfile profile(s.speed);
+  const core::Kinematics k = core::JeffcottModel(s.model).initial_kinematics(profile.at(0.0));
+  const std::unique_ptr<core::ContactMethod> flexible = core::make_contact_method(s);
+  try {
+    flexible->start_with_modes(0.0, k, profile.segment_at(0.0), core::ModalState::Zero(4));
+    ADD_FAILURE() << "a block of 4 entries accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("a modal block of 4 entries; accepted: 12"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(flexible->start_with_modes(0.0, k, profile.segment_at(0.0), core::ModalState::Zero(12)));
+  const std::unique_ptr<core::ContactMethod> jeffcott = core::make_contact_method(core::Scene());
+  EXPECT_THROW(jeffcott->start_with_modes(0.0, k, profile.segment_at(0.0), core::ModalState()), std::logic_error);
+}

@@ -214,11 +214,7 @@ class SwitchingMethod final : public ContactMethod {
     if constexpr (!kFlexible) {
       ContactMethod::start_with_modes(t_s, k, segment, modal);
     } else {
-      if (modal.size() != 2 * flexible_->modal_size()) {
-        throw std::invalid_argument("start_with_modes: a modal block of " + std::to_string(modal.size()) +
-                                    " entries; accepted: " + std::to_string(2 * flexible_->modal_size()) +
-                                    " ([xi; xi'] of this rotor)");
-      }
+      check_modal_block(*flexible_, modal);
       start_from(t_s, k, segment, modal);
     }
   }

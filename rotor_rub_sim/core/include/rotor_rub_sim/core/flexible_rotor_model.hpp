@@ -252,6 +252,17 @@ class FlexibleRotorModel {
   Vec2 pendulum_N_m_ = Vec2::Zero();                     // g sum m e (cos beta, sin beta): the unbalances' weight
 };
 
+/// Throws std::invalid_argument unless modal holds a block [xi; xi'] of
+/// rotor (ContactMethod::start_with_modes).
+template <class Modal>
+void check_modal_block(const FlexibleRotorModel& rotor, const Modal& modal) {
+  if (modal.size() != 2 * rotor.modal_size()) {
+    throw std::invalid_argument("start_with_modes: a modal block of " + std::to_string(modal.size()) +
+                                " entries; accepted: " + std::to_string(2 * rotor.modal_size()) +
+                                " ([xi; xi'] of this rotor)");
+  }
+}
+
 /// The free loads of a flexible rotor's state as the contact's functions
 /// take the Jeffcott's (model.hpp's FreeLoads): m the station's bare model
 /// (station_parameters), k the station and stator, modal its [xi; xi'], d
