@@ -24,8 +24,8 @@
 #include "rotor_rub_sim/core/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
-#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 
@@ -281,24 +281,24 @@ struct RootStart {
   bool gap_armed = true;
 };
 
-// kFlexible: the rotor is a flexible rotor's rub station (the core's
-// FlexibleRotorModel, as its switching method builds it), the modal block
-// [xi; xi'] after each regime's fixed part, carried unchanged through every
-// event (no contact force or impulse reaches it).
-template <int kStatorDof, bool kFlexible>
+// Rotor: the core's rotor model (rotor_model.hpp, as its switching method
+// takes it), its block (a flexible rotor's [xi; xi']) after each regime's
+// fixed part, carried unchanged through every event (no contact force or
+// impulse reaches it).
+template <int kStatorDof, class Rotor>
 class CvodeSwitching {
  public:
-  using FL = core::FreeLayout<kStatorDof, false, kFlexible>;
-  using CL = core::ContactLayout<kStatorDof, false, kFlexible>;
+  using FL = core::FreeLayout<kStatorDof, false, Rotor>;
+  using CL = core::ContactLayout<kStatorDof, false, Rotor>;
   using FreeState = typename FL::State;
   using ContactState = typename CL::State;
 
   CvodeSwitching(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, SUNContext ctx,
                  CvodeRun& out)
       : scene_(scene),
-        flexible_(kFlexible ? core::flexible_rotor_of(scene) : nullptr),
-        modal_size_(kFlexible ? 2 * flexible_->modal_size() : 0),
-        model_(kFlexible ? core::station_parameters(scene.model, *flexible_) : scene.model),
+        rotor_(scene),
+        modal_size_(2 * rotor_.modal_size()),
+        model_(rotor_.station(scene.model)),
         profile_(scene.speed),
         guard_(scene.solver.max_events_per_ms),
         sample_rate_hz_(sample_rate_hz),
@@ -306,7 +306,7 @@ class CvodeSwitching {
         free_(ctx, FL::kSize + modal_size_, free_rhs, free_roots, this, scene, options, &cvode_error_),
         contact_(ctx, CL::kSize + modal_size_, contact_rhs, contact_roots, this, scene, options, &cvode_error_) {
     dynamics_.model = &model_;
-    dynamics_.flexible = flexible_.get();
+    dynamics_.rotor = &rotor_;
     if (sample_rate_hz_ > 0.0) {
       out_.samples.reserve(static_cast<std::size_t>(std::floor(scene.end_time_s * sample_rate_hz_)) + 1);
     }
@@ -359,7 +359,7 @@ class CvodeSwitching {
         on_event(kGap, te, it.state_at(te));
         return te;
       }
-    } else if constexpr (kFlexible) {
+    } else if constexpr (!Rotor::kStationOnly) {
       const auto [k, te] = after_contact_step(t_ret);
       if (te < kInf) {
         emit_samples(te);
@@ -379,21 +379,16 @@ class CvodeSwitching {
     const auto& self = *static_cast<const CvodeSwitching*>(data);
     const FreeState x = self.free_state(N_VGetArrayPointer(y));
     Eigen::Map<Eigen::VectorXd> dxdt(N_VGetArrayPointer(ydot), x.size());
-    const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
+    const Kinematics k = core::kinematics_of<kStatorDof, false, Rotor>(x);
     const DriveState d = self.segment_.at(t_s);
     dxdt.template segment<2>(FL::kRotorPos) = k.rotor_vel;
-    if constexpr (kFlexible) {
-      // The station's force and the modal rows (the core's FreeFlightSystem).
-      const int n = core::modal_count<FL>(x);
-      dxdt.segment(FL::kModal, n) = x.tail(n);
-      dxdt.template segment<2>(FL::kRotorVel) =
-          self.flexible_->free_loads(k.rotor_pos + self.model_.frame_shift(), k.rotor_vel, x.tail(2 * n),
-                                     self.model_.unbalance_dir(d.angle_rad), d.speed_rad_per_s, d.accel_rad_per_s2,
-                                     dxdt.tail(n)) *
-          self.model_.inv_rotor_mass();
-    } else {
-      dxdt.template segment<2>(FL::kRotorVel) = self.model_.rotor_free_force(k, d) * self.model_.inv_rotor_mass();
-    }
+    // The station's force and the block's rows (the core's FreeFlightSystem).
+    const int n = core::modal_count<FL>(x);
+    dxdt.segment(FL::kModal, n) = x.tail(n);
+    dxdt.template segment<2>(FL::kRotorVel) =
+        self.rotor_.station_force(self.model_, k, d, self.model_.unbalance_dir(d.angle_rad), x.tail(2 * n),
+                                  dxdt.tail(n)) *
+        self.model_.inv_rotor_mass();
     if constexpr (kStatorDof == 2) {
       dxdt.template segment<2>(FL::kStatorPos) = k.stator_vel;
       dxdt.template segment<2>(FL::kStatorVel) = self.model_.stator_free_force(k) * self.model_.inv_stator_mass();
@@ -450,7 +445,7 @@ class CvodeSwitching {
   }
 
   RootValues free_values(const FreeState& x, double t_s) const {
-    const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
+    const Kinematics k = core::kinematics_of<kStatorDof, false, Rotor>(x);
     const core::ContactGeometry g = model_.contact_geometry(k, segment_.at(t_s));
     RootValues v;
     v.value[kGap] = g.penetration_m;
@@ -497,7 +492,7 @@ class CvodeSwitching {
   // settles and the constraint force presses.
   void on_free_event(double te, const FreeState& x) {
     const DriveState d = segment_.at(te);
-    Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
+    Kinematics k = core::kinematics_of<kStatorDof, false, Rotor>(x);
     const core::ModalState modal = core::modal_of<FL>(x);
     const core::ContactGeometry g = model_.contact_geometry(k, d);
     ContactEvent e;
@@ -505,14 +500,8 @@ class CvodeSwitching {
     bool settles = true, at_rest = false;
     const bool closing = core::closes(g, k);
     if (closing) {
-      core::ImpactResult ir;
-      if constexpr (kFlexible) {
-        core::ModalVector modal_acc(flexible_->modal_size());
-        ir = core::apply_impact(model_, g, d, scene_.solver.atol,
-                                core::flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc), k);
-      } else {
-        ir = core::apply_impact(model_, g, d, scene_.solver.atol, k);
-      }
+      const core::ImpactResult ir =
+          core::apply_impact(model_, g, d, scene_.solver.atol, core::loads_at(rotor_, model_, k, d, modal), k);
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
@@ -560,7 +549,7 @@ class CvodeSwitching {
   void enter_free(double t_s, const Kinematics& k, const core::ModalState& modal) {
     regime_ = Regime::kFree;
     FreeState x = core::sized_state<FL>(modal);
-    core::store_kinematics<kStatorDof, false, kFlexible>(k, x);
+    core::store_kinematics<kStatorDof, false, Rotor>(k, x);
     Eigen::Map<Eigen::VectorXd>(free_.state(), x.size()) = x;
     restart(free_, t_s);
     begin_regime(t_s, free_.state());
@@ -601,7 +590,7 @@ class CvodeSwitching {
     contact_step_begin_s_ = t_s;
     if (regime_ == Regime::kFree) {
       const FreeState x = free_state(y);
-      const Kinematics k = core::kinematics_of<kStatorDof, false, kFlexible>(x);
+      const Kinematics k = core::kinematics_of<kStatorDof, false, Rotor>(x);
       const RootValues free = free_values(x, t_s);
       start_.forced_gap_threshold_m = scene_.solver.atol + std::max(0.0, free.value[kGap]);
       start_.gap_noise_m = kGapNoiseEps * std::numeric_limits<double>::epsilon() *
@@ -651,7 +640,7 @@ class CvodeSwitching {
     return te;
   }
 
-  // A flexible rotor's modes ring the normal force: between two step ends
+  // A rotor's modes ring the normal force: between two step ends
   // where -F_n (sticking: |F_t| - f F_n too) is below zero it can rise
   // through zero and back (a grazing lift-off), a sign change CVODE's root
   // finding cannot see. Checked as the core checks between its scan points,
@@ -717,7 +706,7 @@ class CvodeSwitching {
     core::ModalState modal;
     if (regime_ == Regime::kFree) {
       const FreeState x = free_state(y);
-      s = core::make_sample(model_, t_s, core::kinematics_of<kStatorDof, false, kFlexible>(x), d, 0.0, 0.0, false);
+      s = core::make_sample(model_, t_s, core::kinematics_of<kStatorDof, false, Rotor>(x), d, 0.0, 0.0, false);
       modal = core::modal_of<FL>(x);
     } else {
       const ContactState x = contact_state(y);
@@ -726,8 +715,8 @@ class CvodeSwitching {
       s.sticking = dynamics_.mode.stick;
       modal = core::modal_of<CL>(x);
     }
-    // A flexible rotor's probes read their node (the core's samples).
-    if constexpr (kFlexible) s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
+    // The rotor finishes the sample (a flexible rotor's probes read their node).
+    rotor_.finish_sample(model_, modal, s);
     return s;
   }
 
@@ -736,11 +725,11 @@ class CvodeSwitching {
   };
 
   const core::Scene& scene_;
-  std::shared_ptr<const core::FlexibleRotorModel> flexible_;  // kFlexible only
-  int modal_size_;                                            // [xi; xi']'s entries (0: the Jeffcott)
+  Rotor rotor_;
+  int modal_size_;  // the block's entries (0: the Jeffcott)
   core::JeffcottModel model_;
   core::SpeedProfile profile_;
-  core::ConstrainedDynamics<kStatorDof, false, kFlexible> dynamics_;
+  core::ConstrainedDynamics<kStatorDof, false, Rotor> dynamics_;
   core::ChatterGuard guard_;
   double sample_rate_hz_;
   CvodeRun& out_;
@@ -756,12 +745,12 @@ class CvodeSwitching {
   long next_sample_ = 0;
 };
 
-template <int kStatorDof, bool kFlexible>
+template <int kStatorDof, class Rotor>
 void run_with(const core::Scene& scene, double sample_rate_hz, const CvodeOptions& options, CvodeRun& out) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     const ContextOwner context;
-    CvodeSwitching<kStatorDof, kFlexible> method(scene, sample_rate_hz, options, context.ctx, out);
+    CvodeSwitching<kStatorDof, Rotor> method(scene, sample_rate_hz, options, context.ctx, out);
     method.run();
   } catch (const CvodeError& e) {
     out.failure = e.what();
@@ -783,11 +772,11 @@ CvodeRun run_cvode_switching(const core::Scene& scene, double sample_rate_hz, co
   }
   const bool rigid = scene.model.stator_model == core::StatorModel::kRigid;
   if (scene.rotor.file.empty()) {
-    rigid ? run_with<0, false>(scene, sample_rate_hz, options, out)
-          : run_with<2, false>(scene, sample_rate_hz, options, out);
+    rigid ? run_with<0, core::JeffcottRotor>(scene, sample_rate_hz, options, out)
+          : run_with<2, core::JeffcottRotor>(scene, sample_rate_hz, options, out);
   } else {
-    rigid ? run_with<0, true>(scene, sample_rate_hz, options, out)
-          : run_with<2, true>(scene, sample_rate_hz, options, out);
+    rigid ? run_with<0, core::FlexibleRotor>(scene, sample_rate_hz, options, out)
+          : run_with<2, core::FlexibleRotor>(scene, sample_rate_hz, options, out);
   }
   return out;
 }

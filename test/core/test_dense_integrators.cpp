@@ -52,7 +52,6 @@ struct OscillatorLayout {
   static constexpr int kDof = 1;
   static constexpr int kSpinSize = 0;
   static constexpr int kSize = 2;
-  static constexpr bool kFlexibleRotor = false;
   static constexpr int kModal = kSize;
   using State = Eigen::Vector2d;
 };

@@ -176,8 +176,10 @@ void expect_contact_jerk_closed_form(const ModelParameters& p, const FrictionMod
   using CD = ConstrainedDynamics<kStatorDof, false>;
   using L = typename CD::L;
   const JeffcottModel m{p};
+  const JeffcottRotor rotor;
   CD dyn;
   dyn.model = &m;
+  dyn.rotor = &rotor;
   dyn.mode = mode;
   typename L::State x;
   x[L::kAngle] = 7.3;  // a few turns on: psi keeps growing

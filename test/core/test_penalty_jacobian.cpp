@@ -138,8 +138,10 @@ struct Checker {
   // differences stay inside one of its pieces.
   static void run(const Case& c) {
     const core::JeffcottModel model(c.model);
+    const core::JeffcottRotor rotor;
     System sys;
     sys.model = &model;
+    sys.rotor = &rotor;
     sys.law = core::PenaltyLaw(model);
     sys.segment = c.segment;
     std::mt19937 rng(20261125);
@@ -227,8 +229,10 @@ struct PolarChecker {
 
   static void run(const Case& c) {
     const core::JeffcottModel model(c.model);
+    const core::JeffcottRotor rotor;
     Cartesian cart;
     cart.model = &model;
+    cart.rotor = &rotor;
     cart.law = core::PenaltyLaw(model);
     cart.segment = c.segment;
     System sys;

@@ -21,9 +21,9 @@
 #include "rotor_rub_sim/core/dense_dopri5.hpp"
 #include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
-#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/iteration_method.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
@@ -197,14 +197,14 @@ class ContactForceSolver {
   ForceRoot normal_, tangential_;
 };
 
-template <int kStatorDof, bool kMotor, bool kFlexible>
+template <int kStatorDof, bool kMotor, class Rotor>
 struct IterationSystem {
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   // The jerk for the Hermite dense output (DenseHighOrder): a difference
   // (the contact force is a root, its rate no closed form), end_derivatives.
   static constexpr bool kOwnEndDerivatives = true;
   const JeffcottModel* model = nullptr;
-  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
+  const Rotor* rotor = nullptr;
   const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;
   bool engaged = false;
@@ -260,48 +260,36 @@ struct IterationSystem {
   // The derivative; returns the normal force [N] (0 free or released).
   double derivative(const typename L::State& x, typename L::State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState reference = segment.at(t);
     const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
-    JeffcottModel::FreeLoads free;
-    if constexpr (kFlexible) {
-      // The modal rows, and the station's force with the modal coordinates.
-      const int n = modal_count<L>(x);
-      dxdt.resize(x.size());
-      dxdt.segment(L::kModal, n) = x.tail(n);
-      free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
-    } else {
-      free = model->free_loads(k, d);
-    }
+    const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
     const ContactForces f = forces(k, d, g, free, t);
     const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
-    // A motor's spin: the modes take their share of its acceleration.
-    if constexpr (kFlexible && kMotor) {
-      flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
-    }
+    // A motor's spin: the rotor's block takes its share of its acceleration.
+    if constexpr (kMotor) rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
     free_derivative<L>(*model, k, reference, a, dxdt);
     return f.normal_N;
   }
 };
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5) or 8(5,3) with the
-// Hermite dense output (dop853, dense_high_order.hpp). kFlexible: the rotor
-// is a flexible rotor's rub station (flexible_rotor_model.hpp); its modal
-// block goes through projections, impacts and restarts unchanged (no
+// Hermite dense output (dop853, dense_high_order.hpp). Rotor: the rotor
+// model (rotor_model.hpp), every free load of the station its (loads());
+// its block goes through projections, impacts and restarts unchanged (no
 // contact force or impulse reaches it; a motor's spin jump at an impact
-// takes it along), and every free load of the station is the flexible
-// model's (loads()).
-template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
+// takes it along).
+template <int kStatorDof, bool kMotor, class Rotor, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   using Dense = std::conditional_t<kScheme == Integrator::kDop853, DenseDop853<L>, DenseDopri5<State>>;
 
   explicit IterationMethod(const Scene& scene)
-      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
-        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
+      : rotor_(scene),
+        model_(rotor_.station(scene.model)),
         solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         min_step_s_(scene.solver.min_step_s),
@@ -309,7 +297,7 @@ class IterationMethod final : public ContactMethod {
         gap_tolerance_m_(scene.solver.atol),
         guard_(scene.solver.max_events_per_ms) {
     system_.model = &model_;
-    system_.flexible = flexible_.get();
+    system_.rotor = &rotor_;
     system_.solver = &solver_;
     system_.iterations = &stats_.root_iterations;
     if (scene.solver.profile_cost) {
@@ -321,16 +309,12 @@ class IterationMethod final : public ContactMethod {
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
-    start_from(t_s, k, segment, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState());
+    start_from(t_s, k, segment, ModalState::Zero(2 * rotor_.modal_size()));
   }
   void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
                         const ModalState& modal) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::start_with_modes(t_s, k, segment, modal);
-    } else {
-      check_modal_block(*flexible_, modal);
-      start_from(t_s, k, segment, modal);
-    }
+    rotor_.check_block(modal);
+    start_from(t_s, k, segment, modal);
   }
   void start_from(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
     system_.segment = segment;
@@ -354,7 +338,7 @@ class IterationMethod final : public ContactMethod {
     }
     State x;
     integrator_.state_at(t_s, x);
-    restart_from(t_s, kinematics_of<kStatorDof, kMotor, kFlexible>(x), modal_of<L>(x), integrator_.dt());
+    restart_from(t_s, kinematics_of<kStatorDof, kMotor, Rotor>(x), modal_of<L>(x), integrator_.dt());
   }
 
   void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
@@ -368,11 +352,11 @@ class IterationMethod final : public ContactMethod {
     }
     State x;
     integrator_.state_at(t_s, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const ModalState modal = modal_of<L>(x);
     const bool was_stick = system_.engaged && system_.mode.stick;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
+    model_ = JeffcottModel(rotor_.station(p));
     k.rotor_pos += old_frame - model_.frame_shift();
     if (system_.engaged) {
       const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
@@ -444,7 +428,7 @@ class IterationMethod final : public ContactMethod {
       return;
     }
     State x = integrator_.x_new();
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     ModalState modal = modal_of<L>(x);
     const DriveState reference = system_.segment.at(valid_end_);
     DriveState d = model_.drive_at(k, reference);
@@ -457,9 +441,9 @@ class IterationMethod final : public ContactMethod {
     if (closes(g, k)) {
       const JeffcottModel::FreeLoads free = loads(k, modal, d);
       const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, free, k);
-      // A motor's spin jumps with the impact, and the modes with it (dxi' = h_xi dw).
-      if constexpr (kFlexible && kMotor) {
-        flexible_->add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, modal.tail(flexible_->modal_size()));
+      // A motor's spin jumps with the impact, and the block with it (dxi' = h_xi dw).
+      if constexpr (kMotor) {
+        rotor_.add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, modal.tail(rotor_.modal_size()));
       }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
@@ -489,7 +473,7 @@ class IterationMethod final : public ContactMethod {
   Sample sample(double t_s) const override {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     // A copy of the solver: sampling must not move the warm start of the
@@ -507,29 +491,17 @@ class IterationMethod final : public ContactMethod {
     Sample s =
         make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged, &free);
     s.sticking = system_.engaged && mode.stick;
-    if constexpr (kFlexible) {
-      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal_of<L>(x));
-      add_lateral_torque(model_, *flexible_, modal_of<L>(x), s);
-    }
+    rotor_.finish_sample(model_, modal_of<L>(x), s);
     return s;
   }
 
-  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::change_rotor(std::move(rotor));
-    } else {
-      flexible_ = std::move(rotor);
-      system_.flexible = flexible_.get();
-    }
-  }
+  const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
   ModalState modal_state(double t_s) const override {
-    if constexpr (kFlexible) {
-      State x;
-      integrator_.state_at(t_s, x);
-      return modal_of<L>(x);
-    }
-    return ModalState();
+    if (rotor_.modal_size() == 0) return ModalState();  // no block: nothing to interpolate
+    State x;
+    integrator_.state_at(t_s, x);
+    return modal_of<L>(x);
   }
 
   const RunStats& stats() const override { return stats_; }
@@ -547,21 +519,15 @@ class IterationMethod final : public ContactMethod {
     bool from_breakaway = false;  // a slip that begins where rolling broke away
   };
 
-  // The free loads of a state: the Jeffcott's from k, a flexible rotor's
-  // station force with its modal coordinates.
+  // The free loads of a state given by its station and block (the rotor's).
   JeffcottModel::FreeLoads loads(const Kinematics& k, const ModalState& modal, const DriveState& d) const {
-    if constexpr (kFlexible) {
-      ModalVector modal_acc(flexible_->modal_size());
-      return flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc);
-    } else {
-      return model_.free_loads(k, d);
-    }
+    return loads_at(rotor_, model_, k, d, modal);
   }
 
   ContactGeometry geometry_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
   }
 
@@ -606,7 +572,7 @@ class IterationMethod final : public ContactMethod {
   double friction_event(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     if (!system_.mode.stick) return -system_.mode.slip_sign * g.sliding_velocity_m_per_s;
@@ -688,7 +654,7 @@ class IterationMethod final : public ContactMethod {
   double pressing_at(double t_s) const {
     State x;
     integrator_.state_at(t_s, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     project_to_bore(k, model_.contact_geometry(k, d));
     return pressing_acceleration(model_, k, d, model_.contact_geometry(k, d), loads(k, modal_of<L>(x), d));
@@ -710,10 +676,10 @@ class IterationMethod final : public ContactMethod {
       const double pressing_i = pressing_at(ti);
       auto releasing = [this](double t) { return -pressing_at(t); };
       if (!(pressing_i > 0.0)) return locate_event(releasing, prev_t, -prev_p, ti, -pressing_i, stats_);
-      if constexpr (kFlexible) {
-        // A flexible rotor's modes ring the pressing: a minimum that dips
-        // below zero and back between two points (the switching method's
-        // crossing() has the same).
+      if constexpr (!Rotor::kStationOnly) {
+        // A rotor's modes ring the pressing: a minimum that dips below zero
+        // and back between two points (the switching method's crossing() has
+        // the same). The Jeffcott's pressing has no such ringing.
         const double te = locate_interior_crossing(releasing, prev_t, -prev_p, ti, -pressing_i,
                                                    kInteriorRateStep * (ti - prev_t), stats_);
         if (te < kNone) return te;
@@ -749,7 +715,7 @@ class IterationMethod final : public ContactMethod {
     valid_end_ = te;
     State x;
     integrator_.state_at(te, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     project_to_bore(k, model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(te))));
     guard_.record(te);
     events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
@@ -763,7 +729,7 @@ class IterationMethod final : public ContactMethod {
     guard_.record(te);
     State x;
     integrator_.state_at(te, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const ModalState modal = modal_of<L>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(te));
     const ContactGeometry g = model_.contact_geometry(k, d);
@@ -791,7 +757,7 @@ class IterationMethod final : public ContactMethod {
   // a stick regime starts strictly inside the cone, never on its surface).
   double friction_event_rate(double t_s) const {
     if (system_.mode.stick) return 0.0;
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(integrator_.x_old());
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(integrator_.x_old());
     const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
@@ -802,7 +768,7 @@ class IterationMethod final : public ContactMethod {
   }
 
   void end_engaged_step(std::vector<ContactEvent>& events) {
-    Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(integrator_.x_new());
+    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(integrator_.x_new());
     const ModalState modal = modal_of<L>(integrator_.x_new());
     const DriveState d = model_.drive_at(k, system_.segment.at(valid_end_));
     const ContactGeometry g = model_.contact_geometry(k, d);
@@ -862,7 +828,7 @@ class IterationMethod final : public ContactMethod {
 
   void restart_from(double t_s, const Kinematics& k, const ModalState& modal, double dt) {
     State x = sized_state<L>(modal);
-    store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
+    store_kinematics<kStatorDof, kMotor, Rotor>(k, x);
     integrator_.initialize(system_, x, t_s, dt, stats_);
     valid_begin_ = valid_end_ = t_s;
   }
@@ -874,12 +840,12 @@ class IterationMethod final : public ContactMethod {
   // As in the switching method: a function is on its surface when its value
   // is what its rate makes in this time.
   static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
-  double mode_start_s_ = -1.0;                          // when the current friction regime began
-  bool slip_from_breakaway_ = false;                    // that regime is a slip begun at a breakaway
-  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
-  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
+  double mode_start_s_ = -1.0;        // when the current friction regime began
+  bool slip_from_breakaway_ = false;  // that regime is a slip begun at a breakaway
+  Rotor rotor_;
+  JeffcottModel model_;  // the station (Rotor::station)
   ContactForceSolver solver_;
-  IterationSystem<kStatorDof, kMotor, kFlexible> system_;
+  IterationSystem<kStatorDof, kMotor, Rotor> system_;
   Dense integrator_;
   double min_step_s_;
   double initial_step_s_;
@@ -892,18 +858,18 @@ class IterationMethod final : public ContactMethod {
   double* restart_time_s_ = nullptr;  // profiling only
 };
 
-template <Integrator kScheme, bool kFlexible>
+template <Integrator kScheme, class Rotor>
 struct IterationOn {
   template <int kStatorDof, bool kMotor>
-  using Method = IterationMethod<kStatorDof, kMotor, kFlexible, kScheme>;
+  using Method = IterationMethod<kStatorDof, kMotor, Rotor, kScheme>;
 };
 
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
 // states) or a flexible rotor's, each kind in its own translation unit
 // (the classes keep the internal linkage the compiler inlines best).
-template <Integrator I, bool kFlexible>
+template <Integrator I, class Rotor>
 std::unique_ptr<ContactMethod> make_iteration_for_rotor(const Scene& scene) {
-  return make_for_scene<IterationOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<IterationOn<I, Rotor>::template Method>(scene);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@ namespace rotor_rub::core {
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
   if (!scene.rotor.file.empty()) return make_iteration_flexible<I>(scene);
-  return make_iteration_for_rotor<I, false>(scene);
+  return make_iteration_for_rotor<I, JeffcottRotor>(scene);
 }
 template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);
 template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDop853>(const Scene&);

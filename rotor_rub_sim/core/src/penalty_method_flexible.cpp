@@ -6,7 +6,7 @@ namespace rotor_rub::core {
 
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_flexible(const Scene& scene) {
-  return make_penalty_for_rotor<I, true>(scene);
+  return make_penalty_for_rotor<I, FlexibleRotor>(scene);
 }
 template std::unique_ptr<ContactMethod> make_penalty_flexible<Integrator::kRosenbrock4>(const Scene&);
 template std::unique_ptr<ContactMethod> make_penalty_flexible<Integrator::kDopri5>(const Scene&);

@@ -23,6 +23,7 @@
 #include "rotor_rub_sim/core/penalty_law.hpp"
 #include "rotor_rub_sim/core/penalty_method.hpp"
 #include "rotor_rub_sim/core/penalty_system.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 
 namespace rotor_rub::core {
@@ -37,26 +38,26 @@ Integrator make_integrator(const SolverSettings& s) {
   }
 }
 
-// kFlexible: the rotor is a flexible rotor's rub station, its modal block
-// carried through every restart.
-template <int kStatorDof, bool kMotor, class Integrator, bool kFlexible = false>
+// Rotor: the rotor model (rotor_model.hpp), its block carried through every
+// restart.
+template <int kStatorDof, bool kMotor, class Integrator, class Rotor>
 class PenaltyMethod final : public ContactMethod {
  public:
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   static constexpr bool kModeLocked = is_implicit<Integrator>::value;
   // The implicit integrator's pressed mode in the contact's polar
-  // coordinates: the Jeffcott's (a flexible rotor's stays Cartesian, its
-  // modes beside the station).
-  static constexpr bool kPolar = kModeLocked && !kFlexible;
+  // coordinates, which hold the station and the stator only (a rotor with a
+  // block of its own stays Cartesian, its block beside the station).
+  static constexpr bool kPolar = kModeLocked && Rotor::kStationOnly;
 
   explicit PenaltyMethod(const Scene& scene)
-      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
-        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
+      : rotor_(scene),
+        model_(rotor_.station(scene.model)),
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
-    system_.flexible = flexible_.get();
+    system_.rotor = &rotor_;
     system_.law = PenaltyLaw(model_);
     if constexpr (kPolar) polar_sys_.cartesian = &system_;
     if (scene.solver.profile_cost) {
@@ -67,16 +68,12 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
-    start_from(t_s, k, segment, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState());
+    start_from(t_s, k, segment, ModalState::Zero(2 * rotor_.modal_size()));
   }
   void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
                         const ModalState& modal) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::start_with_modes(t_s, k, segment, modal);
-    } else {
-      check_modal_block(*flexible_, modal);
-      start_from(t_s, k, segment, modal);
-    }
+    rotor_.check_block(modal);
+    start_from(t_s, k, segment, modal);
   }
   void start_from(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
     system_.segment = segment;
@@ -102,7 +99,7 @@ class PenaltyMethod final : public ContactMethod {
     Kinematics k = kinematics_at(t_s);
     const bool was_pressed = system_.law.edges(geometry_at(t_s))[kPressedEdge] > 0.0;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
+    model_ = JeffcottModel(rotor_.station(p));
     system_.law = PenaltyLaw(model_);
     k.rotor_pos += old_frame - model_.frame_shift();
     crossed_edge_ = -1;
@@ -189,34 +186,23 @@ class PenaltyMethod final : public ContactMethod {
     // the mode's edge), and it never reports a pulling force.
     const double fn = system_.law.normal(g);
     const double ft = system_.law.tangential(g, fn);
+    const ModalState modal = modal_at(t_s);
     Sample s;
-    if constexpr (kFlexible && kMotor) {
-      // The spin's acceleration with the modes' coupling (flexible_rotor_model.hpp).
-      ModalVector modal_acc(flexible_->modal_size());
-      const JeffcottModel::FreeLoads free = flexible_free_loads(model_, *flexible_, k, d, modal_at(t_s), modal_acc);
+    if constexpr (kMotor) {
+      // The spin's acceleration with the rotor's coupling (a block's included).
+      const JeffcottModel::FreeLoads free = loads_at(rotor_, model_, k, d, modal);
       s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, fn, ft, fn > 0.0, &free);
     } else {
       s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
     }
     s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
-    if constexpr (kFlexible) {
-      const ModalState modal = modal_at(t_s);
-      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
-      add_lateral_torque(model_, *flexible_, modal, s);
-    }
+    rotor_.finish_sample(model_, modal, s);
     return s;
   }
 
-  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::change_rotor(std::move(rotor));
-    } else {
-      flexible_ = std::move(rotor);
-      system_.flexible = flexible_.get();
-    }
-  }
-  ModalState modal_state(double t_s) const override { return kFlexible ? modal_at(t_s) : ModalState(); }
+  const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
+  ModalState modal_state(double t_s) const override { return modal_at(t_s); }
 
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
@@ -262,17 +248,14 @@ class PenaltyMethod final : public ContactMethod {
     if constexpr (kPolar) {
       if (polar_) return PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::kinematics(x);
     }
-    return kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    return kinematics_of<kStatorDof, kMotor, Rotor>(x);
   }
-  // A flexible rotor's modal block [xi; xi'] at t_s (empty for the Jeffcott).
+  // The rotor's block at t_s (a flexible rotor's [xi; xi']; none: empty).
   ModalState modal_at(double t_s) const {
-    if constexpr (kFlexible) {
-      State x;
-      integrator_.state_at(t_s, x);
-      return modal_of<L>(x);
-    } else {
-      return ModalState();
-    }
+    if (rotor_.modal_size() == 0) return ModalState();  // nothing to interpolate
+    State x;
+    integrator_.state_at(t_s, x);
+    return modal_of<L>(x);
   }
 
   // Restarts at t_s from state k. After an edge (crossed_edge_ >= 0) the
@@ -299,7 +282,7 @@ class PenaltyMethod final : public ContactMethod {
     if constexpr (kPolar) {
       if (polar_) x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
     }
-    if (!polar_) store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
+    if (!polar_) store_kinematics<kStatorDof, kMotor, Rotor>(k, x);
     with_system([&](auto& sys) { integrator_.initialize(sys, x, t_s, dt_s, stats_); });
     valid_end_ = t_s;
   }
@@ -393,9 +376,9 @@ class PenaltyMethod final : public ContactMethod {
   }
   PenaltyEdgeValues edges_at(double t_s) const { return system_.law.edges(geometry_at(t_s)); }
 
-  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
-  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
-  PenaltySystem<kStatorDof, kMotor, kModeLocked, kFlexible> system_;
+  Rotor rotor_;
+  JeffcottModel model_;  // the station (Rotor::station)
+  PenaltySystem<kStatorDof, kMotor, kModeLocked, Rotor> system_;
   struct NoPolar {};
   std::conditional_t<kPolar, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;
   bool polar_ = false;  // the integrator's state is polar_sys_'s (kPolar, the pressed mode)
@@ -420,20 +403,19 @@ using PenaltyStepper =
     std::conditional_t<kScheme == Integrator::kRosenbrock4, DenseRodasp<State>,
                        std::conditional_t<kScheme == Integrator::kRk4, DenseRk4<State>, DenseDopri5<State>>>;
 
-template <Integrator kScheme, bool kFlexible>
+template <Integrator kScheme, class Rotor>
 struct PenaltyOn {
   template <int kStatorDof, bool kMotor>
-  using Method =
-      PenaltyMethod<kStatorDof, kMotor,
-                    PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor, kFlexible>::State>, kFlexible>;
+  using Method = PenaltyMethod<kStatorDof, kMotor,
+                               PenaltyStepper<kScheme, typename FreeLayout<kStatorDof, kMotor, Rotor>::State>, Rotor>;
 };
 
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
 // states) or a flexible rotor's, each kind in its own translation unit
 // (the classes keep the internal linkage the compiler inlines best).
-template <Integrator I, bool kFlexible>
+template <Integrator I, class Rotor>
 std::unique_ptr<ContactMethod> make_penalty_for_rotor(const Scene& scene) {
-  return make_for_scene<PenaltyOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<PenaltyOn<I, Rotor>::template Method>(scene);
 }
 
 }  // namespace

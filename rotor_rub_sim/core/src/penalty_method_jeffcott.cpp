@@ -8,7 +8,7 @@ template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_method(const Scene& scene) {
   static_assert(I == Integrator::kRosenbrock4 || I == Integrator::kRk4 || I == Integrator::kDopri5);
   if (!scene.rotor.file.empty()) return make_penalty_flexible<I>(scene);
-  return make_penalty_for_rotor<I, false>(scene);
+  return make_penalty_for_rotor<I, JeffcottRotor>(scene);
 }
 template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kRosenbrock4>(const Scene&);
 template std::unique_ptr<ContactMethod> make_penalty_method<Integrator::kDopri5>(const Scene&);

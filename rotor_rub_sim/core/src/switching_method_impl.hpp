@@ -23,44 +23,37 @@
 #include "rotor_rub_sim/core/dense_high_order.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/method_factory.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/sample_builder.hpp"
 #include "rotor_rub_sim/core/switching_method.hpp"
 
 namespace rotor_rub::core {
 namespace {
 
-// Free flight; a flexible rotor's station and modal rows from
-// FlexibleRotorModel (the rotor the bare station mass of model).
-template <int kStatorDof, bool kMotor, bool kFlexible>
+// Free flight: the station (model) under the rotor's free loads, and the
+// rotor's own block (rotor_model.hpp).
+template <int kStatorDof, bool kMotor, class Rotor>
 struct FreeFlightSystem {
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   const JeffcottModel* model;
-  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
+  const Rotor* rotor = nullptr;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     if constexpr (kMotor) {
-      if constexpr (kFlexible) dxdt.resize(x.size());  // before any entry is written
-      dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      // The spin's acceleration and the rotor's depend on each other (model.hpp).
+      // The spin's acceleration and the rotor's depend on each other
+      // (model.hpp): the free loads with the spin coupling, then the block's
+      // share of the spin's acceleration.
       const DriveState reference = segment.at(t);
       const DriveState d = model->drive_at(k, reference);
-      Accelerations a;
-      if constexpr (kFlexible) {
-        // The station's and the modes' loads with the spin coupling; the
-        // modes take their share of the spin's acceleration.
-        const int n = modal_count<L>(x);
-        dxdt.segment(L::kModal, n) = x.tail(n);
-        const JeffcottModel::FreeLoads free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
-        a = model->accelerations(d, ContactGeometry(), free, 0.0, 0.0);
-        flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(n));
-      } else {
-        a = model->accelerations(k, d, model->contact_geometry(k, d), 0.0, 0.0);
-      }
+      const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
+      const Accelerations a = model->accelerations(d, ContactGeometry(), free, 0.0, 0.0);
+      rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
+      dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
+      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
       dxdt.template segment<2>(L::kRotorVel) = a.rotor;
       if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorVel) = a.stator;
       spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
@@ -78,24 +71,17 @@ struct FreeFlightSystem {
   int end_derivatives(const State& x, double t, StepEnd /*end*/, State& dxdt, State& ddx) const {
     static_assert(!kMotor, "the motor's spin couples: differenced instead");
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState d = segment.at(t);
     const Vec2 unbalance_dir = unbalance_at(d.angle_rad);
     derivative(x, k, d, unbalance_dir, dxdt);
-    if constexpr (kFlexible) ddx.resize(x.size());  // before any entry is written
+    const int n = modal_count<L>(x);
+    ddx.resize(x.size());  // before any entry is written
     ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
-    if constexpr (kFlexible) {
-      const int n = modal_count<L>(x);
-      ddx.segment(L::kModal, n) = dxdt.tail(n);
-      ddx.template segment<2>(L::kRotorVel) =
-          flexible->free_load_rates(k.rotor_vel, dxdt.template segment<2>(L::kRotorVel), dxdt.tail(2 * n),
-                                    unbalance_dir, d.speed_rad_per_s, d.accel_rad_per_s2, ddx.tail(n)) *
-          model->inv_rotor_mass();
-    } else {
-      ddx.template segment<2>(L::kRotorVel) =
-          model->rotor_free_force_derivative(k, dxdt.template segment<2>(L::kRotorVel), d, unbalance_dir) *
-          model->inv_rotor_mass();
-    }
+    ddx.segment(L::kModal, n) = dxdt.tail(n);
+    ddx.template segment<2>(L::kRotorVel) = rotor->station_force_rate(*model, k, dxdt.template segment<2>(L::kRotorVel),
+                                                                      d, unbalance_dir, dxdt.tail(2 * n), ddx.tail(n)) *
+                                            model->inv_rotor_mass();
     if constexpr (kStatorDof == 2) {
       ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
       ddx.template segment<2>(L::kStatorVel) =
@@ -109,16 +95,10 @@ struct FreeFlightSystem {
  private:
   void derivative(const State& x, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
                   State& dxdt) const {
-    Vec2 rotor_force;
-    if constexpr (kFlexible) {
-      const int n = modal_count<L>(x);
-      dxdt.resize(x.size());
-      dxdt.segment(L::kModal, n) = x.tail(n);
-      rotor_force = flexible->free_loads(k.rotor_pos + model->frame_shift(), k.rotor_vel, x.tail(2 * n), unbalance_dir,
-                                         d.speed_rad_per_s, d.accel_rad_per_s2, dxdt.tail(n));
-    } else {
-      rotor_force = model->rotor_free_force(k, d, unbalance_dir);
-    }
+    const int n = modal_count<L>(x);
+    dxdt.resize(x.size());
+    dxdt.segment(L::kModal, n) = x.tail(n);
+    const Vec2 rotor_force = rotor->station_force(*model, k, d, unbalance_dir, x.tail(2 * n), dxdt.tail(n));
     dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
     if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
     dxdt.template segment<2>(L::kRotorVel) = rotor_force * model->inv_rotor_mass();
@@ -128,10 +108,10 @@ struct FreeFlightSystem {
   }
 };
 
-template <int kStatorDof, bool kMotor, bool kFlexible>
+template <int kStatorDof, bool kMotor, class Rotor>
 struct ContactSystem {
-  using L = ContactLayout<kStatorDof, kMotor, kFlexible>;
-  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor, kFlexible>;
+  using L = ContactLayout<kStatorDof, kMotor, Rotor>;
+  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor, Rotor>;
   using Result = typename Dynamics::Result;
   Dynamics dynamics;
   SpeedSegment segment;
@@ -173,24 +153,23 @@ struct EventValues {
 // kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
 // high-order pairs with Hermite dense output (dense_high_order.hpp):
 // Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
-// kFlexible: the rotor is a flexible rotor's rub station
-// (flexible_rotor_model.hpp), its modal block carried through every regime
-// and event unchanged (no impulse reaches it), but for a motor's spin jump's
-// share at an impact.
-template <int kStatorDof, bool kMotor, bool kFlexible, Integrator kScheme>
+// Rotor: the rotor model (rotor_model.hpp); its block is carried through
+// every regime and event unchanged (no impulse reaches it), but for a
+// motor's spin jump's share at an impact.
+template <int kStatorDof, bool kMotor, class Rotor, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
  public:
   static constexpr bool kHighOrder = kScheme != Integrator::kDopri5;
-  using FL = FreeLayout<kStatorDof, kMotor, kFlexible>;
-  using CL = ContactLayout<kStatorDof, kMotor, kFlexible>;
+  using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
+  using CL = ContactLayout<kStatorDof, kMotor, Rotor>;
   template <class L>
   using Dense = std::conditional_t<
       kScheme == Integrator::kDop853, DenseDop853<L>,
       std::conditional_t<kScheme == Integrator::kRkf78, DenseRkf78<L>, DenseDopri5<typename L::State>>>;
 
   explicit SwitchingMethod(const Scene& scene)
-      : flexible_(kFlexible ? flexible_rotor_of(scene) : nullptr),
-        model_(kFlexible ? station_parameters(scene.model, *flexible_) : scene.model),
+      : rotor_(scene),
+        model_(rotor_.station(scene.model)),
         free_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         contact_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         initial_step_s_(scene.solver.initial_step_s),
@@ -198,7 +177,7 @@ class SwitchingMethod final : public ContactMethod {
         guard_(scene.solver.max_events_per_ms) {
     free_sys_.model = &model_;
     contact_sys_.dynamics.model = &model_;
-    free_sys_.flexible = contact_sys_.dynamics.flexible = flexible_.get();
+    free_sys_.rotor = contact_sys_.dynamics.rotor = &rotor_;
     if (scene.solver.profile_cost) {
       free_sys_.rhs_time_s = contact_sys_.rhs_time_s = &stats_.rhs_time_s;
       event_time_s_ = &stats_.event_time_s;
@@ -207,23 +186,19 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   void start(double t_s, const Kinematics& k, const SpeedSegment& segment) override {
-    start_from(t_s, k, segment, kFlexible ? ModalState::Zero(2 * flexible_->modal_size()) : ModalState());  // at rest
+    start_from(t_s, k, segment, ModalState::Zero(2 * rotor_.modal_size()));  // at rest
   }
   void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
                         const ModalState& modal) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::start_with_modes(t_s, k, segment, modal);
-    } else {
-      check_modal_block(*flexible_, modal);
-      start_from(t_s, k, segment, modal);
-    }
+    rotor_.check_block(modal);
+    start_from(t_s, k, segment, modal);
   }
   void start_from(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
     end_sample_valid_ = false;
     free_sys_.segment = contact_sys_.segment = segment;
     regime_ = Regime::kFree;
     pending_ = false;
-    if (kFlexible) next_modal_ = modal;
+    next_modal_ = modal;
     enter_free(t_s, k, initial_step_s_);
   }
 
@@ -275,7 +250,7 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+      k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       next_modal_ = modal_of<FL>(x);
     } else {
       typename CL::State x;
@@ -284,7 +259,7 @@ class SwitchingMethod final : public ContactMethod {
       next_modal_ = modal_of<CL>(x);
     }
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(kFlexible ? station_parameters(p, *flexible_) : p);
+    model_ = JeffcottModel(rotor_.station(p));
     k.rotor_pos += old_frame - model_.frame_shift();
     pending_ = true;
     pending_t_ = t_s;
@@ -349,42 +324,29 @@ class SwitchingMethod final : public ContactMethod {
     return compute_sample(t_s);
   }
 
-  const FlexibleRotorModel* flexible_rotor() const override { return flexible_.get(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override {
-    if constexpr (!kFlexible) {
-      ContactMethod::change_rotor(std::move(rotor));
-    } else {
-      flexible_ = std::move(rotor);
-      free_sys_.flexible = contact_sys_.dynamics.flexible = flexible_.get();
-    }
-  }
+  const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
+  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
   ModalState modal_state(double t_s) const override {
-    if constexpr (kFlexible) {
-      if (regime_ == Regime::kFree) {
-        typename FL::State x;
-        free_int_.state_at(t_s, x);
-        return modal_of<FL>(x);
-      }
-      typename CL::State x;
-      contact_int_.state_at(t_s, x);
-      return modal_of<CL>(x);
+    if (rotor_.modal_size() == 0) return ModalState();  // no block: nothing to interpolate
+    if (regime_ == Regime::kFree) {
+      typename FL::State x;
+      free_int_.state_at(t_s, x);
+      return modal_of<FL>(x);
     }
-    return ModalState();
+    typename CL::State x;
+    contact_int_.state_at(t_s, x);
+    return modal_of<CL>(x);
   }
 
   const RunStats& stats() const override { return stats_; }
   RunStats& mutable_stats() override { return stats_; }
 
  private:
-  // The sample at t_s; a flexible rotor's probes read their node, and
-  // under the prescribed drive its torque takes the lateral motion's in.
+  // The sample at t_s, finished by the rotor (a flexible rotor's probes
+  // read their node, and its torque takes the lateral motion's in).
   Sample compute_sample(double t_s) const {
     Sample s = station_sample(t_s);
-    if constexpr (kFlexible) {
-      const ModalState modal = modal_state(t_s);
-      s.probe_displacement_m = flexible_->probe_displacement(s.kin.rotor_pos, modal);
-      add_lateral_torque(model_, *flexible_, modal, s);
-    }
+    rotor_.finish_sample(model_, modal_state(t_s), s);
     return s;
   }
 
@@ -393,7 +355,7 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, reference);
       const auto loads = motor_loads(k, d, modal_of<FL>(x));
       return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), free_sys_.unbalance_at(d.angle_rad), 0.0,
@@ -414,7 +376,7 @@ class SwitchingMethod final : public ContactMethod {
       // A friction transition at this instant: the sample reports the new
       // regime's forces (a stick force that jumped out of the cone at a drive
       // change is not applied, the slip force is).
-      ConstrainedDynamics<kStatorDof, kMotor, kFlexible> next = contact_sys_.dynamics;
+      ConstrainedDynamics<kStatorDof, kMotor, Rotor> next = contact_sys_.dynamics;
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
       Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.unbalance_dir,
@@ -428,13 +390,12 @@ class SwitchingMethod final : public ContactMethod {
     return s;
   }
 
-  // A flexible rotor's free loads under a motor drive (a sample's spin
-  // acceleration takes its modes' coupling in); none for the rest.
+  // The rotor's free loads under a motor drive (a sample's spin
+  // acceleration takes a block's coupling in); none for the prescribed drive.
   std::optional<JeffcottModel::FreeLoads> motor_loads(const Kinematics& k, const DriveState& d,
                                                       const ModalState& modal) const {
-    if constexpr (kFlexible && kMotor) {
-      ModalVector modal_acc(flexible_->modal_size());
-      return flexible_free_loads(model_, *flexible_, k, d, modal, modal_acc);
+    if constexpr (kMotor) {
+      return loads_at(rotor_, model_, k, d, modal);
     } else {
       return std::nullopt;
     }
@@ -454,7 +415,7 @@ class SwitchingMethod final : public ContactMethod {
     if (regime_ == Regime::kFree) {
       typename FL::State x;
       free_int_.state_at(t_s, x);
-      const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+      const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       v.value[kGap] = g.penetration_m;
       v.rate[kGap] = g.normal_velocity_m_per_s;
@@ -475,7 +436,7 @@ class SwitchingMethod final : public ContactMethod {
     }
     if constexpr (!kMotor) {
       // The forces' rates in closed form (a motor's: differenced in crossing()).
-      ModalVector modal_jerk(kFlexible ? flexible_->modal_size() : 0);
+      typename Rotor::ModalVector modal_jerk(rotor_.modal_size());
       const auto q = dynamics.force_rates(x, c, d, modal_jerk);
       v.rate[kGap] = -q.normal_N_per_s;
       if (dynamics.mode.stick) {
@@ -621,7 +582,7 @@ class SwitchingMethod final : public ContactMethod {
     }
     typename FL::State x_at;
     free_int_.state_at(te, x_at);
-    Kinematics k_at = kinematics_of<kStatorDof, kMotor, kFlexible>(x_at);
+    Kinematics k_at = kinematics_of<kStatorDof, kMotor, Rotor>(x_at);
     next_modal_ = modal_of<FL>(x_at);
     const DriveState d_at = model_.drive_at(k_at, d);
     const ContactGeometry g = model_.contact_geometry(k_at, d_at);
@@ -630,18 +591,11 @@ class SwitchingMethod final : public ContactMethod {
     bool settles = true, at_rest = false;
     const bool closing = closes(g, k_at);
     if (closing) {
-      ImpactResult ir;
-      if constexpr (kFlexible) {
-        ModalVector modal_acc(flexible_->modal_size());
-        const JeffcottModel::FreeLoads free =
-            flexible_free_loads(model_, *flexible_, k_at, d_at, next_modal_, modal_acc);
-        ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
-        // A motor's spin jumps with the impact, and the modes with it (dxi' = h_xi dw).
-        const int n = flexible_->modal_size();
-        if constexpr (kMotor)
-          flexible_->add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, next_modal_.tail(n));
-      } else {
-        ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, k_at);
+      const JeffcottModel::FreeLoads free = loads_at(rotor_, model_, k_at, d_at, next_modal_);
+      const ImpactResult ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
+      // A motor's spin jumps with the impact, and the block with it (dxi' = h_xi dw).
+      if constexpr (kMotor) {
+        rotor_.add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, next_modal_.tail(rotor_.modal_size()));
       }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
@@ -696,7 +650,7 @@ class SwitchingMethod final : public ContactMethod {
   // From k and the modal block next_modal_.
   void enter_free(double t_s, const Kinematics& k, double dt) {
     typename FL::State x = sized_state<FL>(next_modal_);
-    store_kinematics<kStatorDof, kMotor, kFlexible>(k, x);
+    store_kinematics<kStatorDof, kMotor, Rotor>(k, x);
     free_int_.initialize(free_sys_, x, t_s, dt, stats_);
     begin_regime(t_s);
   }
@@ -736,10 +690,10 @@ class SwitchingMethod final : public ContactMethod {
   // graze there: ShallowGraze.ContactShorterThanAStepIsFelt), four with
   // rkf78 and dop853, whose steps turn the spin by up to about 3 rad.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
-  std::shared_ptr<const FlexibleRotorModel> flexible_;  // kFlexible only
-  JeffcottModel model_;  // a flexible rotor's: its station, a bare point mass (station_parameters)
-  FreeFlightSystem<kStatorDof, kMotor, kFlexible> free_sys_;
-  ContactSystem<kStatorDof, kMotor, kFlexible> contact_sys_;
+  Rotor rotor_;
+  JeffcottModel model_;  // the station (Rotor::station)
+  FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
+  ContactSystem<kStatorDof, kMotor, Rotor> contact_sys_;
   Dense<FL> free_int_;
   Dense<CL> contact_int_;
   double initial_step_s_;
@@ -758,7 +712,7 @@ class SwitchingMethod final : public ContactMethod {
   double pending_t_ = 0.0;
   Regime next_regime_ = Regime::kFree;
   Kinematics next_kin_;
-  ModalState next_modal_;  // with next_kin_: a flexible rotor's [xi; xi']
+  ModalState next_modal_;  // with next_kin_: the rotor's block (a flexible rotor's [xi; xi'])
   FrictionMode next_mode_;
   bool next_from_breakaway_ = false;  // the pending slip begins at a breakaway (begin_regime)
   typename CL::State next_contact_state_;
@@ -769,18 +723,18 @@ class SwitchingMethod final : public ContactMethod {
   bool end_sample_valid_ = false;
 };
 
-template <Integrator kScheme, bool kFlexible>
+template <Integrator kScheme, class Rotor>
 struct SwitchingOn {
   template <int kStatorDof, bool kMotor>
-  using Method = SwitchingMethod<kStatorDof, kMotor, kFlexible, kScheme>;
+  using Method = SwitchingMethod<kStatorDof, kMotor, Rotor, kScheme>;
 };
 
 // The method for a scene on one kind of rotor: the Jeffcott's (fixed-size
 // states) or a flexible rotor's, each kind in its own translation unit
 // (the classes keep the internal linkage the compiler inlines best).
-template <Integrator I, bool kFlexible>
+template <Integrator I, class Rotor>
 std::unique_ptr<ContactMethod> make_switching_for_rotor(const Scene& scene) {
-  return make_for_scene<SwitchingOn<I, kFlexible>::template Method>(scene);
+  return make_for_scene<SwitchingOn<I, Rotor>::template Method>(scene);
 }
 
 }  // namespace

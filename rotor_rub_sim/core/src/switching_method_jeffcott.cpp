@@ -7,7 +7,7 @@ namespace rotor_rub::core {
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
   if (!scene.rotor.file.empty()) return make_switching_flexible<I>(scene);
-  return make_switching_for_rotor<I, false>(scene);
+  return make_switching_for_rotor<I, JeffcottRotor>(scene);
 }
 template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDopri5>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kRkf78>(const Scene&);

@@ -20,13 +20,13 @@
 //   W_nn F_n - W_nt F_t = a_n0 + C psi'^2 =: b,   -W_nt F_n + W_tt F_t = -s0,
 //   slip:  F_n = b / (W_nn + f s W_nt), F_t = -f s F_n;
 //   stick: both equations, det = W_nn W_tt - W_nt^2 > 0.
-// A flexible rotor (kFlexible, flexible_rotor_model.hpp): the rotor is its
-// rub station, a point of mass m_r = m_st, and F_r the station's free force,
-// which takes the modal coordinates in; their rows, xi'' from the same
-// model, are the same in contact as in free flight (no contact force
-// reaches them: the reduced mass is block-diagonal), but for a motor's
-// spin, whose acceleration they share (A h_xi; the spin coupling's lever,
-// inertia and torque then stand in the compliance W above).
+// The rotor model (rotor_model.hpp) gives F_r, the station's free force, and
+// the rows of its own block: a flexible rotor's station is a point of mass
+// m_r = m_st, F_r takes the modal coordinates in, and their rows, xi'' from
+// the same model, are the same in contact as in free flight (no contact
+// force reaches them: the reduced mass is block-diagonal), but for a
+// motor's spin, whose acceleration they share (A h_xi; the spin coupling's
+// lever, inertia and torque then stand in the compliance W above).
 #pragma once
 
 #include <cmath>
@@ -34,12 +34,12 @@
 
 #include "rotor_rub_sim/core/angle_pair.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 
 namespace rotor_rub::core {
 
-template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
+template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
 struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
   static constexpr int kDof = 1 + kStatorDof;
   static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
@@ -47,19 +47,17 @@ struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
   static constexpr int kAngle = kStatorDof;                                  // psi [rad]
   static constexpr int kStatorVel = kDof;                                    // x_s', y_s' [m/s] (elastic only)
   static constexpr int kAngleRate = kDof + kStatorDof;                       // psi' [rad/s]
-  static constexpr bool kFlexibleRotor = kFlexible;
-  static constexpr int kModal = kSize;  // xi, then xi' (flexible only: model.hpp's FreeLayout)
-  using State = LayoutState<kSize, kFlexible>;
+  static constexpr int kModal = kSize;  // the rotor's block (model.hpp's FreeLayout)
+  using State = typename Rotor::template State<kSize>;
 };
 
-template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
+template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
 struct ConstrainedDynamics {
-  using L = ContactLayout<kStatorDof, kMotor, kFlexible>;
+  using L = ContactLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
-  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
+  const Rotor* rotor = nullptr;
   FrictionMode mode;
-  struct NoModal {};
 
   struct Result {
     Kinematics kin;
@@ -76,7 +74,7 @@ struct ConstrainedDynamics {
     Vec2 normal = Vec2::UnitX();         // n(psi) (prescribed drive: the jerk)
     Vec2 rotor_free_N = Vec2::Zero();    // F_r, F_s: the free forces (prescribed drive; the jerk)
     Vec2 stator_free_N = Vec2::Zero();
-    std::conditional_t<kFlexible, ModalVector, NoModal> modal_acc;  // xi'' (flexible)
+    typename Rotor::ModalVector modal_acc;  // the block's xi'' (a flexible rotor's)
   };
 
   Kinematics kinematics(const State& x) const {
@@ -153,13 +151,8 @@ struct ConstrainedDynamics {
       r.unbalance_dir = unbalance_dir;
       r.normal = g.normal;
       const double imr = model->inv_rotor_mass(), ims = model->inv_stator_mass(), im = imr + ims;
-      Vec2 fr;
-      if constexpr (kFlexible) {
-        fr = flexible->free_loads(r.kin.rotor_pos + model->frame_shift(), r.kin.rotor_vel, x.tail(x.size() - L::kSize),
-                                  unbalance_dir, d.speed_rad_per_s, d.accel_rad_per_s2, r.modal_acc);
-      } else {
-        fr = model->rotor_free_force(r.kin, d, unbalance_dir);
-      }
+      r.modal_acc.resize(modal_count<L>(x));
+      const Vec2 fr = rotor->station_force(*model, r.kin, d, unbalance_dir, x.tail(x.size() - L::kSize), r.modal_acc);
       const Vec2 fs = model->stator_free_force(r.kin);
       const ModelParameters& p = model->parameters();
       // Products with the model's reciprocals m = 1 / (1/m_r + 1/m_s) and
@@ -215,17 +208,12 @@ struct ConstrainedDynamics {
     const Vec2& n = r.normal;
     const Vec2 t(-n.y(), n.x());
     const Vec2 rotor_acc = r.stator_acc + c * acc * t - c * rate * rate * n;
-    Vec2 fr_rate;
-    if constexpr (kFlexible) {
-      const int m = modal_count<L>(x);
-      ModalState rates(2 * m);  // fixed capacity: no allocation
-      rates.head(m) = x.tail(m);
-      rates.tail(m) = r.modal_acc;
-      fr_rate = flexible->free_load_rates(r.kin.rotor_vel, rotor_acc, rates, r.unbalance_dir, reference.speed_rad_per_s,
-                                          reference.accel_rad_per_s2, modal_jerk);
-    } else {
-      fr_rate = model->rotor_free_force_derivative(r.kin, rotor_acc, reference, r.unbalance_dir);
-    }
+    const int m = modal_count<L>(x);
+    ModalState rates(2 * m);  // fixed capacity: no allocation
+    rates.head(m) = x.tail(m);
+    rates.tail(m) = r.modal_acc;
+    const Vec2 fr_rate =
+        rotor->station_force_rate(*model, r.kin, rotor_acc, reference, r.unbalance_dir, rates, modal_jerk);
     ForceRates q;
     q.stator_free_N_per_s = model->stator_free_force_derivative(r.kin, r.stator_acc);
     const Vec2 &fr = r.rotor_free_N, &fs = r.stator_free_N, &fs_rate = q.stator_free_N_per_s;
@@ -252,15 +240,10 @@ struct ConstrainedDynamics {
   }
   // The same from the state's evaluation r = evaluate(x, reference).
   void second_derivative(const State& x, const Result& r, const DriveState& reference, State& ddx) const {
-    ForceRates q;
-    if constexpr (kFlexible) {
-      const int m = modal_count<L>(x);
-      ddx.resize(x.size());
-      ddx.segment(L::kModal, m) = r.modal_acc;
-      q = force_rates(x, r, reference, ddx.tail(m));
-    } else {
-      q = force_rates(x, r, reference, ModalVector());
-    }
+    const int m = modal_count<L>(x);
+    ddx.resize(x.size());
+    ddx.segment(L::kModal, m) = r.modal_acc;
+    const ForceRates q = force_rates(x, r, reference, ddx.tail(m));
     const double rate = x[L::kAngleRate];
     const double ims = model->inv_stator_mass(), im = model->inv_rotor_mass() + ims;
     const Vec2& n = r.normal;
@@ -281,12 +264,10 @@ struct ConstrainedDynamics {
   }
   // The same from the state's evaluation r = evaluate(x, reference).
   void derivative(const State& x, const Result& r, const DriveState& reference, State& dxdt) const {
-    if constexpr (kFlexible) {
-      const int m = modal_count<L>(x);
-      dxdt.resize(x.size());
-      dxdt.segment(L::kModal, m) = x.tail(m);
-      dxdt.tail(m) = r.modal_acc;
-    }
+    const int m = modal_count<L>(x);
+    dxdt.resize(x.size());
+    dxdt.segment(L::kModal, m) = x.tail(m);
+    dxdt.tail(m) = r.modal_acc;
     dxdt[L::kAngle] = x[L::kAngleRate];
     dxdt[L::kAngleRate] = r.angle_acc_rad_per_s2;
     if constexpr (kStatorDof == 2) {
@@ -307,14 +288,9 @@ struct ConstrainedDynamics {
     const ContactGeometry g = model->contact_geometry(r.kin, d);
     // The free loads once for both accelerations below (model.hpp); a
     // flexible rotor's with the spin coupling of its unbalances.
-    JeffcottModel::FreeLoads loads;
-    if constexpr (kFlexible) {
-      const int n = modal_count<L>(x);
-      r.modal_acc.resize(n);
-      loads = flexible_free_loads(*model, *flexible, r.kin, d, x.tail(2 * n), r.modal_acc);
-    } else {
-      loads = model->free_loads(r.kin, d);
-    }
+    const int n = modal_count<L>(x);
+    r.modal_acc.resize(n);
+    const JeffcottModel::FreeLoads loads = rotor->loads(*model, r.kin, d, x.tail(2 * n), r.modal_acc);
     r.unbalance_dir = loads.unbalance_dir;
     const Accelerations free = model->accelerations(d, g, loads, 0.0, 0.0);
     const ContactCompliance w = model->contact_compliance(g, loads.spin);
@@ -333,7 +309,7 @@ struct ConstrainedDynamics {
       r.tangential_force_N = -f * mode.slip_sign * r.normal_force_N;
     }
     const Accelerations a = model->accelerations(d, g, loads, r.normal_force_N, r.tangential_force_N);
-    if constexpr (kFlexible) flexible->add_spin_share(loads.unbalance_dir, a.spin_rad_per_s2, r.modal_acc);
+    rotor->add_spin_share(loads.unbalance_dir, a.spin_rad_per_s2, r.modal_acc);
     d.accel_rad_per_s2 = a.spin_rad_per_s2;
     r.drive = d;
     r.sliding_velocity_m_per_s = g.sliding_velocity_m_per_s;

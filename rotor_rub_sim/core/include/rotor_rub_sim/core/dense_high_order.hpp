@@ -62,8 +62,8 @@ enum class StepEnd { kStart, kEnd };
 // rotor's modal coordinates, each followed n places later by its rate.
 template <class Layout>
 struct SecondOrderPairs {
-  static constexpr int kMaxCount =
-      Layout::kDof + (Layout::kSpinSize > 0 ? 1 : 0) + (Layout::kFlexibleRotor ? kMaxModalCoordinates : 0);
+  static constexpr int kMaxCount = Layout::kDof + (Layout::kSpinSize > 0 ? 1 : 0) +
+                                   (kHasModalBlock<typename Layout::State> ? kMaxModalCoordinates : 0);
   // Fills p for a state of `size` entries; returns the count.
   static int pairs(int size, std::array<std::pair<int, int>, kMaxCount>& p) {
     int count = 0;
@@ -129,8 +129,6 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
  public:
   using State = typename Layout::State;
   static_assert(2 * Layout::kDof + Layout::kSpinSize == Layout::kSize, "positions, velocities, spin");
-  static_assert(State::RowsAtCompileTime == (Layout::kFlexibleRotor ? Eigen::Dynamic : Layout::kSize),
-                "fixed size but a flexible rotor's modal block");
   static constexpr int kStagesPerAttempt = Engine::kStagesPerAttempt;
   DenseHighOrder(double atol, double rtol, double min_step_s, long max_steps)
       : Ends(min_step_s, max_steps), engine_(atol, rtol) {}

@@ -98,31 +98,28 @@ inline constexpr int kMaxModalCoordinates = 2 * (kMaxPlanarModes - 1);
 /// [xi; xi'] of a flexible rotor [sqrt(kg) m, sqrt(kg) m/s] (empty: the Jeffcott).
 using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoordinates, 1>;
 
-// The state vector of a layout whose fixed part has kFixed entries: fixed
-// size for the Jeffcott, dynamic for a flexible rotor. Every flexible
-// layout's state is one type, with room for the largest fixed part (an
-// elastic stator under a motor: 11, rounded up to 12 so that the 12 + 508
-// doubles are 16-byte aligned storage) and the modal block's maximum, so that
-// a method's instances on one integrator (each stator, each drive, free
-// flight and contact) share one set of Eigen and odeint instantiations, which
-// shortens the flexible units' compile (docs/testing.md, "The longest
-// compiles"). The free and contact states of a flexible rotor are thus one
-// type: the layouts' indices, not the compiler, keep them apart.
+// The state vector of a flexible rotor's layouts: every one is one type,
+// with room for the largest fixed part (an elastic stator under a motor: 11,
+// rounded up to 12 so that the 12 + 508 doubles are 16-byte aligned storage)
+// and the modal block's maximum, so that a method's instances on one
+// integrator (each stator, each drive, free flight and contact) share one set
+// of Eigen and odeint instantiations, which shortens the flexible units'
+// compile (docs/testing.md, "The longest compiles"). The free and contact
+// states of a flexible rotor are thus one type: the layouts' indices, not the
+// compiler, keep them apart.
 inline constexpr int kMaxFixedStates = 12;
 using FlexibleState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxFixedStates + 2 * kMaxModalCoordinates, 1>;
-template <int kFixed, bool kFlexible>
-struct LayoutStateOf {
-  static_assert(!kFlexible || kFixed <= kMaxFixedStates, "a flexible layout's fixed part outgrew FlexibleState");
-  using type = std::conditional_t<kFlexible, FlexibleState, Eigen::Matrix<double, kFixed, 1>>;
-};
-template <int kFixed, bool kFlexible>
-using LayoutState = typename LayoutStateOf<kFixed, kFlexible>::type;
+
+// The rotor models (rotor_model.hpp): a layout's third parameter, whose
+// State<kFixed> is the layout's state (fixed size without a modal block).
+class JeffcottRotor;
+class FlexibleRotor;
 
 // Layout of the free (unconstrained) state vector. kStatorDof is 2 for an
 // elastic stator and 0 for a rigid one; kMotor adds the drive's states;
-// kFlexible the modal block (kModal: xi, then xi', n each, n =
-// modal_count()).
-template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
+// the rotor model its own block after them (kModal: a flexible rotor's xi,
+// then xi', n each, n = modal_count()).
+template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
 struct FreeLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static_assert(kStatorDof == 0 || kStatorDof == 2, "stator has 0 or 2 DOF");
   static constexpr int kDof = 2 + kStatorDof;
@@ -131,16 +128,22 @@ struct FreeLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static constexpr int kStatorPos = 2;         // x_s, y_s [m] (elastic only)
   static constexpr int kRotorVel = kDof;       // x_r', y_r' [m/s]
   static constexpr int kStatorVel = kDof + 2;  // x_s', y_s' [m/s] (elastic only)
-  static constexpr bool kFlexibleRotor = kFlexible;
-  static constexpr int kModal = kSize;  // xi [sqrt(kg) m], then xi' (flexible only)
-  using State = LayoutState<kSize, kFlexible>;
+  static constexpr int kModal = kSize;         // the rotor's block: xi [sqrt(kg) m], then xi'
+  using State = typename Rotor::template State<kSize>;
+  static_assert(State::RowsAtCompileTime == Eigen::Dynamic || State::RowsAtCompileTime == kSize,
+                "a fixed-size state is the layout's fixed part");
+  static_assert(State::MaxRowsAtCompileTime >= kSize, "the state holds the layout's fixed part");
 };
+
+// A layout's state has a block when its size is dynamic.
+template <class State>
+inline constexpr bool kHasModalBlock = State::RowsAtCompileTime == Eigen::Dynamic;
 
 // The modal coordinates in a state of layout L: how many (n), and the
 // block [xi; xi'] (2 n entries from L::kModal).
 template <class L, class State>
 int modal_count(const State& x) {
-  if constexpr (L::kFlexibleRotor) {
+  if constexpr (kHasModalBlock<State>) {
     return static_cast<int>(x.size() - L::kSize) / 2;
   } else {
     return 0;
@@ -148,7 +151,7 @@ int modal_count(const State& x) {
 }
 template <class L, class State>
 ModalState modal_of(const State& x) {
-  if constexpr (L::kFlexibleRotor) {
+  if constexpr (kHasModalBlock<State>) {
     return x.tail(x.size() - L::kSize);
   } else {
     return ModalState();
@@ -158,7 +161,7 @@ ModalState modal_of(const State& x) {
 template <class L>
 typename L::State sized_state(const ModalState& modal) {
   typename L::State x;
-  if constexpr (L::kFlexibleRotor) {
+  if constexpr (kHasModalBlock<typename L::State>) {
     x.resize(L::kSize + modal.size());
     x.tail(modal.size()) = modal;
   }
@@ -194,9 +197,9 @@ void write_spin(const SpinState& spin, State& x) {
 }
 
 // The modal block, if any, is not part of Kinematics (modal_of()).
-template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
-Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor, kFlexible>::State& x) {
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
+Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor, Rotor>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   Kinematics k;
   k.rotor_pos = x.template segment<2>(L::kRotorPos);
   k.rotor_vel = x.template segment<2>(L::kRotorVel);
@@ -209,9 +212,9 @@ Kinematics kinematics_of(const typename FreeLayout<kStatorDof, kMotor, kFlexible
 }
 
 // x sized already (sized_state() for a flexible rotor).
-template <int kStatorDof, bool kMotor = false, bool kFlexible = false>
-void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof, kMotor, kFlexible>::State& x) {
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
+void store_kinematics(const Kinematics& k, typename FreeLayout<kStatorDof, kMotor, Rotor>::State& x) {
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   x.template segment<2>(L::kRotorPos) = k.rotor_pos;
   x.template segment<2>(L::kRotorVel) = k.rotor_vel;
   if constexpr (kStatorDof == 2) {

@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
-#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/penalty_law.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 
 namespace rotor_rub::core {
@@ -26,16 +26,16 @@ namespace rotor_rub::core {
 // at loose tolerances the steps hop across those edges every few steps (at
 // rtol 1e-3 the position error allowed is about 400 times the penetration,
 // 3e-6 m against 8e-9 m): restarts there would multiply that noise.
-// kFlexible: the rotor is a flexible rotor's rub station; its free loads and
-// modal rows are FlexibleRotorModel's, the law acts on the station alone (the
-// implicit integrator differences its Jacobian: the closed form below is the
-// Jeffcott's).
-template <int kStatorDof, bool kMotor, bool kModeLocked, bool kFlexible = false>
+// Rotor: the rotor model (rotor_model.hpp), whose free loads and block's rows
+// the station's take; the law acts on the station alone (the closed-form
+// Jacobian below covers a state of the station and the stator only: a
+// rotor with a block of its own is differenced).
+template <int kStatorDof, bool kMotor, bool kModeLocked, class Rotor = JeffcottRotor>
 struct PenaltySystem {
-  using L = FreeLayout<kStatorDof, kMotor, kFlexible>;
+  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   const JeffcottModel* model = nullptr;
-  const FlexibleRotorModel* flexible = nullptr;  // kFlexible only
+  const Rotor* rotor = nullptr;
   PenaltyLaw law;
   PenaltyMode mode;  // the smooth piece being integrated (penalty_law.hpp)
   SpeedSegment segment;
@@ -74,21 +74,13 @@ struct PenaltySystem {
 
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, kFlexible>(x);
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState reference = segment.at(t);
-    Accelerations a;
-    if constexpr (kFlexible) {
-      const int n = modal_count<L>(x);
-      dxdt.resize(x.size());
-      dxdt.segment(L::kModal, n) = x.tail(n);
-      const DriveState d = model->drive_at(k, reference);
-      const JeffcottModel::FreeLoads free = flexible_free_loads(*model, *flexible, k, d, x.tail(2 * n), dxdt.tail(n));
-      a = accelerations(d, model->contact_geometry(k, d), free);
-      // A motor's spin: the modes take their share of its acceleration.
-      if constexpr (kMotor) flexible->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(n));
-    } else {
-      a = accelerations(k, model->drive_at(k, reference));
-    }
+    const DriveState d = model->drive_at(k, reference);
+    const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
+    const Accelerations a = accelerations(d, model->contact_geometry(k, d), free);
+    // A motor's spin: the rotor's block takes its share of its acceleration.
+    if constexpr (kMotor) rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
     free_derivative<L>(*model, k, reference, a, dxdt);
   }
   // The Jacobian df/dx and the partial df/dt in closed form (the integrator
@@ -96,7 +88,7 @@ struct PenaltySystem {
   // RODASP's 16 on the paper scene). Of the mode's law (of the clamped law's
   // piece at x on a fallback step); under a motor drive the spin couples
   // every row, and the integrator differences instead (kAnalyticJacobian).
-  static constexpr bool kAnalyticJacobian = !kMotor && !kFlexible;
+  static constexpr bool kAnalyticJacobian = !kMotor && Rotor::kStationOnly;
   // Positions then velocities, nothing else (FreeLayout without the spin).
   static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
   static constexpr bool kOwnErrorNorm = false;  // the Cartesian state is the user's
