@@ -298,7 +298,7 @@ class CvodeSwitching {
       : scene_(scene),
         rotor_(scene),
         modal_size_(2 * rotor_.modal_size()),
-        model_(rotor_.station(scene.model)),
+        model_(rotor_.adopt(scene.model)),
         profile_(scene.speed),
         guard_(scene.solver.max_events_per_ms),
         sample_rate_hz_(sample_rate_hz),
@@ -316,7 +316,7 @@ class CvodeSwitching {
     next_segment(0.0);
     restart_step_s_ = 0.0;  // at rest, centred: CVODE's estimate is sound here
     // As the core's Simulation starts: the scene's initial state, the modes at rest.
-    enter_free(0.0, core::JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)),
+    enter_free(0.0, core::StationModel(scene_.model).initial_kinematics(profile_.at(0.0)),
                core::ModalState::Zero(modal_size_));
     double t_s = 0.0;
     long calls = 0;
@@ -727,7 +727,7 @@ class CvodeSwitching {
   const core::Scene& scene_;
   Rotor rotor_;
   int modal_size_;  // the block's entries (0: the Jeffcott)
-  core::JeffcottModel model_;
+  core::StationModel model_;
   core::SpeedProfile profile_;
   core::ConstrainedDynamics<kStatorDof, false, Rotor> dynamics_;
   core::ChatterGuard guard_;

@@ -121,7 +121,7 @@ TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
     k.spin.speed_rad_per_s = 150.0;
     const DriveState d = m.drive_at(k, DriveState{0.3, 150.0, 70.0});
     const ContactGeometry g = m.contact_geometry(k, d);
-    const JeffcottModel::FreeLoads free = m.free_loads(k, d);
+    const FreeLoads free = m.free_loads(k, d);
     const double c = std::cos(d.angle_rad), s = std::sin(d.angle_rad);
     for (const double fn : {0.0, 12.5}) {
       const double ft = -0.1 * fn;
@@ -176,7 +176,7 @@ void expect_contact_jerk_closed_form(const ModelParameters& p, const FrictionMod
   using CD = ConstrainedDynamics<kStatorDof, false>;
   using L = typename CD::L;
   const JeffcottModel m{p};
-  const JeffcottRotor rotor;
+  const JeffcottRotor rotor{p};
   CD dyn;
   dyn.model = &m;
   dyn.rotor = &rotor;

@@ -138,7 +138,7 @@ struct Checker {
   // differences stay inside one of its pieces.
   static void run(const Case& c) {
     const core::JeffcottModel model(c.model);
-    const core::JeffcottRotor rotor;
+    const core::JeffcottRotor rotor(c.model);
     System sys;
     sys.model = &model;
     sys.rotor = &rotor;
@@ -229,7 +229,7 @@ struct PolarChecker {
 
   static void run(const Case& c) {
     const core::JeffcottModel model(c.model);
-    const core::JeffcottRotor rotor;
+    const core::JeffcottRotor rotor(c.model);
     Cartesian cart;
     cart.model = &model;
     cart.rotor = &rotor;

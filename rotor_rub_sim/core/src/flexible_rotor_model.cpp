@@ -194,9 +194,6 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor) {
   ModelParameters p = scene;
   p.rotor_mass_kg = rotor.station_mass_kg();
-  p.rotor_stiffness_N_per_m = 0.0;
-  p.rotor_damping_N_s_per_m = 0.0;
-  p.eccentricity_m = 0.0;
   if (rotor.contact_radius_m() > 0.0) p.rotor_radius_m = rotor.contact_radius_m();
   return p;
 }

@@ -408,7 +408,7 @@ std::vector<FullRubStability> full_rub_stability(const ModelParameters& p, doubl
   const StationStator stator = station_stator(p);
   PenaltyContact penalty;
   penalty.stiffness_N_per_m = p.contact_stiffness_N_per_m;
-  penalty.damping_N_s_per_m = contact_damping_N_s_per_m(JeffcottModel(p));
+  penalty.damping_N_s_per_m = contact_damping_N_s_per_m(StationModel(p));
   std::vector<FullRubStability> out;
   for (const FullRub& rub : synchronous_full_rub(p, w)) {
     const int nq = coordinates(rotor, stator, penalty_contact ? &penalty : nullptr);

@@ -90,14 +90,14 @@ struct ContactForces {
 // F_t act along n and t, so each root is one-dimensional.
 class ContactForceSolver {
  public:
-  using Loads = JeffcottModel::FreeLoads;
-  ContactForceSolver(const JeffcottModel* m, double rtol, int max_iterations)
+  using Loads = FreeLoads;
+  ContactForceSolver(const StationModel* m, double rtol, int max_iterations)
       : model_(m), normal_(rtol, max_iterations, "normal force"), tangential_(rtol, max_iterations, "stick force") {}
 
   // free: the state's free loads (model.hpp), the same for every trial force.
   double distance_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
                                double fn, double ft) const {
-    return JeffcottModel::distance_acceleration(k, g, model_->accelerations(d, g, free, fn, ft));
+    return StationModel::distance_acceleration(k, g, model_->accelerations(d, g, free, fn, ft));
   }
   double sliding_acceleration(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
                               double fn, double ft) const {
@@ -120,13 +120,8 @@ class ContactForceSolver {
                               iterations, fn);
   }
 
-  // want_stick_force: compute stick_N even when sliding (to decide a
-  // transition).
-  ContactForces solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const FrictionMode& mode,
-                      bool want_stick_force, double t_s, long& iterations) const {
-    return solve(k, d, g, model_->free_loads(k, d), mode, want_stick_force, t_s, iterations);
-  }
-  // The same given the state's free loads.
+  // The forces for the state's free loads (the rotor model's); want_stick_force:
+  // compute stick_N even when sliding (to decide a transition).
   ContactForces solve(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Loads& free,
                       const FrictionMode& mode, bool want_stick_force, double t_s, long& iterations) const {
     ContactForces f;
@@ -193,7 +188,7 @@ class ContactForceSolver {
   // 2.6e-10 m: test_flexible_rotor_runs).
   static double normal_scale_N(const Loads& free) { return 1e-6 * (free.rotor_N.norm() + free.stator_N.norm()); }
 
-  const JeffcottModel* model_;
+  const StationModel* model_;
   ForceRoot normal_, tangential_;
 };
 
@@ -203,7 +198,7 @@ struct IterationSystem {
   // The jerk for the Hermite dense output (DenseHighOrder): a difference
   // (the contact force is a root, its rate no closed form), end_derivatives.
   static constexpr bool kOwnEndDerivatives = true;
-  const JeffcottModel* model = nullptr;
+  const StationModel* model = nullptr;
   const Rotor* rotor = nullptr;
   const ContactForceSolver* solver = nullptr;
   SpeedSegment segment;
@@ -213,8 +208,8 @@ struct IterationSystem {
   double* rhs_time_s = nullptr;        // profiling only
   double* iteration_time_s = nullptr;  // profiling only
 
-  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g,
-                       const JeffcottModel::FreeLoads& free, double t) const {
+  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const FreeLoads& free,
+                       double t) const {
     if (!engaged) return {};
     ProfileScope scope(iteration_time_s);
     return solver->solve(k, d, g, free, mode, false, t, *iterations);
@@ -264,7 +259,7 @@ struct IterationSystem {
     const DriveState reference = segment.at(t);
     const DriveState d = model->drive_at(k, reference);
     const ContactGeometry g = model->contact_geometry(k, d);
-    const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
+    const FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
     const ContactForces f = forces(k, d, g, free, t);
     const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
     // A motor's spin: the rotor's block takes its share of its acceleration.
@@ -289,7 +284,7 @@ class IterationMethod final : public ContactMethod {
 
   explicit IterationMethod(const Scene& scene)
       : rotor_(scene),
-        model_(rotor_.station(scene.model)),
+        model_(rotor_.adopt(scene.model)),
         solver_(&model_, scene.solver.iteration_force_rtol, static_cast<int>(scene.solver.iteration_max_iterations)),
         integrator_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         min_step_s_(scene.solver.min_step_s),
@@ -356,7 +351,7 @@ class IterationMethod final : public ContactMethod {
     const ModalState modal = modal_of<L>(x);
     const bool was_stick = system_.engaged && system_.mode.stick;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(rotor_.station(p));
+    model_ = StationModel(rotor_.adopt(p));
     k.rotor_pos += old_frame - model_.frame_shift();
     if (system_.engaged) {
       const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
@@ -439,7 +434,7 @@ class IterationMethod final : public ContactMethod {
     e.t_s = valid_end_;
     bool settles = true, at_rest = false;
     if (closes(g, k)) {
-      const JeffcottModel::FreeLoads free = loads(k, modal, d);
+      const FreeLoads free = loads(k, modal, d);
       const ImpactResult ir = apply_impact(model_, g, d, gap_tolerance_m_, free, k);
       // A motor's spin jumps with the impact, and the block with it (dxi' = h_xi dw).
       if constexpr (kMotor) {
@@ -485,11 +480,10 @@ class IterationMethod final : public ContactMethod {
     // (a stick force that jumped out of the cone at a drive change is not
     // applied there, the slip force is).
     const FrictionMode& mode = pending_.due && pending_.engaged && t_s >= pending_.t_s ? pending_.mode : system_.mode;
-    const JeffcottModel::FreeLoads free = loads(k, modal_of<L>(x), d);
+    const FreeLoads free = loads(k, modal_of<L>(x), d);
     ContactForces f;
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
-    Sample s =
-        make_sample(model_, t_s, k, d, g, free.unbalance_dir, f.normal_N, f.tangential_N, system_.engaged, &free);
+    Sample s = make_sample(model_, t_s, k, d, g, f.normal_N, f.tangential_N, system_.engaged, &free);
     s.sticking = system_.engaged && mode.stick;
     rotor_.finish_sample(model_, modal_of<L>(x), s);
     return s;
@@ -520,7 +514,7 @@ class IterationMethod final : public ContactMethod {
   };
 
   // The free loads of a state given by its station and block (the rotor's).
-  JeffcottModel::FreeLoads loads(const Kinematics& k, const ModalState& modal, const DriveState& d) const {
+  FreeLoads loads(const Kinematics& k, const ModalState& modal, const DriveState& d) const {
     return loads_at(rotor_, model_, k, d, modal);
   }
 
@@ -762,7 +756,7 @@ class IterationMethod final : public ContactMethod {
     const ContactGeometry g = model_.contact_geometry(k, d);
     const ContactForceSolver probe = solver_;
     long unused = 0;
-    const JeffcottModel::FreeLoads free = loads(k, modal_of<L>(integrator_.x_old()), d);
+    const FreeLoads free = loads(k, modal_of<L>(integrator_.x_old()), d);
     const ContactForces f = probe.solve(k, d, g, free, system_.mode, false, t_s, unused);
     return -system_.mode.slip_sign * solver_.sliding_acceleration(k, d, g, free, f.normal_N, f.tangential_N);
   }
@@ -843,7 +837,7 @@ class IterationMethod final : public ContactMethod {
   double mode_start_s_ = -1.0;        // when the current friction regime began
   bool slip_from_breakaway_ = false;  // that regime is a slip begun at a breakaway
   Rotor rotor_;
-  JeffcottModel model_;  // the station (Rotor::station)
+  StationModel model_;  // the station (Rotor::adopt)
   ContactForceSolver solver_;
   IterationSystem<kStatorDof, kMotor, Rotor> system_;
   Dense integrator_;

@@ -53,7 +53,7 @@ class PenaltyMethod final : public ContactMethod {
 
   explicit PenaltyMethod(const Scene& scene)
       : rotor_(scene),
-        model_(rotor_.station(scene.model)),
+        model_(rotor_.adopt(scene.model)),
         integrator_(make_integrator<Integrator>(scene.solver)),
         initial_step_s_(scene.solver.initial_step_s) {
     system_.model = &model_;
@@ -99,7 +99,7 @@ class PenaltyMethod final : public ContactMethod {
     Kinematics k = kinematics_at(t_s);
     const bool was_pressed = system_.law.edges(geometry_at(t_s))[kPressedEdge] > 0.0;
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(rotor_.station(p));
+    model_ = StationModel(rotor_.adopt(p));
     system_.law = PenaltyLaw(model_);
     k.rotor_pos += old_frame - model_.frame_shift();
     crossed_edge_ = -1;
@@ -190,8 +190,8 @@ class PenaltyMethod final : public ContactMethod {
     Sample s;
     if constexpr (kMotor) {
       // The spin's acceleration with the rotor's coupling (a block's included).
-      const JeffcottModel::FreeLoads free = loads_at(rotor_, model_, k, d, modal);
-      s = make_sample(model_, t_s, k, d, g, free.unbalance_dir, fn, ft, fn > 0.0, &free);
+      const FreeLoads free = loads_at(rotor_, model_, k, d, modal);
+      s = make_sample(model_, t_s, k, d, g, fn, ft, fn > 0.0, &free);
     } else {
       s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
     }
@@ -377,7 +377,7 @@ class PenaltyMethod final : public ContactMethod {
   PenaltyEdgeValues edges_at(double t_s) const { return system_.law.edges(geometry_at(t_s)); }
 
   Rotor rotor_;
-  JeffcottModel model_;  // the station (Rotor::station)
+  StationModel model_;  // the station (Rotor::adopt)
   PenaltySystem<kStatorDof, kMotor, kModeLocked, Rotor> system_;
   struct NoPolar {};
   std::conditional_t<kPolar, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;

@@ -71,7 +71,7 @@ double rk4_stable_step_s(const JeffcottModel& m) {
 double flexible_rk4_stable_step_s(const FlexibleRotorModel& rotor, const ModelParameters& scene_model,
                                   double max_speed_rad_per_s) {
   const ModelParameters p = station_parameters(scene_model, rotor);
-  const PenaltyLaw law{JeffcottModel(p)};
+  const PenaltyLaw law{StationModel(p)};
   const RotorMatrices& r = rotor.rotor().matrices;
   const int n_rotor = static_cast<int>(r.M.rows());
   const bool elastic = p.stator_model == StatorModel::kElastic;

@@ -52,7 +52,7 @@ Simulation::Simulation(const Scene& scene)
   // so that the first contact allocates nothing (test_allocations).
   step_events_.reserve(16);
   // Start at rest, centred: the run-up's initial condition.
-  method_->start(0.0, JeffcottModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
+  method_->start(0.0, StationModel(scene_.model).initial_kinematics(profile_.at(0.0)), profile_.segment_at(0.0));
   const double two_pi = 2.0 * M_PI;
   next_mark_angle_rad_ = two_pi * (std::floor(scene_.speed.initial_angle_rad / two_pi) + 1.0);
 }

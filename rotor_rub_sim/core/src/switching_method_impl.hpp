@@ -36,7 +36,7 @@ template <int kStatorDof, bool kMotor, class Rotor>
 struct FreeFlightSystem {
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
-  const JeffcottModel* model;
+  const StationModel* model;
   const Rotor* rotor = nullptr;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
@@ -49,7 +49,7 @@ struct FreeFlightSystem {
       // share of the spin's acceleration.
       const DriveState reference = segment.at(t);
       const DriveState d = model->drive_at(k, reference);
-      const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
+      const FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
       const Accelerations a = model->accelerations(d, ContactGeometry(), free, 0.0, 0.0);
       rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
       dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
@@ -89,7 +89,7 @@ struct FreeFlightSystem {
     }
     return 1;  // one derivative evaluation; the jerk from the free forces' rates
   }
-  // The unbalance's direction at the spin angle phi (JeffcottModel::unbalance_dir).
+  // The unbalance's direction at the spin angle phi (StationModel::unbalance_dir).
   Vec2 unbalance_at(double angle_rad) const { return model->unbalance_dir(angle_rad); }
 
  private:
@@ -169,7 +169,7 @@ class SwitchingMethod final : public ContactMethod {
 
   explicit SwitchingMethod(const Scene& scene)
       : rotor_(scene),
-        model_(rotor_.station(scene.model)),
+        model_(rotor_.adopt(scene.model)),
         free_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         contact_int_(scene.solver.atol, scene.solver.rtol, scene.solver.min_step_s, scene.solver.max_steps),
         initial_step_s_(scene.solver.initial_step_s),
@@ -259,7 +259,7 @@ class SwitchingMethod final : public ContactMethod {
       next_modal_ = modal_of<CL>(x);
     }
     const Vec2 old_frame = model_.frame_shift();
-    model_ = JeffcottModel(rotor_.station(p));
+    model_ = StationModel(rotor_.adopt(p));
     k.rotor_pos += old_frame - model_.frame_shift();
     pending_ = true;
     pending_t_ = t_s;
@@ -358,8 +358,7 @@ class SwitchingMethod final : public ContactMethod {
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, reference);
       const auto loads = motor_loads(k, d, modal_of<FL>(x));
-      return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), free_sys_.unbalance_at(d.angle_rad), 0.0,
-                         0.0, false, loads ? &*loads : nullptr);
+      return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), 0.0, 0.0, false, loads ? &*loads : nullptr);
     }
     typename CL::State x;
     contact_int_.state_at(t_s, x);
@@ -369,7 +368,7 @@ class SwitchingMethod final : public ContactMethod {
     if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
-      return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, 0.0, 0.0, true,
+      return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), 0.0, 0.0, true,
                          loads ? &*loads : nullptr);
     }
     if (pending_ && t_s >= pending_t_) {
@@ -379,12 +378,12 @@ class SwitchingMethod final : public ContactMethod {
       ConstrainedDynamics<kStatorDof, kMotor, Rotor> next = contact_sys_.dynamics;
       next.mode = next_mode_;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
-      Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.unbalance_dir,
-                             cn.normal_force_N, cn.tangential_force_N, true, loads ? &*loads : nullptr);
+      Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.normal_force_N,
+                             cn.tangential_force_N, true, loads ? &*loads : nullptr);
       s.sticking = next_mode_.stick;
       return s;
     }
-    Sample s = make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.unbalance_dir, c.normal_force_N,
+    Sample s = make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.normal_force_N,
                            c.tangential_force_N, true, loads ? &*loads : nullptr);
     s.sticking = contact_sys_.dynamics.mode.stick;
     return s;
@@ -392,8 +391,7 @@ class SwitchingMethod final : public ContactMethod {
 
   // The rotor's free loads under a motor drive (a sample's spin
   // acceleration takes a block's coupling in); none for the prescribed drive.
-  std::optional<JeffcottModel::FreeLoads> motor_loads(const Kinematics& k, const DriveState& d,
-                                                      const ModalState& modal) const {
+  std::optional<FreeLoads> motor_loads(const Kinematics& k, const DriveState& d, const ModalState& modal) const {
     if constexpr (kMotor) {
       return loads_at(rotor_, model_, k, d, modal);
     } else {
@@ -591,7 +589,7 @@ class SwitchingMethod final : public ContactMethod {
     bool settles = true, at_rest = false;
     const bool closing = closes(g, k_at);
     if (closing) {
-      const JeffcottModel::FreeLoads free = loads_at(rotor_, model_, k_at, d_at, next_modal_);
+      const FreeLoads free = loads_at(rotor_, model_, k_at, d_at, next_modal_);
       const ImpactResult ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
       // A motor's spin jumps with the impact, and the block with it (dxi' = h_xi dw).
       if constexpr (kMotor) {
@@ -691,7 +689,7 @@ class SwitchingMethod final : public ContactMethod {
   // rkf78 and dop853, whose steps turn the spin by up to about 3 rad.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
   Rotor rotor_;
-  JeffcottModel model_;  // the station (Rotor::station)
+  StationModel model_;  // the station (Rotor::adopt)
   FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
   ContactSystem<kStatorDof, kMotor, Rotor> contact_sys_;
   Dense<FL> free_int_;

@@ -55,7 +55,7 @@ template <int kStatorDof, bool kMotor = false, class Rotor = JeffcottRotor>
 struct ConstrainedDynamics {
   using L = ContactLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
-  const JeffcottModel* model = nullptr;
+  const StationModel* model = nullptr;
   const Rotor* rotor = nullptr;
   FrictionMode mode;
 
@@ -290,7 +290,7 @@ struct ConstrainedDynamics {
     // flexible rotor's with the spin coupling of its unbalances.
     const int n = modal_count<L>(x);
     r.modal_acc.resize(n);
-    const JeffcottModel::FreeLoads loads = rotor->loads(*model, r.kin, d, x.tail(2 * n), r.modal_acc);
+    const FreeLoads loads = rotor->loads(*model, r.kin, d, x.tail(2 * n), r.modal_acc);
     r.unbalance_dir = loads.unbalance_dir;
     const Accelerations free = model->accelerations(d, g, loads, 0.0, 0.0);
     const ContactCompliance w = model->contact_compliance(g, loads.spin);

@@ -102,20 +102,20 @@ inline double contact_damping_ratio(const ModelParameters& p) {
 
 // The penalty damper c_c [N s/m]: the scene's contact_damping_N_s_per_m
 // where given, else 2 zeta sqrt(k_c m_eff) with zeta from the restitution.
-inline double contact_damping_N_s_per_m(const JeffcottModel& m) {
+inline double contact_damping_N_s_per_m(const StationModel& m) {
   const ModelParameters& p = m.parameters();
   if (p.contact_damping_N_s_per_m > 0.0) return p.contact_damping_N_s_per_m;
   return 2.0 * contact_damping_ratio(p) * std::sqrt(p.contact_stiffness_N_per_m * m.effective_mass_kg());
 }
 
 // The same as a damping ratio of the contact mode, c_c / (2 sqrt(k_c m_eff)).
-inline double contact_damping_ratio(const JeffcottModel& m) {
+inline double contact_damping_ratio(const StationModel& m) {
   return contact_damping_N_s_per_m(m) /
          (2.0 * std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg()));
 }
 
 // The tangential damper of the penalty friction [N s/m].
-inline double tangential_damping_N_s_per_m(const JeffcottModel& m) {
+inline double tangential_damping_N_s_per_m(const StationModel& m) {
   return 2.0 * std::sqrt(m.parameters().contact_stiffness_N_per_m * m.effective_mass_kg());
 }
 
@@ -156,9 +156,9 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 }
 // The same from the state's free loads (a flexible rotor's station force
 // holds its modal coordinates, which k does not).
-inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
-                                    const ContactGeometry& g, const JeffcottModel::FreeLoads& free) {
-  return JeffcottModel::distance_acceleration(k, g, m.accelerations(d, g, free, 0.0, 0.0));
+inline double pressing_acceleration(const StationModel& m, const Kinematics& k, const DriveState& d,
+                                    const ContactGeometry& g, const FreeLoads& free) {
+  return StationModel::distance_acceleration(k, g, m.accelerations(d, g, free, 0.0, 0.0));
 }
 
 // The impact law when the spin takes part (a motor drive): the tangential
@@ -182,7 +182,7 @@ inline double pressing_acceleration(const JeffcottModel& m, const Kinematics& k,
 // demands (a flexible rotor's counterpart: validate_flexible_spin); the
 // check below is the guard behind it.
 // sc: the state's spin coupling (FreeLoads::spin).
-inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const ContactGeometry& g, const SpinCoupling& sc,
+inline ImpactResult apply_impact_with_spin(const StationModel& m, const ContactGeometry& g, const SpinCoupling& sc,
                                            double e, ImpactResult r, Kinematics& k) {
   const ModelParameters& p = m.parameters();
   const ContactCompliance w = m.contact_compliance(g, sc);
@@ -235,8 +235,8 @@ inline ImpactResult apply_impact_with_spin(const JeffcottModel& m, const Contact
 // settle_apex_m: a rebound whose flight apex would stay below it settles.
 // free: the state's free loads (model.hpp; a flexible rotor's from its
 // model), which decide whether a slow rebound settles.
-inline ImpactResult apply_impact(const JeffcottModel& m, const ContactGeometry& g, const DriveState& d,
-                                 double settle_apex_m, const JeffcottModel::FreeLoads& free, Kinematics& k) {
+inline ImpactResult apply_impact(const StationModel& m, const ContactGeometry& g, const DriveState& d,
+                                 double settle_apex_m, const FreeLoads& free, Kinematics& k) {
   const ModelParameters& p = m.parameters();
   ImpactResult r;
   r.closing_velocity_m_per_s = g.normal_velocity_m_per_s;

@@ -263,19 +263,19 @@ void check_modal_block(const FlexibleRotorModel& rotor, const Modal& modal) {
   }
 }
 
-/// The free loads of a flexible rotor's state as the contact's functions
-/// take the Jeffcott's (model.hpp's FreeLoads): m the station's bare model
-/// (station_parameters), k the station and stator, modal its [xi; xi'], d
-/// the drive (drive_at); xi'' written to modal_acc. Under a motor drive
+/// The free loads of a flexible rotor's state (model.hpp's FreeLoads): m the
+/// station (station_parameters), k the station and stator, modal its
+/// [xi; xi'], d the drive (drive_at); xi'' written to modal_acc. Under a motor drive
 /// without the spin's share, which the caller adds once the spin's
 /// acceleration is known (FlexibleRotorModel::add_spin_share); free.spin
 /// then holds the coupling.
 template <class Modal, class Out>
-JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const FlexibleRotorModel& rotor,
-                                             const Kinematics& k, const DriveState& d,
-                                             const Eigen::MatrixBase<Modal>& modal,
-                                             const Eigen::MatrixBase<Out>& modal_acc) {
-  JeffcottModel::FreeLoads free = m.free_loads(k, d);
+FreeLoads flexible_free_loads(const StationModel& m, const FlexibleRotorModel& rotor, const Kinematics& k,
+                              const DriveState& d, const Eigen::MatrixBase<Modal>& modal,
+                              const Eigen::MatrixBase<Out>& modal_acc) {
+  FreeLoads free;
+  free.unbalance_dir = m.unbalance_dir(d.angle_rad);
+  free.stator_N = m.stator_free_force(k);
   const double accel = m.motor() ? 0.0 : d.accel_rad_per_s2;  // a motor's enters through free.spin
   free.rotor_N = rotor.free_loads(k.rotor_pos + m.frame_shift(), k.rotor_vel, modal, free.unbalance_dir,
                                   d.speed_rad_per_s, accel, modal_acc);
@@ -285,12 +285,12 @@ JeffcottModel::FreeLoads flexible_free_loads(const JeffcottModel& m, const Flexi
 }
 
 /// A flexible rotor's sample s under the prescribed drive: the drive torque
-/// reported for the bare station (m's, J A - R_r F_t) less the rotor's
+/// reported for the station (m's, J A - R_r F_t) less the rotor's
 /// lateral torque on the spin (lateral_torque_N_m), from s's station, drive
 /// and contact force and its modal block [xi; xi']. A motor's torque is the
 /// motor's own: s is left as it is.
 template <class Modal>
-void add_lateral_torque(const JeffcottModel& m, const FlexibleRotorModel& rotor, const Eigen::MatrixBase<Modal>& modal,
+void add_lateral_torque(const StationModel& m, const FlexibleRotorModel& rotor, const Eigen::MatrixBase<Modal>& modal,
                         Sample& s) {
   if (m.motor()) return;
   const Vec2 dir = m.unbalance_dir(s.drive.angle_rad);
@@ -333,14 +333,12 @@ std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene);
 /// Sets scene.rotor.loaded to flexible_rotor_of(scene) (nothing for the Jeffcott).
 void load_rotor(Scene& scene);
 
-/// What the contact methods' JeffcottModel holds for a flexible rotor: the
-/// station as a bare point of mass m_st (rotor_mass_kg), every other force
-/// on it the flexible model's: the methods replace the JeffcottModel's
-/// rotor force with FlexibleRotorModel::free_loads (flexible_free_loads),
-/// the station's share of the weight included; rotor_stiffness_N_per_m,
-/// rotor_damping_N_s_per_m and eccentricity_m are set to 0 besides. The
-/// contact radius is the rub station's (rotor_radius_m) where the file
-/// gives one. The rest is the scene's (the stator's weight among it).
+/// The station's parameters of a flexible rotor (StationModel, model.hpp):
+/// a point of mass m_st (rotor_mass_kg), every other force on it the
+/// flexible model's (FlexibleRotor, rotor_model.hpp: the station's share of
+/// the weight included); the contact radius the rub station's
+/// (rotor_radius_m) where the file gives one. The rest is the scene's (the
+/// stator's weight among it); the Jeffcott's shaft keys are not read.
 ModelParameters station_parameters(const ModelParameters& scene, const FlexibleRotorModel& rotor);
 
 /// The radius the rotor slides at in a scene [m]: a flexible rotor's rub

@@ -267,9 +267,27 @@ struct ContactGeometry {
   Vec2 tangent = Vec2::UnitY();           // t = n rotated +90 deg
 };
 
-class JeffcottModel {
+// The loads of a state that do not depend on the contact forces, as a rotor
+// model gives them (rotor_model.hpp): where several trial forces meet one
+// state (the iteration method's roots, a sample) they are computed once,
+// with the unbalance's sin/cos, not again for every trial force.
+struct FreeLoads {
+  Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of the spin angle
+  Vec2 rotor_N = Vec2::Zero();         // on the station: every force but the contact's (a motor's A share apart)
+  Vec2 stator_N = Vec2::Zero();        // StationModel::stator_free_force
+  SpinCoupling spin;                   // motor only: the rotor's spin coupling
+};
+
+// The rub station and the stator: what the contact sees of any rotor (the
+// rotor models of rotor_model.hpp add the rotor's own forces, FreeLoads).
+// The station is a point of mass m_r (rotor_mass_kg: the Jeffcott's disk, a
+// flexible rotor's station mass) at radius R_r (rotor_radius_m); the shaft's
+// stiffness, damping and eccentricity are the Jeffcott's (JeffcottModel), not
+// the station's. Masses, the stator, the contact's geometry, its compliance
+// and impulses, the drive.
+class StationModel {
  public:
-  explicit JeffcottModel(const ModelParameters& p)
+  explicit StationModel(const ModelParameters& p)
       : p_(p),
         inv_rotor_mass_(1.0 / p.rotor_mass_kg),
         inv_stator_mass_(p.stator_model == StatorModel::kRigid ? 0.0 : 1.0 / p.stator_mass_kg),
@@ -277,14 +295,12 @@ class JeffcottModel {
         inv_clearance_(1.0 / p.clearance_m),
         has_friction_(p.friction_coefficient > 0.0),
         motor_(p.drive_model == DriveModel::kMotor),
-        inv_polar_inertia_(1.0 / p.rotor_polar_inertia_kg_m2),
         stator_offset_(p.stator_offset_x_m, p.stator_offset_y_m) {
     // A rigid stator has no state: the methods work in its frame (its centre
-    // at the origin), where the shaft's spring centre is -offset; samples are
-    // shifted back by +offset (frame_shift()). An elastic stator's springs pull
-    // it to the offset; the frame is the casing's.
+    // at the origin); samples are shifted back by +offset (frame_shift()). An
+    // elastic stator's springs pull it to the offset; the frame is the
+    // casing's.
     const bool rigid = p.stator_model == StatorModel::kRigid;
-    rotor_spring_centre_ = rigid ? Vec2(-stator_offset_) : Vec2::Zero();
     stator_spring_centre_ = rigid ? Vec2::Zero() : stator_offset_;
     frame_shift_ = rigid ? stator_offset_ : Vec2::Zero();
   }
@@ -354,6 +370,155 @@ class JeffcottModel {
     return out;
   }
 
+  // The drive's torque on the station's spin [N m]: the motor's, or the one
+  // an ideal prescribed drive needs for the spin acceleration A it imposes
+  // against the rub, J A - R_r F_t. A rotor's lateral motion acting on the
+  // spin through its unbalances is the rotor model's to add (finish_sample:
+  // the Jeffcott's - e F . u, a flexible rotor's - h^T q'').
+  double station_drive_torque_N_m(const DriveState& d, double tangential_force_N) const {
+    if (motor_) return d.motor_torque_N_m;
+    return p_.rotor_polar_inertia_kg_m2 * d.accel_rad_per_s2 - p_.rotor_radius_m * tangential_force_N;
+  }
+  // The rub's torque on the rotor about its spin axis [N m] (< 0 brakes a
+  // rotor spinning forward).
+  double friction_torque_N_m(double tangential_force_N) const { return p_.rotor_radius_m * tangential_force_N; }
+
+  Vec2 stator_free_force_derivative(const Kinematics& k, const Vec2& stator_acc) const {
+    if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
+    return -p_.stator_stiffness_N_per_m * k.stator_vel - p_.stator_damping_N_s_per_m * stator_acc;
+  }
+
+  // All forces on the stator except contact [N] (zero for a rigid stator,
+  // whose acceleration is zero anyway).
+  Vec2 stator_free_force(const Kinematics& k) const {
+    if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
+    // Per component, as rotor_free_force (the store forwarding).
+    const double ks = -p_.stator_stiffness_N_per_m, bs = p_.stator_damping_N_s_per_m;
+    const double fx = ks * (k.stator_pos.x() - stator_spring_centre_.x()) - bs * k.stator_vel.x();
+    const double fy = (ks * (k.stator_pos.y() - stator_spring_centre_.y()) - bs * k.stator_vel.y()) -
+                      p_.stator_mass_kg * p_.gravity_m_per_s2;
+    return Vec2(fx, fy);
+  }
+
+  ContactGeometry contact_geometry(const Kinematics& k, const DriveState& d) const {
+    ContactGeometry g;
+    const Vec2 rel = k.rotor_pos - k.stator_pos;
+    g.distance_m = rel.norm();
+    // The normal is undefined only with the rotor exactly centred, far from
+    // any contact; any unit vector then does.
+    if (g.distance_m > 0.0) g.normal = rel / g.distance_m;
+    g.tangent = Vec2(-g.normal.y(), g.normal.x());
+    g.penetration_m = g.distance_m - p_.clearance_m;
+    const Vec2 rel_vel = k.rotor_vel - k.stator_vel;
+    g.normal_velocity_m_per_s = rel_vel.dot(g.normal);
+    g.sliding_velocity_m_per_s = rel_vel.dot(g.tangent) + d.speed_rad_per_s * p_.rotor_radius_m;
+    return g;
+  }
+
+  // The contact force on the rotor for normal force F_n >= 0 and tangential
+  // force F_t along t [N] (the stator gets the opposite).
+  static Vec2 contact_force_on_rotor(const ContactGeometry& g, double normal_force_N, double tangential_force_N) {
+    return -normal_force_N * g.normal + tangential_force_N * g.tangent;
+  }
+
+  // Accelerations of rotor, stator and spin under given contact forces, for
+  // the drive d of drive_at() and the state's free loads (its rotor model's) [m/s^2, rad/s^2].
+  Accelerations accelerations(const DriveState& d, const ContactGeometry& g, const FreeLoads& free,
+                              double normal_force_N, double tangential_force_N) const {
+    Accelerations a;
+    const Vec2 on_rotor = contact_force_on_rotor(g, normal_force_N, tangential_force_N);
+    if (!motor_) {
+      a.rotor = (free.rotor_N + on_rotor) * inv_rotor_mass_;
+      a.spin_rad_per_s2 = d.accel_rad_per_s2;
+    } else {
+      // The spin equation first (SpinCoupling), then the rotor's with it.
+      const SpinCoupling& sc = free.spin;
+      const Vec2 at_centre = free.rotor_N + on_rotor;
+      a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N + sc.extra_torque_N_m +
+                           sc.lever_m.dot(at_centre)) *
+                          sc.inv_inertia_per_kg_m2;
+      a.rotor = at_centre * inv_rotor_mass_ + a.spin_rad_per_s2 * sc.lever_m + sc.bias_acc_m_per_s2;
+    }
+    a.stator = (free.stator_N - on_rotor) * inv_stator_mass_;
+    return a;
+  }
+
+  // The compliance W of the contact (ContactCompliance) at g for the state's
+  // spin coupling (a motor's; FreeLoads::spin):
+  // with h = (n . lever, R_r + t . lever), W = I / m_eff + h h^T / J_eff.
+  ContactCompliance contact_compliance(const ContactGeometry& g, const SpinCoupling& sc) const {
+    ContactCompliance w;
+    const double im = inv_rotor_mass_ + inv_stator_mass_;
+    w.nn = w.tt = im;
+    if (motor_) {
+      const double hn = g.normal.dot(sc.lever_m);
+      const double ht = p_.rotor_radius_m + g.tangent.dot(sc.lever_m);
+      w.nn += hn * hn * sc.inv_inertia_per_kg_m2;
+      w.nt = hn * ht * sc.inv_inertia_per_kg_m2;
+      w.tt += ht * ht * sc.inv_inertia_per_kg_m2;
+    }
+    return w;
+  }
+
+  // Applies an impulse on the rotor P (-P_n n + P_t t at the contact; the
+  // stator gets the opposite) to the velocities, the spin's included (the
+  // state's spin coupling sc, a motor's). Returns the spin speed's jump
+  // [rad/s] (0 under the prescribed drive): a flexible rotor's modes take
+  // their share of it (FlexibleRotorModel::add_spin_share).
+  double apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
+                       const SpinCoupling& sc, Kinematics& k) const {
+    const Vec2 on_rotor = contact_force_on_rotor(g, normal_impulse_N_s, tangential_impulse_N_s);
+    k.rotor_vel += on_rotor * inv_rotor_mass_;
+    k.stator_vel -= on_rotor * inv_stator_mass_;
+    if (!motor_) return 0.0;
+    const double dw =
+        (p_.rotor_radius_m * tangential_impulse_N_s + sc.lever_m.dot(on_rotor)) * sc.inv_inertia_per_kg_m2;
+    k.spin.speed_rad_per_s += dw;
+    k.rotor_vel += dw * sc.lever_m;
+    return dw;
+  }
+  // Second time derivative of delta for given accelerations:
+  // delta'' = n . (a_r - a_s) + |v_rel . t|^2 / delta.
+  static double distance_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) {
+    const double vt = (k.rotor_vel - k.stator_vel).dot(g.tangent);
+    return g.normal.dot(a.rotor - a.stator) + vt * vt / g.distance_m;
+  }
+
+  // Time derivative of v_slide for given accelerations:
+  // v_slide' = t . (a_r - a_s) - (v_rel . n)(v_rel . t) / delta + A R_r.
+  double sliding_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) const {
+    const Vec2 v = k.rotor_vel - k.stator_vel;
+    return g.tangent.dot(a.rotor - a.stator) - v.dot(g.normal) * v.dot(g.tangent) / g.distance_m +
+           a.spin_rad_per_s2 * p_.rotor_radius_m;
+  }
+
+ protected:
+  ModelParameters p_;
+  double inv_rotor_mass_;
+  double inv_stator_mass_;
+  double effective_mass_kg_;
+  double inv_clearance_;
+  bool has_friction_;
+  bool motor_;
+  Vec2 stator_offset_, stator_spring_centre_, frame_shift_;
+};
+
+// The paper's Jeffcott rotor on its station: the shaft's spring k_r and
+// damper b_r about the casing's centre and the unbalance m_r e (the header
+// comment's equations); JeffcottRotor (rotor_model.hpp) gives the methods its
+// free loads.
+class JeffcottModel : public StationModel {
+ public:
+  explicit JeffcottModel(const ModelParameters& p)
+      : StationModel(p),
+        inv_polar_inertia_(1.0 / p.rotor_polar_inertia_kg_m2),
+        // The shaft's spring centre is the casing's origin: -offset in a
+        // rigid stator's frame.
+        rotor_spring_centre_(p.stator_model == StatorModel::kRigid ? Vec2(-stator_offset_) : Vec2::Zero()) {}
+  using StationModel::accelerations;
+  using StationModel::apply_impulse;
+  using StationModel::contact_compliance;
+
   // The torque the drive applies to the rotor [N m]: the motor's, or the one
   // an ideal prescribed drive needs for the spin acceleration A it imposes,
   // J_G A - R_r F_t - e F . u (the spin equation solved for T).
@@ -368,13 +533,18 @@ class JeffcottModel {
     if (motor_) return d.motor_torque_N_m;
     const Vec2 u(unbalance_dir.y(), -unbalance_dir.x());
     const Vec2 at_centre = shaft_force(k) + contact_force_on_rotor(g, normal_force_N, tangential_force_N);
-    return p_.rotor_polar_inertia_kg_m2 * d.accel_rad_per_s2 - p_.rotor_radius_m * tangential_force_N -
-           p_.eccentricity_m * at_centre.dot(u);
+    return station_drive_torque_N_m(d, tangential_force_N) - p_.eccentricity_m * at_centre.dot(u);
   }
-  // The rub's torque on the rotor about its spin axis [N m] (< 0 brakes a
-  // rotor spinning forward).
-  double friction_torque_N_m(double tangential_force_N) const { return p_.rotor_radius_m * tangential_force_N; }
-
+  // e F . u, the unbalance's lever torque on the spin that the prescribed
+  // drive supplies besides J A - R_r F_t (station_drive_torque_N_m), for
+  // kinematics in the casing's frame (a sample's: the shaft's spring centre
+  // at the origin) and the contact force on the rotor [N m].
+  double unbalance_torque_N_m(const Kinematics& casing, const DriveState& d, const Vec2& contact_force_N) const {
+    const Vec2 dir = unbalance_dir(d.angle_rad);
+    const Vec2 u(dir.y(), -dir.x());
+    const Vec2 shaft = -p_.rotor_stiffness_N_per_m * casing.rotor_pos - p_.rotor_damping_N_s_per_m * casing.rotor_vel;
+    return p_.eccentricity_m * (shaft + contact_force_N).dot(u);
+  }
   // The shaft's spring and damper on the rotor [N].
   Vec2 shaft_force(const Kinematics& k) const {
     return -p_.rotor_stiffness_N_per_m * (k.rotor_pos - rotor_spring_centre_) -
@@ -444,54 +614,6 @@ class JeffcottModel {
     return (-p_.rotor_stiffness_N_per_m * k.rotor_vel - p_.rotor_damping_N_s_per_m * rotor_acc) +
            rotor_free_force_rate(d, unbalance_dir);
   }
-  Vec2 stator_free_force_derivative(const Kinematics& k, const Vec2& stator_acc) const {
-    if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
-    return -p_.stator_stiffness_N_per_m * k.stator_vel - p_.stator_damping_N_s_per_m * stator_acc;
-  }
-
-  // All forces on the stator except contact [N] (zero for a rigid stator,
-  // whose acceleration is zero anyway).
-  Vec2 stator_free_force(const Kinematics& k) const {
-    if (p_.stator_model == StatorModel::kRigid) return Vec2::Zero();
-    // Per component, as rotor_free_force (the store forwarding).
-    const double ks = -p_.stator_stiffness_N_per_m, bs = p_.stator_damping_N_s_per_m;
-    const double fx = ks * (k.stator_pos.x() - stator_spring_centre_.x()) - bs * k.stator_vel.x();
-    const double fy = (ks * (k.stator_pos.y() - stator_spring_centre_.y()) - bs * k.stator_vel.y()) -
-                      p_.stator_mass_kg * p_.gravity_m_per_s2;
-    return Vec2(fx, fy);
-  }
-
-  ContactGeometry contact_geometry(const Kinematics& k, const DriveState& d) const {
-    ContactGeometry g;
-    const Vec2 rel = k.rotor_pos - k.stator_pos;
-    g.distance_m = rel.norm();
-    // The normal is undefined only with the rotor exactly centred, far from
-    // any contact; any unit vector then does.
-    if (g.distance_m > 0.0) g.normal = rel / g.distance_m;
-    g.tangent = Vec2(-g.normal.y(), g.normal.x());
-    g.penetration_m = g.distance_m - p_.clearance_m;
-    const Vec2 rel_vel = k.rotor_vel - k.stator_vel;
-    g.normal_velocity_m_per_s = rel_vel.dot(g.normal);
-    g.sliding_velocity_m_per_s = rel_vel.dot(g.tangent) + d.speed_rad_per_s * p_.rotor_radius_m;
-    return g;
-  }
-
-  // The contact force on the rotor for normal force F_n >= 0 and tangential
-  // force F_t along t [N] (the stator gets the opposite).
-  static Vec2 contact_force_on_rotor(const ContactGeometry& g, double normal_force_N, double tangential_force_N) {
-    return -normal_force_N * g.normal + tangential_force_N * g.tangent;
-  }
-
-  // The loads of a state that do not depend on the contact forces: where
-  // several trial forces meet one state (the iteration method's roots, a
-  // sample) they are computed once, with the unbalance's sin/cos, not again
-  // for every trial force.
-  struct FreeLoads {
-    Vec2 unbalance_dir = Vec2::UnitX();  // (cos phi, sin phi) of d.angle_rad
-    Vec2 rotor_N = Vec2::Zero();         // prescribed: rotor_free_force; motor: shaft_force
-    Vec2 stator_N = Vec2::Zero();        // stator_free_force
-    SpinCoupling spin;                   // motor only: spin_coupling()
-  };
   FreeLoads free_loads(const Kinematics& k, const DriveState& d) const {
     return free_loads(k, d, unbalance_dir(d.angle_rad));
   }
@@ -520,65 +642,11 @@ class JeffcottModel {
                               double tangential_force_N) const {
     return accelerations(d, g, free_loads(k, d), normal_force_N, tangential_force_N);
   }
-  // The same from the state's free loads (free_loads(k, d)).
-  Accelerations accelerations(const DriveState& d, const ContactGeometry& g, const FreeLoads& free,
-                              double normal_force_N, double tangential_force_N) const {
-    Accelerations a;
-    const Vec2 on_rotor = contact_force_on_rotor(g, normal_force_N, tangential_force_N);
-    if (!motor_) {
-      a.rotor = (free.rotor_N + on_rotor) * inv_rotor_mass_;
-      a.spin_rad_per_s2 = d.accel_rad_per_s2;
-    } else {
-      // The spin equation first (SpinCoupling), then the rotor's with it.
-      const SpinCoupling& sc = free.spin;
-      const Vec2 at_centre = free.rotor_N + on_rotor;
-      a.spin_rad_per_s2 = (d.motor_torque_N_m + p_.rotor_radius_m * tangential_force_N + sc.extra_torque_N_m +
-                           sc.lever_m.dot(at_centre)) *
-                          sc.inv_inertia_per_kg_m2;
-      a.rotor = at_centre * inv_rotor_mass_ + a.spin_rad_per_s2 * sc.lever_m + sc.bias_acc_m_per_s2;
-    }
-    a.stator = (free.stator_N - on_rotor) * inv_stator_mass_;
-    return a;
-  }
-
   // The compliance W of the contact (ContactCompliance) at g under drive d.
   // The Jeffcott's, whose spin coupling follows from d.
   ContactCompliance contact_compliance(const ContactGeometry& g, const DriveState& d) const {
     return contact_compliance(g,
                               motor_ ? spin_coupling(unbalance_dir(d.angle_rad), d.speed_rad_per_s) : SpinCoupling());
-  }
-  // The same given the state's spin coupling (a motor's; FreeLoads::spin):
-  // with h = (n . lever, R_r + t . lever), W = I / m_eff + h h^T / J_eff.
-  ContactCompliance contact_compliance(const ContactGeometry& g, const SpinCoupling& sc) const {
-    ContactCompliance w;
-    const double im = inv_rotor_mass_ + inv_stator_mass_;
-    w.nn = w.tt = im;
-    if (motor_) {
-      const double hn = g.normal.dot(sc.lever_m);
-      const double ht = p_.rotor_radius_m + g.tangent.dot(sc.lever_m);
-      w.nn += hn * hn * sc.inv_inertia_per_kg_m2;
-      w.nt = hn * ht * sc.inv_inertia_per_kg_m2;
-      w.tt += ht * ht * sc.inv_inertia_per_kg_m2;
-    }
-    return w;
-  }
-
-  // Applies an impulse on the rotor P (-P_n n + P_t t at the contact; the
-  // stator gets the opposite) to the velocities, the spin's included (the
-  // state's spin coupling sc, a motor's). Returns the spin speed's jump
-  // [rad/s] (0 under the prescribed drive): a flexible rotor's modes take
-  // their share of it (FlexibleRotorModel::add_spin_share).
-  double apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
-                       const SpinCoupling& sc, Kinematics& k) const {
-    const Vec2 on_rotor = contact_force_on_rotor(g, normal_impulse_N_s, tangential_impulse_N_s);
-    k.rotor_vel += on_rotor * inv_rotor_mass_;
-    k.stator_vel -= on_rotor * inv_stator_mass_;
-    if (!motor_) return 0.0;
-    const double dw =
-        (p_.rotor_radius_m * tangential_impulse_N_s + sc.lever_m.dot(on_rotor)) * sc.inv_inertia_per_kg_m2;
-    k.spin.speed_rad_per_s += dw;
-    k.rotor_vel += dw * sc.lever_m;
-    return dw;
   }
   // The Jeffcott's, whose spin coupling follows from k.
   double apply_impulse(const ContactGeometry& g, double normal_impulse_N_s, double tangential_impulse_N_s,
@@ -588,37 +656,15 @@ class JeffcottModel {
     return apply_impulse(g, normal_impulse_N_s, tangential_impulse_N_s, sc, k);
   }
 
-  // Second time derivative of delta for given accelerations:
-  // delta'' = n . (a_r - a_s) + |v_rel . t|^2 / delta.
-  static double distance_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) {
-    const double vt = (k.rotor_vel - k.stator_vel).dot(g.tangent);
-    return g.normal.dot(a.rotor - a.stator) + vt * vt / g.distance_m;
-  }
-
-  // Time derivative of v_slide for given accelerations:
-  // v_slide' = t . (a_r - a_s) - (v_rel . n)(v_rel . t) / delta + A R_r.
-  double sliding_acceleration(const Kinematics& k, const ContactGeometry& g, const Accelerations& a) const {
-    const Vec2 v = k.rotor_vel - k.stator_vel;
-    return g.tangent.dot(a.rotor - a.stator) - v.dot(g.normal) * v.dot(g.tangent) / g.distance_m +
-           a.spin_rad_per_s2 * p_.rotor_radius_m;
-  }
-
  private:
-  ModelParameters p_;
-  double inv_rotor_mass_;
-  double inv_stator_mass_;
-  double effective_mass_kg_;
-  double inv_clearance_;
-  bool has_friction_;
-  bool motor_;
   double inv_polar_inertia_;
-  Vec2 stator_offset_, rotor_spring_centre_, stator_spring_centre_, frame_shift_;
+  Vec2 rotor_spring_centre_;
 };
 
 // The drive's rows of a method's derivative (kMotor only): phi' = w,
 // w' = the spin acceleration, z' = the controller's integral rate.
 template <class L, class State>
-void spin_derivative(const JeffcottModel& m, const Kinematics& k, const DriveState& reference, double spin_acc,
+void spin_derivative(const StationModel& m, const Kinematics& k, const DriveState& reference, double spin_acc,
                      State& dxdt) {
   if constexpr (L::kSpinSize > 0) {
     dxdt[L::kSpinAngle] = k.spin.speed_rad_per_s;
@@ -631,7 +677,7 @@ void spin_derivative(const JeffcottModel& m, const Kinematics& k, const DriveSta
 // (the penalty and iteration methods): positions' rates the velocities, the
 // velocities' the accelerations, the drive's rows (spin_derivative).
 template <class L, class State>
-void free_derivative(const JeffcottModel& m, const Kinematics& k, const DriveState& reference, const Accelerations& a,
+void free_derivative(const StationModel& m, const Kinematics& k, const DriveState& reference, const Accelerations& a,
                      State& dxdt) {
   dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
   dxdt.template segment<2>(L::kRotorVel) = a.rotor;

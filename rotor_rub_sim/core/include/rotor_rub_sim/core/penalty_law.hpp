@@ -59,7 +59,7 @@ struct PenaltyLaw {
   double tangential_damping_N_s_per_m = 0.0;
 
   PenaltyLaw() = default;
-  explicit PenaltyLaw(const JeffcottModel& m)
+  explicit PenaltyLaw(const StationModel& m)
       : stiffness_N_per_m(m.parameters().contact_stiffness_N_per_m),
         damping_N_s_per_m(contact_damping_N_s_per_m(m)),
         friction_coefficient(m.parameters().friction_coefficient),

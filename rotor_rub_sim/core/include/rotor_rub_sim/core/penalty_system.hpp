@@ -34,7 +34,7 @@ template <int kStatorDof, bool kMotor, bool kModeLocked, class Rotor = JeffcottR
 struct PenaltySystem {
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
-  const JeffcottModel* model = nullptr;
+  const StationModel* model = nullptr;
   const Rotor* rotor = nullptr;
   PenaltyLaw law;
   PenaltyMode mode;  // the smooth piece being integrated (penalty_law.hpp)
@@ -42,18 +42,19 @@ struct PenaltySystem {
   double* rhs_time_s = nullptr;  // profiling only
 
   // The accelerations under the law (the mode's, or the clamped law) at
-  // kinematics k, the drive d of drive_at() [m/s^2, rad/s^2].
+  // kinematics k, the drive d of drive_at() [m/s^2, rad/s^2], of a rotor
+  // whose state is the station's alone (the polar coordinates').
   Accelerations accelerations(const Kinematics& k, const DriveState& d) const {
     return accelerations(k, d, model->contact_geometry(k, d));
   }
   // The same given the contact's geometry g at k (the polar coordinates
   // have it without the round trip through the positions).
   Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g) const {
-    return accelerations(d, g, model->free_loads(k, d));
+    static_assert(Rotor::kStationOnly, "a rotor's block is in its free loads");
+    return accelerations(d, g, loads_at(*rotor, *model, k, d, ModalState()));
   }
-  // The same from the state's free loads (a flexible rotor's with its modes).
-  Accelerations accelerations(const DriveState& d, const ContactGeometry& g,
-                              const JeffcottModel::FreeLoads& free) const {
+  // The same from the state's free loads (the rotor model's).
+  Accelerations accelerations(const DriveState& d, const ContactGeometry& g, const FreeLoads& free) const {
     double fn, ft;
     if constexpr (kModeLocked) {
       if (mode.clamped) {
@@ -77,7 +78,7 @@ struct PenaltySystem {
     const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState reference = segment.at(t);
     const DriveState d = model->drive_at(k, reference);
-    const JeffcottModel::FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
+    const FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
     const Accelerations a = accelerations(d, model->contact_geometry(k, d), free);
     // A motor's spin: the rotor's block takes its share of its acceleration.
     if constexpr (kMotor) rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
@@ -103,7 +104,7 @@ struct PenaltySystem {
     const PenaltyMode m = mode.clamped ? law.mode_of(law.edges(g)) : mode;
     const double radius_m = model->parameters().rotor_radius_m;
     const auto c = law.force_jacobian(g, k.rotor_vel - k.stator_vel, m, d.accel_rad_per_s2 * radius_m);
-    const JeffcottModel::FreeForceGains free = model->free_force_gains();
+    const JeffcottModel::FreeForceGains free = rotor->jeffcott().free_force_gains();
     const double imr = model->inv_rotor_mass();
     const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
     jac.setZero();
@@ -111,7 +112,7 @@ struct PenaltySystem {
     jac.template block<2, 2>(L::kRotorPos, L::kRotorVel) = eye;
     jac.template block<2, 2>(L::kRotorVel, L::kRotorPos) = (c.d_rel_pos - free.rotor_stiffness_N_per_m * eye) * imr;
     jac.template block<2, 2>(L::kRotorVel, L::kRotorVel) = (c.d_rel_vel - free.rotor_damping_N_s_per_m * eye) * imr;
-    dfdt.template segment<2>(L::kRotorVel) = (model->rotor_free_force_rate(d) + c.d_time) * imr;
+    dfdt.template segment<2>(L::kRotorVel) = (rotor->jeffcott().rotor_free_force_rate(d) + c.d_time) * imr;
     if constexpr (kStatorDof == 2) {
       // The stator takes -F_c, a function of rel = r_r - r_s.
       const double ims = model->inv_stator_mass();
@@ -326,7 +327,7 @@ struct PenaltyPolarSystem {
     const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
     const Kinematics k = kinematics(x, n, t);
     const DriveState reference = cartesian->segment.at(t_s);
-    const JeffcottModel& m = *cartesian->model;
+    const StationModel& m = *cartesian->model;
     const DriveState d = m.drive_at(k, reference);
     const Accelerations a = cartesian->accelerations(k, d, geometry(x, n, t, d));
     const Vec2 rel_acc = a.rotor - a.stator;

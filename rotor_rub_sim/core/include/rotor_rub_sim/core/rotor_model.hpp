@@ -1,13 +1,13 @@
 /// @file
 /// The seam between a rotor and the contact methods: what a method knows of
 /// the rotor it runs. The contact acts at one point, the rub station, a point
-/// of mass m_r on which the stator presses (model.hpp's JeffcottModel holds
-/// that station: masses, stator, geometry, compliance, impulses, drive); a
-/// rotor model adds every other force on the station and any coordinates of
-/// its own that no contact force reaches (a modal block, carried after the
-/// layout's fixed part: model.hpp's FreeLayout). The methods are templates on
-/// the rotor model and call only what follows, so a rotor model that lacks a
-/// member does not compile (docs/architecture.md, "Adding a rotor model").
+/// of mass m_r on which the stator presses (model.hpp's StationModel: masses,
+/// stator, geometry, compliance, impulses, drive); a rotor model adds every
+/// other force on the station and any coordinates of its own that no contact
+/// force reaches (a modal block, carried after the layout's fixed part:
+/// model.hpp's FreeLayout). The methods are templates on the rotor model and
+/// call only what follows, so a rotor model that lacks a member does not
+/// compile (docs/architecture.md, "Adding a rotor model").
 ///
 /// A rotor model R provides:
 ///   State<kFixed>          a layout's state type (kFixed entries and the block)
@@ -16,7 +16,8 @@
 ///                          (the penalty method's polar coordinates and its
 ///                          closed-form Jacobian cover no more)
 ///   R(scene)               the scene's rotor, read once (Scene::rotor.loaded)
-///   station(p)             the station's parameters for the scene's p
+///   adopt(p)               takes the scene's parameters p (at the start, at a
+///                          live change) and gives the station's (StationModel)
 ///   modal_size()           n: xi's entries (0: no block)
 ///   check_block(modal)     a given start's block (start_with_modes)
 ///   replace(model)         a new model of the same basis (a blade loss)
@@ -27,7 +28,8 @@
 ///   station_force_rate(m, k, acc, d, dir, rates, modal_jerk)  its time rate
 ///   add_spin_share(dir, amount, rows)          a motor's spin acceleration or
 ///       jump into the block's rates
-///   finish_sample(m, modal, s)                 the probes and the torque
+///   finish_sample(m, modal, s)                 the probes, and the drive
+///       torque's share of the rotor's lateral motion (prescribed drive)
 #pragma once
 
 #include <Eigen/Core>
@@ -42,7 +44,8 @@
 namespace rotor_rub::core {
 
 /// The paper's Jeffcott rotor: the station is the disk, held by the shaft's
-/// spring and damper and driven by its unbalance (model.hpp); no block.
+/// spring and damper and driven by its unbalance (model.hpp's JeffcottModel);
+/// no block.
 class JeffcottRotor {
  public:
   template <int kFixed>
@@ -50,9 +53,14 @@ class JeffcottRotor {
   using ModalVector = Eigen::Matrix<double, 0, 1>;
   static constexpr bool kStationOnly = true;
 
-  JeffcottRotor() = default;
-  explicit JeffcottRotor(const Scene& /*scene*/) {}
-  ModelParameters station(const ModelParameters& scene) const { return scene; }
+  explicit JeffcottRotor(const ModelParameters& p) : jeffcott_(p) {}
+  explicit JeffcottRotor(const Scene& scene) : jeffcott_(scene.model) {}
+  ModelParameters adopt(const ModelParameters& scene) {
+    jeffcott_ = JeffcottModel(scene);
+    return scene;
+  }
+  /// Its shaft and unbalance (the penalty method's closed-form Jacobian takes their gains).
+  const JeffcottModel& jeffcott() const { return jeffcott_; }
   int modal_size() const { return 0; }
   void check_block(const ModalState& /*modal*/) const {
     throw std::logic_error("start_with_modes: this method runs the Jeffcott rotor");
@@ -63,31 +71,38 @@ class JeffcottRotor {
   const FlexibleRotorModel* flexible() const { return nullptr; }
 
   template <class Modal, class Out>
-  JeffcottModel::FreeLoads loads(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
-                                 const Eigen::MatrixBase<Modal>& /*modal*/,
-                                 const Eigen::MatrixBase<Out>& /*modal_acc*/) const {
-    return m.free_loads(k, d);
+  FreeLoads loads(const StationModel& /*m*/, const Kinematics& k, const DriveState& d,
+                  const Eigen::MatrixBase<Modal>& /*modal*/, const Eigen::MatrixBase<Out>& /*modal_acc*/) const {
+    return jeffcott_.free_loads(k, d);
   }
   template <class Modal, class Out>
-  Vec2 station_force(const JeffcottModel& m, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
+  Vec2 station_force(const StationModel& /*m*/, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
                      const Eigen::MatrixBase<Modal>& /*modal*/, const Eigen::MatrixBase<Out>& /*modal_acc*/) const {
-    return m.rotor_free_force(k, d, unbalance_dir);
+    return jeffcott_.rotor_free_force(k, d, unbalance_dir);
   }
   template <class Rates, class Out>
-  Vec2 station_force_rate(const JeffcottModel& m, const Kinematics& k, const Vec2& station_acc, const DriveState& d,
+  Vec2 station_force_rate(const StationModel& /*m*/, const Kinematics& k, const Vec2& station_acc, const DriveState& d,
                           const Vec2& unbalance_dir, const Eigen::MatrixBase<Rates>& /*rates*/,
                           const Eigen::MatrixBase<Out>& /*modal_jerk*/) const {
-    return m.rotor_free_force_derivative(k, station_acc, d, unbalance_dir);
+    return jeffcott_.rotor_free_force_derivative(k, station_acc, d, unbalance_dir);
   }
   template <class Out>
   void add_spin_share(const Vec2& /*unbalance_dir*/, double /*amount*/,
                       const Eigen::MatrixBase<Out>& /*modal_rows*/) const {}
+  /// Under the prescribed drive the torque takes the unbalance's lever in,
+  /// - e F . u (JeffcottModel::unbalance_torque_N_m).
   template <class Modal>
-  void finish_sample(const JeffcottModel& /*m*/, const Eigen::MatrixBase<Modal>& /*modal*/, Sample& /*s*/) const {}
+  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& /*modal*/, Sample& s) const {
+    if (m.motor()) return;
+    s.drive_torque_N_m -= jeffcott_.unbalance_torque_N_m(s.kin, s.drive, s.contact_force_on_rotor_N);
+  }
+
+ private:
+  JeffcottModel jeffcott_;
 };
 
 /// A flexible rotor reduced to its rub station and a modal block
-/// (flexible_rotor_model.hpp): the station a bare point of mass m_st
+/// (flexible_rotor_model.hpp): the station a point of mass m_st
 /// (station_parameters), every other force on it the reduced model's, the
 /// block's rows xi'' untouched by any contact force or impulse but for a
 /// motor's spin, whose acceleration and jumps it shares.
@@ -99,25 +114,25 @@ class FlexibleRotor {
   static constexpr bool kStationOnly = false;
 
   explicit FlexibleRotor(const Scene& scene) : model_(flexible_rotor_of(scene)) {}
-  ModelParameters station(const ModelParameters& scene) const { return station_parameters(scene, *model_); }
+  ModelParameters adopt(const ModelParameters& scene) const { return station_parameters(scene, *model_); }
   int modal_size() const { return model_->modal_size(); }
   void check_block(const ModalState& modal) const { check_modal_block(*model_, modal); }
   void replace(std::shared_ptr<const FlexibleRotorModel> model) { model_ = std::move(model); }
   const FlexibleRotorModel* flexible() const { return model_.get(); }
 
   template <class Modal, class Out>
-  JeffcottModel::FreeLoads loads(const JeffcottModel& m, const Kinematics& k, const DriveState& d,
-                                 const Eigen::MatrixBase<Modal>& modal, const Eigen::MatrixBase<Out>& modal_acc) const {
+  FreeLoads loads(const StationModel& m, const Kinematics& k, const DriveState& d,
+                  const Eigen::MatrixBase<Modal>& modal, const Eigen::MatrixBase<Out>& modal_acc) const {
     return flexible_free_loads(m, *model_, k, d, modal, modal_acc);
   }
   template <class Modal, class Out>
-  Vec2 station_force(const JeffcottModel& m, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
+  Vec2 station_force(const StationModel& m, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
                      const Eigen::MatrixBase<Modal>& modal, const Eigen::MatrixBase<Out>& modal_acc) const {
     return model_->free_loads(k.rotor_pos + m.frame_shift(), k.rotor_vel, modal, unbalance_dir, d.speed_rad_per_s,
                               d.accel_rad_per_s2, modal_acc);
   }
   template <class Rates, class Out>
-  Vec2 station_force_rate(const JeffcottModel& /*m*/, const Kinematics& k, const Vec2& station_acc, const DriveState& d,
+  Vec2 station_force_rate(const StationModel& /*m*/, const Kinematics& k, const Vec2& station_acc, const DriveState& d,
                           const Vec2& unbalance_dir, const Eigen::MatrixBase<Rates>& rates,
                           const Eigen::MatrixBase<Out>& modal_jerk) const {
     return model_->free_load_rates(k.rotor_vel, station_acc, rates, unbalance_dir, d.speed_rad_per_s,
@@ -130,7 +145,7 @@ class FlexibleRotor {
   /// The probes read their node; under the prescribed drive the torque takes
   /// the lateral motion's in (add_lateral_torque).
   template <class Modal>
-  void finish_sample(const JeffcottModel& m, const Eigen::MatrixBase<Modal>& modal, Sample& s) const {
+  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& modal, Sample& s) const {
     s.probe_displacement_m = model_->probe_displacement(s.kin.rotor_pos, modal);
     add_lateral_torque(m, *model_, modal, s);
   }
@@ -143,8 +158,8 @@ class FlexibleRotor {
 /// block's position rows xi' copied from x, its rate rows xi'' written by the
 /// rotor (a motor's spin share still to add: add_spin_share), dxdt sized.
 template <class L, class Rotor>
-JeffcottModel::FreeLoads derivative_loads(const Rotor& rotor, const JeffcottModel& m, const Kinematics& k,
-                                          const DriveState& d, const typename L::State& x, typename L::State& dxdt) {
+FreeLoads derivative_loads(const Rotor& rotor, const StationModel& m, const Kinematics& k, const DriveState& d,
+                           const typename L::State& x, typename L::State& dxdt) {
   const int n = modal_count<L>(x);
   dxdt.resize(x.size());
   dxdt.segment(L::kModal, n) = x.tail(n);
@@ -154,8 +169,8 @@ JeffcottModel::FreeLoads derivative_loads(const Rotor& rotor, const JeffcottMode
 /// The free loads of a state given as its kinematics k and block modal (an
 /// impact's, a sample's), xi'' discarded.
 template <class Rotor>
-JeffcottModel::FreeLoads loads_at(const Rotor& rotor, const JeffcottModel& m, const Kinematics& k, const DriveState& d,
-                                  const ModalState& modal) {
+FreeLoads loads_at(const Rotor& rotor, const StationModel& m, const Kinematics& k, const DriveState& d,
+                   const ModalState& modal) {
   typename Rotor::ModalVector modal_acc(rotor.modal_size());
   return rotor.loads(m, k, d, modal, modal_acc);
 }
