@@ -771,7 +771,7 @@ CvodeRun run_cvode_switching(const core::Scene& scene, double sample_rate_hz, co
     return out;
   }
   const bool rigid = scene.model.stator_model == core::StatorModel::kRigid;
-  if (scene.rotor.file.empty()) {
+  if (core::rotor_kind(scene) == core::RotorKind::kJeffcott) {
     rigid ? run_with<0, core::JeffcottRotor>(scene, sample_rate_hz, options, out)
           : run_with<2, core::JeffcottRotor>(scene, sample_rate_hz, options, out);
   } else {

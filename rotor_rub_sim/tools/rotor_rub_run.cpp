@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
   if (!probes_path.empty() && !(scene.probes.rate_hz > 0.0)) {
     bad_input("--probes needs probe_rate_hz > 0 (scene key probe_rate_hz is 0: no probe signals); accepted: (0, 1e7]");
   }
-  if (!shaft_path.empty() && scene.rotor.file.empty()) {
+  if (!shaft_path.empty() && core::rotor_kind(scene) == core::RotorKind::kJeffcott) {
     bad_input(
         "--shaft needs a flexible rotor (scene key rotor_file is empty: the Jeffcott has no shaft); accepted: "
         "a scene with a rotor_file");

@@ -6,6 +6,9 @@
 #include <set>
 #include <string>
 
+#include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 #include "sweep_grid.hpp"
@@ -24,6 +27,11 @@ TEST(SolverRegistry, AutoIsDop853UpToRtol1e4ThenDopri5AndRosenbrock4ForPenalty) 
   }
   for (const double rtol : {1e-10, 1e-6, 1e-3, 1.0}) {
     EXPECT_EQ(core::auto_integrator(Method::kPenalty, rtol), Integrator::kRosenbrock4);
+    // A flexible rotor's: rosenbrock4 differences its Jacobian there (solver_registry.cpp).
+    EXPECT_EQ(core::auto_integrator(Method::kPenalty, rtol, core::RotorKind::kFlexible), Integrator::kDopri5);
+    for (const Method m : {Method::kSwitching, Method::kIteration}) {
+      EXPECT_EQ(core::auto_integrator(m, rtol, core::RotorKind::kFlexible), core::auto_integrator(m, rtol));
+    }
   }
   core::SolverSettings s;
   EXPECT_EQ(s.integrator, Integrator::kAuto);  // the default
@@ -58,7 +66,7 @@ TEST(SolverRegistry, EveryRowIsOfferedOnceAndEveryOtherPairRefused) {
   for (const core::SolverEntry& e : core::solver_registry()) {
     EXPECT_TRUE(rows.insert({e.method, e.integrator}).second) << core::to_string(e.integrator) << " twice";
     EXPECT_NE(e.integrator, Integrator::kAuto);
-    EXPECT_NE(e.make, nullptr);
+    for (const auto make : e.make) EXPECT_NE(make, nullptr);
     EXPECT_GT(std::string(e.note).size(), 10u);
   }
   for (const Method m : core::kAllMethods) {
@@ -97,6 +105,28 @@ TEST(SolverRegistry, TheWorkPrecisionGridHasEveryAdaptivePair) {
     if (e.integrator != Integrator::kRk4) offered.insert(name(e.method, e.integrator));
   }
   EXPECT_EQ(grid, offered);
+}
+
+// The registry's third dimension: each row's factory for a kind of rotor
+// builds the method on that kind (a flexible rotor's method has its model),
+// and make_contact_method takes the scene's.
+TEST(SolverRegistry, EveryRowBuildsItsMethodForEachKindOfRotor) {
+  core::Scene flexible = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
+  core::load_rotor(flexible);  // read once for every row
+  for (const core::SolverEntry& e : core::solver_registry()) {
+    for (const core::RotorKind r : core::kAllRotorKinds) {
+      core::Scene s = r == core::RotorKind::kJeffcott ? test::paper_scene() : flexible;
+      s.solver.method = e.method;
+      s.solver.integrator = e.integrator;
+      ASSERT_EQ(core::rotor_kind(s), r);
+      const auto method = e.make[static_cast<std::size_t>(r)](s);
+      ASSERT_NE(method, nullptr);
+      EXPECT_EQ(method->flexible_rotor() != nullptr, r == core::RotorKind::kFlexible)
+          << core::to_string(e.method) << " on " << core::to_string(e.integrator) << ", " << core::to_string(r);
+    }
+  }
+  EXPECT_NE(core::make_contact_method(flexible)->flexible_rotor(), nullptr);
+  EXPECT_EQ(core::make_contact_method(test::paper_scene())->flexible_rotor(), nullptr);
 }
 
 TEST(SolverRegistry, EveryRowRunsThePaperScenesFirstContact) {

@@ -102,7 +102,7 @@ std::vector<FaultStep> fault_steps(const Fault& f, const Scene& scene, double ou
   std::vector<FaultStep> steps;
   switch (f.kind) {
     case FaultKind::kBladeLoss: {
-      if (!scene.rotor.file.empty()) {
+      if (rotor_kind(scene) == RotorKind::kFlexible) {
         FaultStep step;
         step.unbalances_added.push_back(flexible_blade_loss(f, scene));
         steps.push_back(step);

@@ -199,7 +199,7 @@ ModelParameters station_parameters(const ModelParameters& scene, const FlexibleR
 }
 
 double contact_radius_of(const Scene& scene) {
-  if (scene.rotor.file.empty()) return scene.model.rotor_radius_m;
+  if (rotor_kind(scene) == RotorKind::kJeffcott) return scene.model.rotor_radius_m;
   const double r = flexible_rotor_of(scene)->contact_radius_m();
   return r > 0.0 ? r : scene.model.rotor_radius_m;
 }
@@ -227,7 +227,7 @@ std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene) 
 }
 
 void load_rotor(Scene& scene) {
-  if (scene.rotor.file.empty()) return;
+  if (rotor_kind(scene) == RotorKind::kJeffcott) return;
   auto model = flexible_rotor_of(scene);
   if (scene.rotor.loaded && scene.rotor.loaded->model == model) return;
   const auto [lo, hi] = scene_speeds(scene);

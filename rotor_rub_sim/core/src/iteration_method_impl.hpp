@@ -2,8 +2,8 @@
 // translation unit per kind of rotor (iteration_method_jeffcott.cpp and
 // iteration_method_flexible.cpp): both in one unit made the build's longest
 // compile (docs/testing.md). Private to those two: its unnamed namespace
-// gives each its own copy, and they share nothing of it (the Jeffcott's
-// unit calls make_iteration_flexible).
+// gives each its own copy, and they share nothing of it (the registry calls
+// each unit's factory, make_iteration_jeffcott and make_iteration_flexible).
 #pragma once
 
 #include <algorithm>
@@ -867,11 +867,4 @@ std::unique_ptr<ContactMethod> make_iteration_for_rotor(const Scene& scene) {
 }
 
 }  // namespace
-
-// A flexible rotor's method on integrator I, explicitly instantiated in
-// iteration_method_flexible.cpp for each integrator the Jeffcott's factory is: a
-// registry row without it fails to link.
-template <Integrator I>
-std::unique_ptr<ContactMethod> make_iteration_flexible(const Scene& scene);
-
 }  // namespace rotor_rub::core

@@ -1,15 +1,15 @@
 // The iteration method on the Jeffcott rotor (the class template:
-// iteration_method_impl.hpp), and the factory that picks the rotor's kind.
+// iteration_method_impl.hpp), instantiated for each integrator the registry runs
+// it on (a row without it fails to link).
 #include "iteration_method_impl.hpp"
 
 namespace rotor_rub::core {
 
 template <Integrator I>
-std::unique_ptr<ContactMethod> make_iteration_method(const Scene& scene) {
-  if (!scene.rotor.file.empty()) return make_iteration_flexible<I>(scene);
+std::unique_ptr<ContactMethod> make_iteration_jeffcott(const Scene& scene) {
   return make_iteration_for_rotor<I, JeffcottRotor>(scene);
 }
-template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDopri5>(const Scene&);
-template std::unique_ptr<ContactMethod> make_iteration_method<Integrator::kDop853>(const Scene&);
+template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kDopri5>(const Scene&);
+template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

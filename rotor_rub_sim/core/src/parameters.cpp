@@ -18,6 +18,16 @@ const char* to_string(Method m) {
   throw std::logic_error("to_string: not a Method");
 }
 
+const char* to_string(RotorKind r) {
+  switch (r) {
+    case RotorKind::kJeffcott:
+      return "jeffcott";
+    case RotorKind::kFlexible:
+      return "flexible";
+  }
+  throw std::logic_error("to_string: not a RotorKind");
+}
+
 const char* to_string(Integrator i) {
   switch (i) {
     case Integrator::kAuto:

@@ -502,7 +502,7 @@ std::string live_key_inert_reason(const std::string& key, const Scene& scene) {
   if (scene.model.drive_model != DriveModel::kMotor && key.rfind("drive_", 0) == 0) {
     return "it applies to drive_model motor only";
   }
-  if (!scene.rotor.file.empty() &&
+  if (rotor_kind(scene) == RotorKind::kFlexible &&
       (key == "rotor_stiffness_N_per_m" || key == "rotor_damping_N_s_per_m" || key == "eccentricity_m")) {
     return "the rotor is rotor_file's (its shaft, bearings and unbalances)";
   }
@@ -525,7 +525,7 @@ void validate_scene(const Scene& s) {
                      methods + " only; accepted for method '" + to_string(s.solver.method) + "': auto, " +
                      integrators_of(s.solver.method));
   }
-  if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4 && s.rotor.file.empty()) {
+  if (s.solver.method == Method::kPenalty && integrator == Integrator::kRk4 && rotor_kind(s) == RotorKind::kJeffcott) {
     const double h_max = rk4_stable_step_s(JeffcottModel(s.model));
     if (s.solver.fixed_step_s > h_max) {
       throw SceneError("scene key 'fixed_step_s': value " + format_double(s.solver.fixed_step_s) +
@@ -545,7 +545,7 @@ void validate_scene(const Scene& s) {
                        " m (the rotor starts centred, inside the bore)");
     }
   }
-  if (s.model.drive_model == DriveModel::kMotor && s.rotor.file.empty()) {
+  if (s.model.drive_model == DriveModel::kMotor && rotor_kind(s) == RotorKind::kJeffcott) {
     // Painleve's paradox (contact_law.hpp): with the spin in the contact's
     // compliance, sliding friction must never pull the bodies together.
     const double bound = s.model.friction_coefficient * s.model.eccentricity_m *
@@ -558,7 +558,7 @@ void validate_scene(const Scene& s) {
                        format_double(bound) + " (below it friction could pull the contact shut: Painleve's paradox)");
     }
   }
-  if (!s.rotor.file.empty()) validate_flexible_rotor(s);
+  if (rotor_kind(s) == RotorKind::kFlexible) validate_flexible_rotor(s);
   if (s.speed.initial_speed_rad_per_s > s.speed.max_speed_rad_per_s) {
     throw SceneError(
         "scene key 'initial_speed_rad_per_s': value " + format_double(s.speed.initial_speed_rad_per_s) +

@@ -22,7 +22,7 @@ std::unique_ptr<ContactMethod> make_contact_method(const Scene& scene) {
     validate_scene(scene);  // throws SceneError naming the key and the accepted values
     throw std::logic_error("make_contact_method: the registry offers no such method and integrator");
   }
-  return entry->make(scene);
+  return entry->make[static_cast<std::size_t>(rotor_kind(scene))](scene);
 }
 
 namespace {
@@ -140,7 +140,7 @@ Scene with_live_changes(const Scene& running, const std::map<std::string, std::s
 
 Scene with_unbalances_added(const Scene& running, const std::vector<RotorUnbalance>& added) {
   if (added.empty()) return running;
-  if (running.rotor.file.empty()) {
+  if (rotor_kind(running) == RotorKind::kJeffcott) {
     throw SceneError(
         "an unbalance added at a node needs a flexible rotor (rotor_file); the Jeffcott rotor's unbalance is the "
         "scene keys eccentricity_m and unbalance_phase_rad");

@@ -26,6 +26,10 @@ namespace rotor_rub::core {
 // bore before lift-offs were located inside a step, and is not offered; the
 // penalty contact is stiff, so the explicit high-order schemes only waste
 // steps there.
+// On a flexible rotor (a rotor_file) the penalty method's auto is dopri5:
+// rosenbrock4 differences its Jacobian there (a state of the modes' size),
+// and is the slower at the usual contact springs (docs/rotors.md); the rigid
+// methods' choice is the Jeffcott's.
 constexpr double kHighOrderUpToRtol = 1e-4;
 constexpr double kAnyRtol = 1.0;  // rtol's largest accepted value
 
@@ -33,21 +37,46 @@ const std::vector<SolverEntry>& solver_registry() {
   using I = Integrator;
   using M = Method;
   static const std::vector<SolverEntry> table{
-      {M::kPenalty, I::kRosenbrock4, kAnyRtol, &make_penalty_method<I::kRosenbrock4>,
+      // method, integrator, auto up to rtol {Jeffcott, flexible}, factories {Jeffcott, flexible}, note
+      {M::kPenalty,
+       I::kRosenbrock4,
+       {kAnyRtol, 0.0},
+       {&make_penalty_jeffcott<I::kRosenbrock4>, &make_penalty_flexible<I::kRosenbrock4>},
        "RODASP, linearly implicit 4(3) on an analytic Jacobian: the stiff contact spring at any k_c"},
-      {M::kPenalty, I::kDopri5, 0.0, &make_penalty_method<I::kDopri5>,
+      {M::kPenalty,
+       I::kDopri5,
+       {0.0, kAnyRtol},
+       {&make_penalty_jeffcott<I::kDopri5>, &make_penalty_flexible<I::kDopri5>},
        "explicit 5(4): steps limited by the contact spring's stability, slow for a stiff k_c"},
-      {M::kPenalty, I::kRk4, 0.0, &make_penalty_method<I::kRk4>,
+      {M::kPenalty,
+       I::kRk4,
+       {0.0, 0.0},
+       {&make_penalty_jeffcott<I::kRk4>, &make_penalty_flexible<I::kRk4>},
        "classic RK4 at the fixed step fixed_step_s (below its stability bound, checked): the paper's fixed-step runs"},
-      {M::kSwitching, I::kDop853, kHighOrderUpToRtol, &make_switching_method<I::kDop853>,
+      {M::kSwitching,
+       I::kDop853,
+       {kHighOrderUpToRtol, kHighOrderUpToRtol},
+       {&make_switching_jeffcott<I::kDop853>, &make_switching_flexible<I::kDop853>},
        "explicit 8(5,3), Hermite dense output, RMS error norm: the fastest at tight tolerances"},
-      {M::kSwitching, I::kDopri5, kAnyRtol, &make_switching_method<I::kDopri5>,
+      {M::kSwitching,
+       I::kDopri5,
+       {kAnyRtol, kAnyRtol},
+       {&make_switching_jeffcott<I::kDopri5>, &make_switching_flexible<I::kDopri5>},
        "explicit 5(4) with its own dense output, ode45's scheme (the paper's): loose tolerances"},
-      {M::kSwitching, I::kRkf78, 0.0, &make_switching_method<I::kRkf78>,
+      {M::kSwitching,
+       I::kRkf78,
+       {0.0, 0.0},
+       {&make_switching_jeffcott<I::kRkf78>, &make_switching_flexible<I::kRkf78>},
        "explicit 7(8), Hermite dense output: an independent high-order check"},
-      {M::kIteration, I::kDop853, kHighOrderUpToRtol, &make_iteration_method<I::kDop853>,
+      {M::kIteration,
+       I::kDop853,
+       {kHighOrderUpToRtol, kHighOrderUpToRtol},
+       {&make_iteration_jeffcott<I::kDop853>, &make_iteration_flexible<I::kDop853>},
        "explicit 8(5,3), Hermite dense output, RMS error norm: the fastest at tight tolerances"},
-      {M::kIteration, I::kDopri5, kAnyRtol, &make_iteration_method<I::kDopri5>,
+      {M::kIteration,
+       I::kDopri5,
+       {kAnyRtol, kAnyRtol},
+       {&make_iteration_jeffcott<I::kDopri5>, &make_iteration_flexible<I::kDopri5>},
        "explicit 5(4) with its own dense output, ode45's scheme (the paper's): loose tolerances"},
   };
   return table;
@@ -60,24 +89,21 @@ const SolverEntry* find_solver(Method method, Integrator integrator) {
   return nullptr;
 }
 
-Integrator auto_integrator(Method method, double rtol) {
+Integrator auto_integrator(Method method, double rtol, RotorKind rotor) {
+  const auto r = static_cast<std::size_t>(rotor);
   for (const SolverEntry& e : solver_registry()) {
-    if (e.method == method && rtol <= e.auto_up_to_rtol) return e.integrator;
+    if (e.method == method && rtol <= e.auto_up_to_rtol[r]) return e.integrator;
   }
-  throw std::logic_error(std::string("solver registry: no auto integrator for method ") + to_string(method));
+  throw std::logic_error(std::string("solver registry: no auto integrator for method ") + to_string(method) +
+                         " on the " + to_string(rotor) + " rotor");
 }
 
-Integrator effective_integrator(const SolverSettings& solver) {
-  return solver.integrator == Integrator::kAuto ? auto_integrator(solver.method, solver.rtol) : solver.integrator;
+Integrator effective_integrator(const SolverSettings& solver, RotorKind rotor) {
+  return solver.integrator == Integrator::kAuto ? auto_integrator(solver.method, solver.rtol, rotor)
+                                                : solver.integrator;
 }
 
-Integrator effective_integrator(const Scene& scene) {
-  if (scene.solver.integrator == Integrator::kAuto && scene.solver.method == Method::kPenalty &&
-      !scene.rotor.file.empty()) {
-    return kFlexiblePenaltyAuto;
-  }
-  return effective_integrator(scene.solver);
-}
+Integrator effective_integrator(const Scene& scene) { return effective_integrator(scene.solver, rotor_kind(scene)); }
 
 namespace {
 
@@ -90,24 +116,32 @@ std::string rtol_text(double rtol) {
   return os.str();
 }
 
+// "dop853 up to rtol 1e-4, dopri5 above": what auto picks for a method on a rotor.
+std::string auto_picks(Method m, RotorKind rotor) {
+  const auto r = static_cast<std::size_t>(rotor);
+  std::string picks;
+  double auto_from = 0.0;  // as auto_integrator: the method's rows in order
+  for (const SolverEntry& e : solver_registry()) {
+    if (e.method != m || e.auto_up_to_rtol[r] <= auto_from) continue;
+    picks += std::string(picks.empty() ? "" : ", ") + to_string(e.integrator);
+    if (e.auto_up_to_rtol[r] < kAnyRtol) {
+      picks += " up to rtol " + rtol_text(e.auto_up_to_rtol[r]);
+    } else if (auto_from > 0.0) {
+      picks += " above";
+    }
+    auto_from = e.auto_up_to_rtol[r];
+  }
+  return picks;
+}
+
 }  // namespace
 
 std::string auto_integrator_text() {
   std::string text;
   for (const Method m : kAllMethods) {
-    std::string picks;
-    double auto_from = 0.0;  // as auto_integrator: the method's rows in order
-    for (const SolverEntry& e : solver_registry()) {
-      if (e.method != m || e.auto_up_to_rtol <= auto_from) continue;
-      picks += std::string(picks.empty() ? "" : ", ") + to_string(e.integrator);
-      if (e.auto_up_to_rtol < kAnyRtol) {
-        picks += " up to rtol " + rtol_text(e.auto_up_to_rtol);
-      } else if (auto_from > 0.0) {
-        picks += " above";
-      }
-      auto_from = e.auto_up_to_rtol;
-    }
-    if (m == Method::kPenalty) picks += std::string(", ") + to_string(kFlexiblePenaltyAuto) + " with a rotor_file";
+    std::string picks = auto_picks(m, RotorKind::kJeffcott);
+    const std::string flexible = auto_picks(m, RotorKind::kFlexible);
+    if (flexible != picks) picks += ", " + flexible + " with a rotor_file";
     text += std::string(text.empty() ? "" : "; ") + to_string(m) + " " + picks;
   }
   return text;
@@ -132,19 +166,21 @@ std::string solver_table_text() {
     if (e.method != method) auto_from = 0.0;
     method = e.method;
     std::string when = "-";
-    if (e.auto_up_to_rtol > auto_from) {
-      if (auto_from == 0.0 && e.auto_up_to_rtol >= kAnyRtol) {
+    const double up_to = e.auto_up_to_rtol[static_cast<std::size_t>(RotorKind::kJeffcott)];
+    if (up_to > auto_from) {
+      if (auto_from == 0.0 && up_to >= kAnyRtol) {
         when = "any rtol";
       } else if (auto_from == 0.0) {
-        when = "rtol <= " + rtol_text(e.auto_up_to_rtol);
+        when = "rtol <= " + rtol_text(up_to);
       } else {
         when = "rtol > " + rtol_text(auto_from);
       }
-      auto_from = e.auto_up_to_rtol;
+      auto_from = up_to;
     }
     os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 13) << pad(when, 15) << e.note << '\n';
   }
-  os << "  with a rotor_file (a flexible rotor): penalty on " << to_string(kFlexiblePenaltyAuto)
+  os << "  with a rotor_file (a flexible rotor): penalty on "
+     << to_string(auto_integrator(Method::kPenalty, kAnyRtol, RotorKind::kFlexible))
      << " (auto's pick), rosenbrock4 (its Jacobian\n"
         "    differenced: for a contact spring far stiffer than the highest mode, on the seal example from 1e11 N/m)\n"
         "    and rk4 (fixed_step_s below the rotor's own stability bound, from its eigenvalues in contact)\n";

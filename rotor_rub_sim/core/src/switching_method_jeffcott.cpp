@@ -1,16 +1,16 @@
 // The switching method on the Jeffcott rotor (the class template:
-// switching_method_impl.hpp), and the factory that picks the rotor's kind.
+// switching_method_impl.hpp), instantiated for each integrator the registry runs
+// it on (a row without it fails to link).
 #include "switching_method_impl.hpp"
 
 namespace rotor_rub::core {
 
 template <Integrator I>
-std::unique_ptr<ContactMethod> make_switching_method(const Scene& scene) {
-  if (!scene.rotor.file.empty()) return make_switching_flexible<I>(scene);
+std::unique_ptr<ContactMethod> make_switching_jeffcott(const Scene& scene) {
   return make_switching_for_rotor<I, JeffcottRotor>(scene);
 }
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDopri5>(const Scene&);
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kRkf78>(const Scene&);
-template std::unique_ptr<ContactMethod> make_switching_method<Integrator::kDop853>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kDopri5>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kRkf78>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kDop853>(const Scene&);
 
 }  // namespace rotor_rub::core

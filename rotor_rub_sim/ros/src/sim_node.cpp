@@ -53,7 +53,7 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   feedback_pub_ = nh.advertise<rotor_rub_msgs::SpeedCommandFeedback>("speed_command_feedback", q);
   keyphasor_pub_ = nh.advertise<rotor_rub_msgs::Keyphasor>("keyphasor", q);
   if (scene_.probes.rate_hz > 0.0) probes_pub_ = nh.advertise<rotor_rub_msgs::ProbeSignals>("probes", q);
-  if (!scene_.rotor.file.empty() && config_.shaft_rate_hz > 0.0) {
+  if (core::rotor_kind(scene_) == core::RotorKind::kFlexible && config_.shaft_rate_hz > 0.0) {
     shaft_pub_ = nh.advertise<rotor_rub_msgs::ShaftDeflection>("shaft", q);
   }
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", q);
@@ -269,7 +269,7 @@ bool SimNode::wait_for_subscribers() {
 int SimNode::run() {
   if (!wait_for_subscribers()) return 1;
   const core::Simulation::Reduction reduction = sim_->reduction();
-  const std::string rotor = scene_.rotor.file.empty()
+  const std::string rotor = core::rotor_kind(scene_) == core::RotorKind::kJeffcott
                                 ? std::string("the Jeffcott rotor")
                                 : "the flexible rotor " + scene_.rotor.file + ", " +
                                       core::to_string(reduction.planar_modes, reduction.truncation);

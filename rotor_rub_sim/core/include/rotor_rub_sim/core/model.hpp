@@ -1,6 +1,8 @@
 // The Jeffcott rotor with an elastically supported stator (Hynek 2002, eq. 2.1),
-// shared by all three contact methods. A method decides only the contact's
-// normal force; everything else is here.
+// shared by all three contact methods: the rub station and the stator
+// (StationModel, which every rotor model shares: rotor_model.hpp) and the
+// Jeffcott's shaft and unbalance on it (JeffcottModel). A method decides only
+// the contact's forces; everything else is here.
 //
 // Modelling choices (SI units throughout):
 // * Coordinates: inertial x, y; the rotor's geometric centre r_r = (x_r, y_r)

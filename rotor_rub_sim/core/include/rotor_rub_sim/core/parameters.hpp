@@ -32,12 +32,19 @@ enum class StatorModel { kElastic, kRigid };
 /// state under a speed controller (ModelParameters::drive_model).
 enum class DriveModel { kPrescribed, kMotor };
 
+/// The kind of rotor a scene runs (the solver registry's third dimension,
+/// after the method and the integrator): the paper's Jeffcott, or a flexible
+/// rotor read from a rotor_file (rotor_model.hpp).
+enum class RotorKind { kJeffcott, kFlexible };
+
 /// Every method, in the order --help lists them (the paper's).
 inline constexpr std::array<Method, 3> kAllMethods{Method::kPenalty, Method::kSwitching, Method::kIteration};
 /// Every integrator, `auto` first, in the order --help lists them.
 inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,        Integrator::kDopri5,
                                                            Integrator::kRosenbrock4, Integrator::kRk4,
                                                            Integrator::kRkf78,       Integrator::kDop853};
+/// Every kind of rotor.
+inline constexpr std::array<RotorKind, 2> kAllRotorKinds{RotorKind::kJeffcott, RotorKind::kFlexible};
 /// Every stator model, in the order --help lists them.
 inline constexpr std::array<StatorModel, 2> kAllStatorModels{StatorModel::kElastic, StatorModel::kRigid};
 /// Every drive model, in the order --help lists them.
@@ -51,6 +58,8 @@ const char* to_string(Integrator i);
 const char* to_string(StatorModel s);
 /// The drive model's name: prescribed, motor.
 const char* to_string(DriveModel d);
+/// The rotor kind's name: jeffcott, flexible.
+const char* to_string(RotorKind r);
 /// The value of `all` whose to_string is s (any enum with a to_string and a
 /// kAll array: these, the event kinds, the node's end_action). Throws
 /// std::invalid_argument naming what, s and the accepted names.
@@ -220,5 +229,10 @@ struct Scene {
   double end_time_s = 4.0;         ///< the run's simulated end
   double output_rate_hz = 1000.0;  ///< the samples' rate in simulated time
 };
+
+/// The scene's kind of rotor: flexible when it names a rotor_file.
+inline RotorKind rotor_kind(const Scene& scene) {
+  return scene.rotor.file.empty() ? RotorKind::kJeffcott : RotorKind::kFlexible;
+}
 
 }  // namespace rotor_rub::core

@@ -1,5 +1,6 @@
 /// @file
-/// The one table of contact methods and the time integrators each runs on.
+/// The one table of contact methods and the time integrators each runs on,
+/// with a factory and auto's choice per kind of rotor (RotorKind).
 /// Validation (validate_scene), the factory (make_contact_method),
 /// rotor_rub_run --list-solvers, the tests' solver lists (test_support.hpp)
 /// and the bench's rows all read it: adding an integrator to a method is a
@@ -7,6 +8,7 @@
 /// (docs/architecture.md).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,14 +23,15 @@ struct Scene;
 /// Builds a contact method for a scene whose method and integrator are the row's.
 using ContactMethodFactory = std::unique_ptr<ContactMethod> (*)(const Scene&);
 
-/// One method on one integrator.
+/// One method on one integrator, for each kind of rotor (indexed by RotorKind).
 struct SolverEntry {
   Method method;          ///< the contact method
   Integrator integrator;  ///< a concrete integrator (never kAuto)
   /// `auto` resolves to this row's integrator for rtol up to this value
-  /// (the method's first such row in the table); 0: never.
-  double auto_up_to_rtol;
-  ContactMethodFactory make;  ///< builds the method for a validated scene
+  /// (the method's first such row in the table for the rotor); 0: never.
+  std::array<double, kAllRotorKinds.size()> auto_up_to_rtol;
+  /// Builds the method for a validated scene with this kind of rotor.
+  std::array<ContactMethodFactory, kAllRotorKinds.size()> make;
   /// When to use it, one line (--list-solvers, docs/numerics.md).
   const char* note;
 };
@@ -39,24 +42,20 @@ const std::vector<SolverEntry>& solver_registry();
 /// The row of a method on a concrete integrator; nullptr when not offered.
 const SolverEntry* find_solver(Method method, Integrator integrator);
 
-/// The integrator `auto` stands for with this method at this rtol.
-Integrator auto_integrator(Method method, double rtol);
+/// The integrator `auto` stands for with this method at this rtol on this
+/// kind of rotor.
+Integrator auto_integrator(Method method, double rtol, RotorKind rotor = RotorKind::kJeffcott);
 
-/// What `auto` stands for with the penalty method on a flexible rotor (a
-/// rotor_file): rosenbrock4 differences its Jacobian there and is the slower
-/// at the usual contact springs (docs/rotors.md).
-inline constexpr Integrator kFlexiblePenaltyAuto = Integrator::kDopri5;
-
-/// The integrator a run of these settings uses (`auto` resolved).
-Integrator effective_integrator(const SolverSettings& solver);
-/// The same for a scene: for a flexible rotor's (rotor_file) penalty method
-/// `auto` stands for dopri5 (rosenbrock4 differences its Jacobian there).
+/// The integrator a run of these settings uses on this kind of rotor (`auto` resolved).
+Integrator effective_integrator(const SolverSettings& solver, RotorKind rotor = RotorKind::kJeffcott);
+/// The same for a scene (its rotor_kind).
 Integrator effective_integrator(const Scene& scene);
 
 /// "dop853, dopri5, rkf78": the integrators offered with a method, in the registry's order.
 std::string integrators_of(Method method);
 
-/// What `auto` picks, per method, in one line (the integrator key's
+/// What `auto` picks, per method (and where a flexible rotor's pick differs,
+/// that too), in one line (the integrator key's
 /// description: --help, --list-keys, the template, docs/node.md).
 std::string auto_integrator_text();
 
