@@ -6,11 +6,14 @@
 // the grid's speeds (docs/steady_response.md). A flexible rotor (rotor_file)
 // is reduced as the scene's runs reduce it; it must be isotropic. The
 // contact is the scene method's: rigid (switching, iteration) or the
-// penalty's spring and damper (the Jeffcott only).
+// penalty's spring and damper (the Jeffcott only). --branch-csv traces the
+// branch of the largest normal force by pseudo-arclength continuation
+// (full_rub_continuation.hpp) through its folds, its unstable part too.
 //
 // Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -21,7 +24,9 @@
 #include <vector>
 
 #include "cli_options.hpp"
+#include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
+#include "rotor_rub_sim/core/full_rub_continuation.hpp"
 #include "rotor_rub_sim/core/full_rub_stability.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
@@ -54,7 +59,7 @@ double located(double lo, double hi, Pred pred) {
 
 int main(int argc, char** argv) {
   namespace cli = tools::cli;
-  std::string scene_path, csv_path;
+  std::string scene_path, csv_path, branch_path;
   std::vector<std::string> sets;
   std::vector<double> range;
   int speeds = 101;
@@ -84,6 +89,12 @@ int main(int argc, char** argv) {
                  "write speed_rad_per_s, branch, normal_force_N, rotor_orbit_m, stator_orbit_m, growth_rate_per_s, "
                  "frequency_rad_per_s, stable per row (branch 0: the larger normal force)")
       ->type_name("FILE");
+  app.add_option("--branch-csv", branch_path,
+                 "trace the branch of the largest normal force from the lowest grid speed that has a full rub, by "
+                 "pseudo-arclength continuation through its folds (its unstable part too), within LO..HI; write "
+                 "speed_rad_per_s, normal_force_N, rotor_orbit_m, stator_orbit_m, growth_rate_per_s, "
+                 "frequency_rad_per_s, stable per point in the order traced, and print its folds")
+      ->type_name("FILE");
   app.footer("Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model).");
   cli::parse_or_exit(app, argc, argv);
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
@@ -105,7 +116,7 @@ int main(int argc, char** argv) {
   std::shared_ptr<const core::FlexibleRotorModel> reduced;
   try {
     const bool penalty = scene.solver.method == core::Method::kPenalty;
-    if (scene.rotor.file.empty()) {
+    if (core::rotor_kind(scene) == core::RotorKind::kJeffcott) {
       branches = [&p, penalty](double x) { return core::full_rub_stability(p, x, penalty); };
       count = [&p](double x) { return core::synchronous_full_rub(p, x).size(); };
     } else {
@@ -195,6 +206,45 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     bad_input(e.what());  // a rest point Newton cannot find near a fold
+  }
+  if (!branch_path.empty()) {
+    const auto first = std::find_if(grid.begin(), grid.end(), [](const auto& g) { return !g.empty(); });
+    if (first == grid.end()) {
+      std::printf("continuation: no full rub on the grid to start from\n");
+      return 0;
+    }
+    const double start = w[static_cast<std::size_t>(first - grid.begin())];
+    std::ofstream out(branch_path);
+    if (!out) bad_input("--branch-csv: cannot write '" + branch_path + "'");
+    core::ContinuationSettings settings;
+    settings.min_speed_rad_per_s = range[0];
+    settings.max_speed_rad_per_s = range[1];
+    core::FullRubBranch branch;
+    try {
+      const core::TurningRotor turning = core::rotor_kind(scene) == core::RotorKind::kJeffcott
+                                             ? core::turning_rotor(p)
+                                             : core::turning_rotor(reduced->rotor(), full, rotor.unbalances);
+      core::PenaltyContact penalty{p.contact_stiffness_N_per_m, core::contact_damping_N_s_per_m(core::StationModel(p))};
+      const bool with_penalty = scene.solver.method == core::Method::kPenalty;
+      branch = core::continue_full_rub(turning, core::station_stator(p), p.clearance_m, p.friction_coefficient,
+                                       first->front(), start, settings, with_penalty ? &penalty : nullptr);
+    } catch (const std::exception& e) {
+      bad_input(e.what());
+    }
+    out.precision(12);
+    out << "speed_rad_per_s,normal_force_N,rotor_orbit_m,stator_orbit_m,growth_rate_per_s,frequency_rad_per_s,stable\n";
+    for (const core::FullRubBranchPoint& pt : branch.points) {
+      const std::complex<double> l = pt.rub.eigenvalues.front();
+      out << pt.speed_rad_per_s << "," << pt.rub.normal_force_N << "," << std::abs(pt.rub.station_m) << ","
+          << std::abs(pt.rub.stator_m) << "," << l.real() << "," << std::abs(l.imag()) << ","
+          << (pt.rub.stable() ? 1 : 0) << "\n";
+    }
+    std::printf("continuation from %g rad/s: %zu points, ended by %s\n", start, branch.points.size(),
+                branch.end.c_str());
+    for (const double fold : branch.folds_rad_per_s) std::printf("continuation: fold at %.9f rad/s\n", fold);
+    for (const double change : branch.stability_changes_rad_per_s) {
+      std::printf("continuation: stability changes at %.9f rad/s\n", change);
+    }
   }
   return 0;
 }

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "temp_dir.hpp"
@@ -77,4 +79,36 @@ TEST(StabilityCli, TheSealRotorAtEightAndTwelveModes) {
     const std::string last = r.out.substr(r.out.find("   300.0000       0"));
     EXPECT_NE(last.find(verdict), std::string::npos) << modes << ": " << last;
   }
+}
+
+// --branch-csv: the paper scene's upper branch traced by continuation from
+// 100 rad/s through its fold (where the grid's bisection puts it too) and
+// back along the lower, unstable branch, its points in the CSV in the order
+// traced: the speed rises to the fold and falls after it.
+TEST(StabilityCli, TheBranchByContinuationPassesItsFold) {
+  const std::string csv = rotor_rub::test::tmp() + "/branch.csv";
+  const Result r =
+      stability("--scene " + config("paper_runup.yaml") + " --speeds 100 300 --points 11 --branch-csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("continuation: fold at 167.936436"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("continuation: stability changes at 167.936436"), std::string::npos) << r.out;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line,
+            "speed_rad_per_s,normal_force_N,rotor_orbit_m,stator_orbit_m,growth_rate_per_s,"
+            "frequency_rad_per_s,stable");
+  std::vector<double> speeds;
+  std::vector<int> stable;
+  while (std::getline(in, line)) {
+    speeds.push_back(std::stod(line));
+    stable.push_back(line.back() - '0');
+  }
+  ASSERT_GT(speeds.size(), 10u);
+  const auto top = std::max_element(speeds.begin(), speeds.end());
+  EXPECT_NEAR(*top, 167.936, 0.5);
+  EXPECT_TRUE(std::is_sorted(speeds.begin(), top));
+  EXPECT_TRUE(std::is_sorted(speeds.rbegin(), std::make_reverse_iterator(top + 1)));
+  EXPECT_EQ(stable.front(), 1);
+  EXPECT_EQ(stable.back(), 0);
 }

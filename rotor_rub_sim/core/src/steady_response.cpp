@@ -31,7 +31,17 @@ std::vector<double> positive_circle_roots(std::complex<double> a, std::complex<d
   return out;
 }
 
-std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
+namespace {
+
+// The full rub's equation |a + N b| = r at w (synchronous_full_rub), with
+// what its solutions are built from.
+struct FullRubCircle {
+  cd a, b, A, B, F;
+  double r;
+  bool rigid;
+};
+
+FullRubCircle full_rub_circle(const ModelParameters& p, double w) {
   // Rotor:  A z_r = F - N (1 + i f) n,  stator: B z_s = N (1 + i f) n,
   // n = (z_r - z_s) / C, with A = k_r - m_r w^2 + i c_r w, F = m_r e w^2,
   // B = k_s - m_s w^2 + i c_s w (F turned by the unbalance's phase beta). With q = N (1 + i f) / C:
@@ -48,6 +58,24 @@ std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
   const cd a = rigid ? A : A * B;
   const cd b = rigid ? cd(1.0, f) / C : cd(1.0, f) * (A + B) / C;
   const double r = rigid ? std::abs(F) / C : std::abs(F * B) / C;
+  return {a, b, A, B, F, r, rigid};
+}
+
+}  // namespace
+
+double full_rub_discriminant_N2(const ModelParameters& p, double w) {
+  const FullRubCircle e = full_rub_circle(p, w);
+  // |b|^2 N^2 + 2 Re(a conj(b)) N + |a|^2 - r^2 = 0: ((N1 - N2) / 2)^2.
+  const double bb = std::norm(e.b), ab = std::real(e.a * std::conj(e.b)) / bb;
+  return ab * ab - (std::norm(e.a) - e.r * e.r) / bb;
+}
+
+std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w) {
+  const FullRubCircle e = full_rub_circle(p, w);
+  const double C = p.clearance_m, f = p.friction_coefficient;
+  const cd &a = e.a, &b = e.b, &A = e.A, &B = e.B, &F = e.F;
+  const double r = e.r;
+  const bool rigid = e.rigid;
   std::vector<FullRub> out;
   for (const double N : positive_circle_roots(a, b, r)) {
     const cd q = N * cd(1.0, f) / C;

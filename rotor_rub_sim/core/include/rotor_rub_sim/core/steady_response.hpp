@@ -27,6 +27,11 @@ struct FullRub {
 // orbit alone is larger than C) or two, the larger normal force first. With the penalty method the rotor overlaps the
 // stator by N / k_c more (not included).
 std::vector<FullRub> synchronous_full_rub(const ModelParameters& p, double w_rad_per_s);
+// The discriminant of the full rub's equation at w, scaled to ((N1 - N2) / 2)^2
+// [N^2] of its two roots: negative where no full rub exists, 0 where the two
+// meet. Where the larger root is positive, a zero is a fold of the branch
+// (test_full_rub_continuation.cpp).
+double full_rub_discriminant_N2(const ModelParameters& p, double w_rad_per_s);
 
 // The full rub's equation in every model: the real N > 0 with |a + N b| = r,
 // the larger first, a double root once.
