@@ -38,10 +38,13 @@ STAMP="scene config/paper_runup.yaml; $(nproc) cores; $(date -u +%Y-%m-%d); made
 /usr/bin/python3 "$ROOT/scripts/plot_bifurcation.py" --classes "$DATA/bifurcation.csv" \
   --points "$DATA/bifurcation.csv.points.csv" --out "$OUT" --stamp "$STAMP"
 # The full rub's branches at f = 0.1 over the same speeds (rotor_rub_stability,
-# milliseconds), drawn over the runs the sweep classed as full rub.
+# milliseconds), and the first traced through its fold by continuation, drawn
+# over the runs the sweep classed as full rub.
 "$WS/devel/lib/rotor_rub_sim/rotor_rub_stability" --scene "$ROOT/config/paper_runup.yaml" \
   --set friction_coefficient=0.1 --speeds "${SPEEDS[0]}" "${SPEEDS[1]}" --points 400 \
-  --csv "$DATA/full_rub_branches.csv" | grep -E "^(fold|the upper)" || true
+  --csv "$DATA/full_rub_branches.csv" --branch-csv "$DATA/full_rub_continuation.csv" \
+  | grep -E "^(fold|the upper|continuation)" || true
 /usr/bin/python3 "$ROOT/scripts/plot_full_rub.py" --branches "$DATA/full_rub_branches.csv" \
+  --continuation "$DATA/full_rub_continuation.csv" \
   --classes "$DATA/bifurcation.csv" --friction 0.1 --out "$OUT/full_rub_branches.png" \
-  --title "paper scene, f = 0.1: the full rub's branches (rotor_rub_stability) and the sweep's runs in full rub"
+  --title "paper scene, f = 0.1: the full rub's branches (rotor_rub_stability; red: traced by continuation) and the runs"

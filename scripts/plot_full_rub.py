@@ -6,10 +6,13 @@ not, and the mean normal force of every run the bifurcation tool classed as
 full rub at that friction (constant speed, run-up, run-down). A user sees
 the sweep land on the stable branch, and the unstable branches no sweep
 can show. Prints, per direction, the speeds where the runs were in full rub
-against those where the upper branch is stable.
+against those where the upper branch is stable. With --continuation, the
+branch traced through its folds by continuation (rotor_rub_stability
+--branch-csv) is drawn over the grid's, in red, and the speeds where it
+turns back (its folds) are marked and printed.
 
 usage: plot_full_rub.py --branches STABILITY.csv --out FILE.png [--classes BIFURCATION.csv --friction F]
-                        [--title TEXT]
+                        [--continuation BRANCH.csv] [--title TEXT]
 """
 import argparse
 import csv
@@ -39,12 +42,35 @@ def runs_of(rows, key):
     return out
 
 
+def turning_points(speeds):
+    """The indices where a traced speed turns back (a fold between neighbours)."""
+    return [i for i in range(1, len(speeds) - 1) if (speeds[i] - speeds[i - 1]) * (speeds[i + 1] - speeds[i]) < 0.0]
+
+
+def draw_continuation(ax, trace):
+    """The traced branch: solid where stable, dashed where not, each piece
+    joined to the next at their shared point; its folds marked."""
+    pieces = runs_of(trace, lambda r: r["stable"])
+    for k, part in enumerate(pieces):
+        pts = part + ([pieces[k + 1][0]] if k + 1 < len(pieces) else [])
+        stable = part[0]["stable"] == "1"
+        ax.plot([float(r["speed_rad_per_s"]) for r in pts], [float(r["normal_force_N"]) for r in pts],
+                color="#e41a1c", ls="-" if stable else "--", lw=1.0, zorder=4,
+                label="continuation, %s" % ("stable" if stable else "unstable"))
+    speeds = [float(r["speed_rad_per_s"]) for r in trace]
+    for i in turning_points(speeds):
+        ax.scatter([speeds[i]], [float(trace[i]["normal_force_N"])], marker="x", s=40, color="#e41a1c", zorder=5,
+                   label="continuation's fold")
+        print("plot_full_rub: the continuation turns back at %.6g rad/s" % speeds[i])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--branches", required=True, help="rotor_rub_stability --csv output")
     ap.add_argument("--out", required=True, help="the PNG to write")
     ap.add_argument("--classes", help="rotor_rub_bifurcation's classes CSV (the runs' class and mean normal force)")
     ap.add_argument("--friction", type=float, help="the friction coefficient of the runs to draw (with --classes)")
+    ap.add_argument("--continuation", help="rotor_rub_stability --branch-csv output: the branch traced through its folds")
     ap.add_argument("--title", default="synchronous full rub: branches and runs")
     a = ap.parse_args(argv)
     if a.classes and a.friction is None:
@@ -52,6 +78,7 @@ def main(argv=None):
     try:
         branches = read(a.branches)
         classes = read(a.classes) if a.classes else []
+        trace = read(a.continuation) if a.continuation else []
     except (OSError, csv.Error) as e:
         print("plot_full_rub.py: cannot read: %s" % e, file=sys.stderr)
         return 2
@@ -83,6 +110,8 @@ def main(argv=None):
                     label="branch %s, %s" % (b, "stable" if stable else "unstable"))
             if b == "0" and stable:
                 stable_spans.append((w[0], w[-1]))
+    if trace:
+        draw_continuation(ax, trace)
     runs = [r for r in classes if r["status"] == "ok" and r["class"] == "full_rub" and r["friction_coefficient"]
             and abs(float(r["friction_coefficient"]) - a.friction) < 1e-12]
     for d, (marker, colour) in MARKERS.items():

@@ -165,7 +165,8 @@ rm -rf "$BIF"
 timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --quick" bash -c "'$ROOT/scripts/make_bifurcation.sh' --quick '$BIF' \
   > '$WS/bifurcation_check.log' 2>&1 && for f in bifurcation bifurcation_map poincare_sections full_rub_branches; do \
   test -s '$BIF/'\$f.png || exit 1; done && grep -q ',up,' '$BIF/data/bifurcation.csv' \
-  && grep -q 'plot_full_rub: up runs in full rub' '$WS/bifurcation_check.log'"
+  && grep -q 'plot_full_rub: up runs in full rub' '$WS/bifurcation_check.log' \
+  && grep -q 'plot_full_rub: the continuation turns back at 167.936 rad/s' '$WS/bifurcation_check.log'"
 
 if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
 else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
