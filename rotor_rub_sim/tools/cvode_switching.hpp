@@ -4,7 +4,7 @@
 // instead of the core's Dormand-Prince 5(4), so that the two are timed side by
 // side in one run. Neither the core nor the node links it (rotor_rub_cvode).
 //
-// * Free flight: the free state of model.hpp (JeffcottModel's forces); root
+// * Free flight: the free state of state_layout.hpp (the rotor model's forces); root
 //   function delta - C rising (CVodeRootInit, CVodeSetRootDirection).
 // * Contact: ConstrainedDynamics (reduced coordinates), which holds the
 //   constraint |r_r - r_s| = C exactly by construction (stronger than

@@ -4,12 +4,15 @@
 // discriminant (steady_response.hpp's full_rub_discriminant_N2) vanishes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
+#include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/full_rub_continuation.hpp"
 #include "rotor_rub_sim/core/steady_response.hpp"
 #include "test_support.hpp"
@@ -28,6 +31,13 @@ constexpr double kFoldTolerance_rad_per_s = 1e-6;
 // and the closed form in a quadratic's roots, whose conditioning near a fold
 // (two roots merging) costs the square root of the rounding: 1e-8 there.
 constexpr double kBranchTolerance = 1e-7;
+// The penalty contact's fold against the rigid contact's: its bore lies
+// N / k_c further out (5e-8 m at the fold's 50 N, 2.5e-4 of the clearance),
+// which moves the fold by at most that fraction of its speed, 0.04 rad/s
+// (measured: 4.2e-4 rad/s, at k_c 1e9 N/m); and by more than the
+// continuation's own error, so the trace is the penalty contact's.
+constexpr double kPenaltyFoldShift_rad_per_s = 0.04;
+constexpr double kOwnFoldShift_rad_per_s = 1e-6;
 
 core::ModelParameters paper(core::StatorModel stator, double f) {
   core::ModelParameters p = test::paper_scene().model;
@@ -64,7 +74,10 @@ std::vector<double> discriminant_folds(const core::ModelParameters& p, double lo
 // The branch from the upper full rub at `start` toward higher speeds.
 core::FullRubBranch trace(const core::ModelParameters& p, double start, double lo, double hi) {
   const auto rubs = core::full_rub_stability(p, start);
-  EXPECT_FALSE(rubs.empty()) << "no full rub at " << start;
+  if (rubs.empty()) {
+    ADD_FAILURE() << "no full rub at " << start;
+    return {};
+  }
   core::ContinuationSettings settings;
   settings.min_speed_rad_per_s = lo;
   settings.max_speed_rad_per_s = hi;
@@ -117,7 +130,42 @@ TEST(FullRubContinuation, FoldsAreWhereTheDiscriminantVanishes) {
       if (std::abs(pt.speed_rad_per_s - fold) > 1.0) EXPECT_EQ(pt.rub.stable(), !on_lower) << pt.speed_rad_per_s;
     }
     EXPECT_TRUE(past_fold);
+    EXPECT_EQ(branch.end.rfind("the normal force's fall to 0 near", 0), 0u) << branch.end;
   }
+}
+
+// The penalty contact's branch (the penalty method's scenes, k_c 1e9 N/m):
+// every traced point away from the fold is the rest point
+// full_rub_stability finds by Newton from the rigid closed form with the
+// bore moved out by N / k_c, and the fold lies near the rigid contact's.
+TEST(FullRubContinuation, ThePenaltyContactsBranch) {
+  const core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+  const auto rubs = core::full_rub_stability(p, 150.0, true);
+  ASSERT_FALSE(rubs.empty());
+  const core::PenaltyContact penalty{p.contact_stiffness_N_per_m,
+                                     core::contact_damping_N_s_per_m(core::StationModel(p))};
+  core::ContinuationSettings settings;
+  settings.min_speed_rad_per_s = 140.0;
+  settings.max_speed_rad_per_s = 200.0;
+  const core::FullRubBranch branch =
+      core::continue_full_rub(core::turning_rotor(p), core::station_stator(p), p.clearance_m, p.friction_coefficient,
+                              rubs.front(), 150.0, settings, &penalty);
+  ASSERT_EQ(branch.folds_rad_per_s.size(), 1u) << branch.end;
+  const double rigid = discriminant_folds(p, 140.0, 200.0).front();
+  std::printf("penalty contact: fold at %.9f rad/s, the rigid contact's %+.3e off\n", branch.folds_rad_per_s.front(),
+              branch.folds_rad_per_s.front() - rigid);
+  EXPECT_NEAR(branch.folds_rad_per_s.front(), rigid, kPenaltyFoldShift_rad_per_s);
+  EXPECT_GT(std::abs(branch.folds_rad_per_s.front() - rigid), kOwnFoldShift_rad_per_s);
+  int compared = 0;
+  for (const core::FullRubBranchPoint& pt : branch.points) {
+    if (std::abs(pt.speed_rad_per_s - rigid) < 1.0) continue;  // Newton from the closed form is ill-posed there
+    const auto newton = core::full_rub_stability(p, pt.speed_rad_per_s, true);
+    double nearest = 1e300;
+    for (const auto& r : newton) nearest = std::min(nearest, std::abs(r.normal_force_N - pt.rub.normal_force_N));
+    EXPECT_LT(nearest, kBranchTolerance * pt.rub.normal_force_N) << pt.speed_rad_per_s;
+    ++compared;
+  }
+  EXPECT_GT(compared, 10);
 }
 
 // The trace ends where it should: at the speed range's end, or where the

@@ -24,6 +24,14 @@ constexpr double kMinStep = 1e-9;
 // fraction of the step (the speed at a fold is stationary in the arclength:
 // its error is of the bracket's square).
 constexpr double kLocateFraction = 1e-10;
+// A step whose tangent turns by more than this angle's cosine (18 deg) is
+// taken again at half the length: two folds or two changes of stability
+// inside one step would cancel in their sign tests, and a turn beyond 90 deg
+// would reverse the trace.
+constexpr double kMinTurnCosine = 0.95;
+// linearised_full_rub polishes a point by Newton at its speed: the point it
+// linearises must be the traced one, to this fraction of each scale.
+constexpr double kSamePoint = 1e-6;
 
 // The rest point's equations in scaled unknowns y = (q / scale_q, w / scale_w).
 class RestPoint {
@@ -98,10 +106,17 @@ class RestPoint {
     }
     return false;
   }
+  // The point linearised; throws std::runtime_error where linearised_full_rub's
+  // own Newton moved it off the traced point (near a fold, onto the other root).
   FullRubStability linearise(const Eigen::VectorXd& y) const {
     Eigen::VectorXd guess = Eigen::VectorXd::Zero(2 * nq_);
     guess.head(nq_) = positions(y);
-    return linearised_full_rub(rotor_, stator_, C_, f_, speed(y), guess, penalty_);
+    FullRubStability rub = linearised_full_rub(rotor_, stator_, C_, f_, speed(y), guess, penalty_);
+    if ((rub.state.head(nq_) - guess.head(nq_)).cwiseQuotient(scale_.head(nq_)).cwiseAbs().maxCoeff() > kSamePoint) {
+      throw std::runtime_error("the linearisation's Newton left the traced point at " + std::to_string(speed(y)) +
+                               " rad/s");
+    }
+    return rub;
   }
 
  private:
@@ -142,9 +157,10 @@ double regula_falsi(const std::function<double(double)>& phi, double phi0, doubl
 FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& stator, double C, double f,
                                 const FullRubStability& start, double w0, const ContinuationSettings& settings,
                                 const PenaltyContact* penalty) {
-  if (!(settings.min_speed_rad_per_s < settings.max_speed_rad_per_s) || !(w0 >= settings.min_speed_rad_per_s) ||
-      !(w0 <= settings.max_speed_rad_per_s)) {
-    throw std::invalid_argument("full rub continuation: the start's speed must lie in a speed range of some width");
+  if (!(settings.min_speed_rad_per_s < settings.max_speed_rad_per_s) || !(w0 > 0.0) ||
+      !(w0 >= settings.min_speed_rad_per_s) || !(w0 <= settings.max_speed_rad_per_s)) {
+    throw std::invalid_argument(
+        "full rub continuation: the start's speed must be above 0 and lie in a speed range of some width");
   }
   const int nq = static_cast<int>(start.state.size()) / 2;
   const RestPoint g(rotor, stator, C, f, penalty, start.state.head(nq), w0);
@@ -171,6 +187,14 @@ FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& 
       continue;
     }
     const Eigen::VectorXd t_new = g.tangent(y_new, t);
+    if (t.dot(t_new) < kMinTurnCosine) {
+      ds *= 0.5;
+      if (ds < kMinStep) {
+        branch.end = "a turn of the tangent at the smallest step";
+        break;
+      }
+      continue;
+    }
     const double w_new = g.speed(y_new);
     // A point at arclength s along t from y, corrected (the fold's and the
     // stability change's regula falsi); y_new itself at s = ds.
@@ -178,30 +202,36 @@ FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& 
       Eigen::VectorXd ys;
       int its = 0;
       if (!g.correct(y + s * t, t, ys, its)) {
-        throw std::runtime_error("full rub continuation: the corrector failed while locating a fold");
+        throw std::runtime_error("the corrector failed inside a step at " + std::to_string(g.speed(y)) + " rad/s");
       }
       return ys;
     };
-    if (t(nq) * t_new(nq) < 0.0) {  // dw/ds changes sign: a fold
-      const double s = regula_falsi([&](double si) { return g.tangent(point_at(si), t)(nq); }, t(nq), ds, t_new(nq));
-      branch.folds_rad_per_s.push_back(g.speed(point_at(s)));
-    }
-    FullRubStability rub = g.linearise(y_new);
-    if (!(rub.normal_force_N > 0.0)) {
-      branch.end = "the normal force's fall to 0 near " + std::to_string(w_new) +
-                   " rad/s (the branch meets the free orbit: the contact ends)";
+    FullRubStability rub;
+    try {
+      if (t(nq) * t_new(nq) < 0.0) {  // dw/ds changes sign: a fold
+        const double s = regula_falsi([&](double si) { return g.tangent(point_at(si), t)(nq); }, t(nq), ds, t_new(nq));
+        branch.folds_rad_per_s.push_back(g.speed(point_at(s)));
+      }
+      rub = g.linearise(y_new);
+      if (!(rub.normal_force_N > 0.0)) {
+        branch.end = "the normal force's fall to 0 near " + std::to_string(w_new) +
+                     " rad/s (the branch meets the free orbit: the contact ends)";
+        break;
+      }
+      const FullRubStability& last = branch.points.back().rub;
+      if (last.stable() != rub.stable()) {
+        const double growth0 = last.eigenvalues.front().real(), growth1 = rub.eigenvalues.front().real();
+        const double s = regula_falsi([&](double si) { return g.linearise(point_at(si)).eigenvalues.front().real(); },
+                                      growth0, ds, growth1);
+        branch.stability_changes_rad_per_s.push_back(g.speed(point_at(s)));
+      }
+    } catch (const std::runtime_error& e) {
+      branch.end = std::string("a failure: ") + e.what();  // the points so far stand
       break;
     }
     if (w_new < settings.min_speed_rad_per_s || w_new > settings.max_speed_rad_per_s) {
       branch.end = "the speed range's end";
       break;
-    }
-    const FullRubStability& last = branch.points.back().rub;
-    if (last.stable() != rub.stable()) {
-      const double growth0 = last.eigenvalues.front().real(), growth1 = rub.eigenvalues.front().real();
-      const double s = regula_falsi([&](double si) { return g.linearise(point_at(si)).eigenvalues.front().real(); },
-                                    growth0, ds, growth1);
-      branch.stability_changes_rad_per_s.push_back(g.speed(point_at(s)));
     }
     branch.points.push_back({w_new, std::move(rub)});
     y = y_new;

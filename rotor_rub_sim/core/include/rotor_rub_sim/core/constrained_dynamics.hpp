@@ -1,11 +1,11 @@
 // The rotor held on the stator's bore, |r_r - r_s| = C, in reduced
 // coordinates: the stator's position (elastic stator) and the contact angle
 // psi, with r_r = r_s + C n(psi), n = (cos psi, sin psi), t = n' = (-sin, cos);
-// under a motor drive also the spin's states (model.hpp).
+// under a motor drive also the spin's states (state_layout.hpp).
 //
 // With r_r'' = r_s'' + C psi'' t - C psi'^2 n, the rotor's and stator's
 // equations give the contact forces and psi'' in closed form
-// (1/m = 1/m_r + 1/m_s, F_r and F_s the free forces of model.hpp, F_t the
+// (1/m = 1/m_r + 1/m_s, F_r and F_s the free forces (F_r the rotor model's), F_t the
 // tangential force on the rotor along t):
 //   F_n   = (F_r.n / m_r - F_s.n / m_s + C psi'^2) / (1/m)
 //   slip:  F_t = -f F_n s,  psi'' = (F_r.t / m_r - F_s.t / m_s + F_t / m) / C
@@ -15,7 +15,7 @@
 // F_n does not depend on F_t (they act along n and t) under the prescribed
 // drive. Under a motor drive the spin takes part: with the free relative
 // accelerations a_n0 = n . (a_r - a_s), s0 = t . (a_r - a_s) + A R_r (no
-// contact force) and the compliance W (model.hpp), the constraint
+// contact force) and the compliance W (station_model.hpp), the constraint
 // n . (a_r - a_s) = -C psi'^2 and, in stick, v_slide' = 0 read
 //   W_nn F_n - W_nt F_t = a_n0 + C psi'^2 =: b,   -W_nt F_n + W_tt F_t = -s0,
 //   slip:  F_n = b / (W_nn + f s W_nt), F_t = -f s F_n;
@@ -47,7 +47,7 @@ struct ContactLayout : SpinLayout<kMotor, 2 * (1 + kStatorDof)> {
   static constexpr int kAngle = kStatorDof;                                  // psi [rad]
   static constexpr int kStatorVel = kDof;                                    // x_s', y_s' [m/s] (elastic only)
   static constexpr int kAngleRate = kDof + kStatorDof;                       // psi' [rad/s]
-  static constexpr int kModal = kSize;  // the rotor's block (model.hpp's FreeLayout)
+  static constexpr int kModal = kSize;  // the rotor's block (state_layout.hpp's FreeLayout)
   using State = typename Rotor::template State<kSize>;
 };
 
@@ -184,7 +184,7 @@ struct ConstrainedDynamics {
   // The rates of the contact forces along the motion under the prescribed
   // drive (A constant on a speed segment), from the time derivatives of the
   // quantities above: n' = psi' t, t' = -psi' n, r_r'' = r_s'' + C psi'' t -
-  // C psi'^2 n, F_r' and F_s' from model.hpp's free force derivatives, and
+  // C psi'^2 n, F_r' the rotor model's station_force_rate, F_s' the stator's, and
   //   F_n'    = m ((F_r'.n + psi' F_r.t) / m_r - (F_s'.n + psi' F_s.t) / m_s + 2 C psi' psi'')
   //   free_t' = (F_r'.t - psi' F_r.n) / m_r - (F_s'.t - psi' F_s.n) / m_s
   //   F_t'    = -f s F_n' (slip), -m free_t' (stick: the stick force's rate), 0 (no friction).

@@ -32,11 +32,9 @@ class ContactMethod {
   /// starts it at rest): a run from any state, e.g. a little off a steady
   /// motion (test_full_rub_stability). Throws std::invalid_argument for a
   /// block of the wrong size; the Jeffcott's methods have none:
-  /// std::logic_error.
-  virtual void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment, const ModalState& modal) {
-    static_cast<void>(t_s), static_cast<void>(k), static_cast<void>(segment), static_cast<void>(modal);
-    throw std::logic_error("start_with_modes: this method runs the Jeffcott rotor");
-  }
+  /// std::logic_error (the rotor model's check_block, rotor_model.hpp).
+  virtual void start_with_modes(double t_s, const Kinematics& k, const SpeedSegment& segment,
+                                const ModalState& modal) = 0;
 
   /// Restarts integration at t_s in [step_begin(), step_end()] from the
   /// method's own state there, under a new drive segment (a drive
@@ -58,11 +56,9 @@ class ContactMethod {
   /// A flexible rotor's new model of the same basis (its unbalances changed:
   /// FlexibleRotorModel::with_unbalances), taking effect at the
   /// change_model that follows (Simulation::change_parameters). The
-  /// Jeffcott's methods have no such rotor: std::logic_error.
-  virtual void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) {
-    static_cast<void>(rotor);
-    throw std::logic_error("change_rotor: this method runs the Jeffcott rotor");
-  }
+  /// Jeffcott's methods have no such rotor: std::logic_error (the rotor
+  /// model's replace).
+  virtual void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) = 0;
 
   /// One accepted step, valid on [step_begin(), step_end()]. An event ends a
   /// step early; so does t_limit_s (the next drive discontinuity or the end

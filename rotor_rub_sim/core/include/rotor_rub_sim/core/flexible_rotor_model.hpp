@@ -22,7 +22,7 @@
 /// J the rotating train's polar inertia about the shaft axis (the scene's
 /// rotor_polar_inertia_kg_m2). Eliminating xi'' = F_xi + A h_xi (no contact
 /// force reaches the modes) leaves the Jeffcott's form at the station
-/// (model.hpp's SpinCoupling): lever h_u / m_st, J_eff = J - h^T M^-1 h,
+/// (station_model.hpp's SpinCoupling): lever h_u / m_st, J_eff = J - h^T M^-1 h,
 /// extra torque h_xi . F_xi; the modes then take A h_xi (add_spin_share),
 /// and at an impact the spin's jump dw, dxi' = h_xi dw.
 #pragma once
@@ -263,7 +263,7 @@ void check_modal_block(const FlexibleRotorModel& rotor, const Modal& modal) {
   }
 }
 
-/// The free loads of a flexible rotor's state (model.hpp's FreeLoads): m the
+/// The free loads of a flexible rotor's state (station_model.hpp's FreeLoads): m the
 /// station (station_parameters), k the station and stator, modal its
 /// [xi; xi'], d the drive (drive_at); xi'' written to modal_acc. Under a motor drive
 /// without the spin's share, which the caller adds once the spin's

@@ -51,9 +51,11 @@ struct FullRubBranch {
 /// both ways is two calls. The rigid contact, or the penalty contact's
 /// (penalty). The trace ends where the speed leaves the settings' range,
 /// where the normal force falls to 0 (the branch meets the free orbit: the
-/// contact ends), after max_points, or where the corrector fails at the
-/// smallest step (said in `end`). Throws std::invalid_argument for an empty
-/// range or a start outside it.
+/// contact ends), after max_points, where the corrector fails or the tangent
+/// turns too fast at the smallest step, or where a point cannot be
+/// linearised (said in `end`; the points traced so far stand). Throws
+/// std::invalid_argument for an empty range, or a start at a speed not above
+/// 0 or outside the range.
 FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& stator, double clearance_m,
                                 double friction_coefficient, const FullRubStability& start,
                                 double start_speed_rad_per_s, const ContinuationSettings& settings,

@@ -84,22 +84,6 @@ class JeffcottModel : public StationModel {
   using StationModel::apply_impulse;
   using StationModel::contact_compliance;
 
-  // The torque the drive applies to the rotor [N m]: the motor's, or the one
-  // an ideal prescribed drive needs for the spin acceleration A it imposes,
-  // J_G A - R_r F_t - e F . u (the spin equation solved for T).
-  double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, double normal_force_N,
-                          double tangential_force_N) const {
-    if (motor_) return d.motor_torque_N_m;
-    return drive_torque_N_m(k, d, g, unbalance_dir(d.angle_rad), normal_force_N, tangential_force_N);
-  }
-  // The same, given the unbalance's direction (cos phi, sin phi) of d.angle_rad.
-  double drive_torque_N_m(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const Vec2& unbalance_dir,
-                          double normal_force_N, double tangential_force_N) const {
-    if (motor_) return d.motor_torque_N_m;
-    const Vec2 u(unbalance_dir.y(), -unbalance_dir.x());
-    const Vec2 at_centre = shaft_force(k) + contact_force_on_rotor(g, normal_force_N, tangential_force_N);
-    return station_drive_torque_N_m(d, tangential_force_N) - p_.eccentricity_m * at_centre.dot(u);
-  }
   // e F . u, the unbalance's lever torque on the spin that the prescribed
   // drive supplies besides J A - R_r F_t (station_drive_torque_N_m), for
   // kinematics in the casing's frame (a sample's: the shaft's spring centre

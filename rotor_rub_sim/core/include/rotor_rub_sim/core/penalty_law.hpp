@@ -108,7 +108,7 @@ struct PenaltyLaw {
 
   // The derivatives of one mode's contact force on the rotor,
   // F_c = -F_n n + F_t t, with rel = r_r - r_s, delta = |rel|, n = rel / delta,
-  // t = (-n_y, n_x), v_n = rel' . n, v_t = rel' . t (model.hpp's geometry):
+  // t = (-n_y, n_x), v_n = rel' . n, v_t = rel' . t (station_model.hpp's geometry):
   //   dn/drel = t t^T / delta, dt/drel = -n t^T / delta,
   //   dF_n = k_c n^T drel + (c_c v_t / delta) t^T drel + c_c n^T drel',
   //   dv_slide = -(v_n / delta) t^T drel + t^T drel' + A R_r dt,

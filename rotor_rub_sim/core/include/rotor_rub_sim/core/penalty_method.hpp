@@ -15,11 +15,11 @@
 
 namespace rotor_rub::core {
 
-/// The method on integrator I, for the scene's stator and drive. Instantiated
-/// for the integrators solver_registry.cpp offers with it (rosenbrock4, dopri5 and rk4);
-/// a registry row without its instantiation fails to link.
 /// The penalty method on integrator I for a scene of the Jeffcott rotor, and of
-/// a flexible rotor (the registry's factories: solver_registry.cpp).
+/// a flexible rotor, for the scene's stator and drive (the registry's
+/// factories: solver_registry.cpp). Instantiated for the integrators the
+/// registry offers with it (rosenbrock4, dopri5 and rk4); a registry row without its
+/// instantiation fails to link.
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_penalty_jeffcott(const Scene& scene);
 /// See make_penalty_jeffcott.

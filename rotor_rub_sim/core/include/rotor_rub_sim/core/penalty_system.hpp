@@ -104,7 +104,7 @@ struct PenaltySystem {
     const PenaltyMode m = mode.clamped ? law.mode_of(law.edges(g)) : mode;
     const double radius_m = model->parameters().rotor_radius_m;
     const auto c = law.force_jacobian(g, k.rotor_vel - k.stator_vel, m, d.accel_rad_per_s2 * radius_m);
-    const JeffcottModel::FreeForceGains free = rotor->jeffcott().free_force_gains();
+    const JeffcottModel::FreeForceGains free = rotor->free_force_gains();
     const double imr = model->inv_rotor_mass();
     const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
     jac.setZero();
@@ -112,7 +112,7 @@ struct PenaltySystem {
     jac.template block<2, 2>(L::kRotorPos, L::kRotorVel) = eye;
     jac.template block<2, 2>(L::kRotorVel, L::kRotorPos) = (c.d_rel_pos - free.rotor_stiffness_N_per_m * eye) * imr;
     jac.template block<2, 2>(L::kRotorVel, L::kRotorVel) = (c.d_rel_vel - free.rotor_damping_N_s_per_m * eye) * imr;
-    dfdt.template segment<2>(L::kRotorVel) = (rotor->jeffcott().rotor_free_force_rate(d) + c.d_time) * imr;
+    dfdt.template segment<2>(L::kRotorVel) = (rotor->free_force_rate(d) + c.d_time) * imr;
     if constexpr (kStatorDof == 2) {
       // The stator takes -F_c, a function of rel = r_r - r_s.
       const double ims = model->inv_stator_mass();
@@ -262,7 +262,7 @@ struct PenaltyPolarSystem {
     }
   }
 
-  // The contact's geometry read off the coordinates (model.hpp's
+  // The contact's geometry read off the coordinates (station_model.hpp's
   // contact_geometry() finds the same from the positions, less exactly:
   // r_r - r_s = (r_s + delta n) - r_s carries eps |r| of rounding, which k_c
   // turns into ~4e-10 N of F_n).

@@ -1,11 +1,11 @@
 /// @file
 /// The seam between a rotor and the contact methods: what a method knows of
 /// the rotor it runs. The contact acts at one point, the rub station, a point
-/// of mass m_r on which the stator presses (model.hpp's StationModel: masses,
+/// of mass m_r on which the stator presses (station_model.hpp's StationModel: masses,
 /// stator, geometry, compliance, impulses, drive); a rotor model adds every
 /// other force on the station and any coordinates of its own that no contact
 /// force reaches (a modal block, carried after the layout's fixed part:
-/// model.hpp's FreeLayout). The methods are templates on the rotor model and
+/// state_layout.hpp's FreeLayout). The methods are templates on the rotor model and
 /// call only what follows, so a rotor model that lacks a member does not
 /// compile (docs/architecture.md, "Adding a rotor model").
 ///
@@ -14,7 +14,10 @@
 ///   ModalVector            its xi'' / xi''' storage (no allocation)
 ///   kStationOnly           the state is the station's and the stator's alone
 ///                          (the penalty method's polar coordinates and its
-///                          closed-form Jacobian cover no more)
+///                          closed-form Jacobian cover no more); such a rotor
+///                          also gives its free forces' gains and time rate
+///                          (free_force_gains(), free_force_rate(d)) for
+///                          that Jacobian
 ///   R(scene)               the scene's rotor, read once (Scene::rotor.loaded)
 ///   adopt(p)               takes the scene's parameters p (at the start, at a
 ///                          live change) and gives the station's (StationModel)
@@ -59,8 +62,10 @@ class JeffcottRotor {
     jeffcott_ = JeffcottModel(scene);
     return scene;
   }
-  /// Its shaft and unbalance (the penalty method's closed-form Jacobian takes their gains).
-  const JeffcottModel& jeffcott() const { return jeffcott_; }
+  /// The free forces' gains and their time rate at a fixed state (the
+  /// penalty method's closed-form Jacobian, penalty_system.hpp).
+  JeffcottModel::FreeForceGains free_force_gains() const { return jeffcott_.free_force_gains(); }
+  Vec2 free_force_rate(const DriveState& d) const { return jeffcott_.rotor_free_force_rate(d); }
   int modal_size() const { return 0; }
   void check_block(const ModalState& /*modal*/) const {
     throw std::logic_error("start_with_modes: this method runs the Jeffcott rotor");
