@@ -186,12 +186,17 @@ int main(int argc, char** argv) {
     }
   }
   try {
-    // Between grid speeds: a fold where the branches' count changes, a change
-    // of stability where the upper branch's verdict flips.
+    // Between grid speeds: a fold where two branches meet (the count changes
+    // by two), the free orbit touching the bore where one branch's normal
+    // force passes 0 (by one), a change of stability where the upper
+    // branch's verdict flips.
     for (std::size_t j = 1; j < grid.size(); ++j) {
       if (grid[j].size() != grid[j - 1].size()) {
         const double at = located(w[j - 1], w[j], [&](double x) { return count(x) == grid[j - 1].size(); });
-        std::printf("fold at %.6f rad/s: %zu branches below, %zu above\n", at, grid[j - 1].size(), grid[j].size());
+        const bool fold = grid[j].size() + 2 == grid[j - 1].size() || grid[j - 1].size() + 2 == grid[j].size();
+        std::printf("%s at %.6f rad/s: %zu branches below, %zu above\n",
+                    fold ? "fold" : "a branch's normal force passes 0 (the free orbit touches the bore)", at,
+                    grid[j - 1].size(), grid[j].size());
       } else if (!grid[j].empty() && grid[j].front().stable() != grid[j - 1].front().stable()) {
         auto stable = [&branches](double x) {
           const auto b = branches(x);

@@ -79,6 +79,21 @@ TEST(StabilityCli, TheSealRotorAtEightAndTwelveModes) {
     const std::string last = r.out.substr(r.out.find("   300.0000       0"));
     EXPECT_NE(last.find(verdict), std::string::npos) << modes << ": " << last;
   }
+  // Below 185.37 rad/s the free orbit stays inside the seal: the one branch
+  // begins where its normal force passes 0, which is no fold; traced by
+  // continuation from there up, stable with 8 modes.
+  const std::string csv = rotor_rub::test::tmp() + "/seal_branch.csv";
+  const Result r = stability("--scene " + config("seal_rub_runup.yaml") + " --set rotor_file=" + rotor +
+                             " --set rotor_planar_modes=8 --set friction_coefficient=0.1 --speeds 150 250 --points 3"
+                             " --branch-csv " +
+                             csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("a branch's normal force passes 0 (the free orbit touches the bore) at 185.366898 rad/s: 0 "
+                       "branches below, 1 above"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("fold"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("continuation from 200 rad/s"), std::string::npos) << r.out;
 }
 
 // --branch-csv: the paper scene's upper branch traced by continuation from
