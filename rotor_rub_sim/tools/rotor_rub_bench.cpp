@@ -165,7 +165,7 @@ Scene with(const Scene& base, const Case& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace cli = rotor_rub::tools::cli;
+  namespace cli = rotor_rub::cli;
   std::string scene_path;
   int repeats = 5;
   double error_rate_hz = 10000.0;
@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
   cli::parse_or_exit(app, argc, argv);
   if (scene_path.empty()) {
     try {
-      scene_path = rotor_rub::tools::find_package_file("config/paper_runup.yaml");
+      scene_path = rotor_rub::cli::find_package_file("config/paper_runup.yaml");
     } catch (const std::exception& e) {
       std::cerr << "rotor_rub_bench: no default scene: " << e.what() << "; give --scene FILE\n";
       return 2;

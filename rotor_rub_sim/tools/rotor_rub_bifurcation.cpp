@@ -39,7 +39,7 @@
 namespace {
 
 using namespace rotor_rub;
-namespace cli = rotor_rub::tools::cli;
+namespace cli = rotor_rub::cli;
 using tools::Values;
 
 enum class Direction { kConstant, kUp, kDown };
@@ -380,7 +380,7 @@ Options parse(int argc, char** argv) {
   }
   if (o.scene_path.empty()) {
     try {
-      o.scene_path = tools::find_package_file("config/paper_runup.yaml");
+      o.scene_path = cli::find_package_file("config/paper_runup.yaml");
     } catch (const std::exception& e) {
       cli::usage_error(app, std::string("no default scene: ") + e.what() + "; give --scene FILE");
     }

@@ -121,7 +121,7 @@ std::vector<RecordedRun> read_bag(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace cli = rotor_rub::tools::cli;
+  namespace cli = rotor_rub::cli;
   std::vector<std::string> bags, runner_prefixes;
   std::string reference, csv_path;
   bool quiet = false;

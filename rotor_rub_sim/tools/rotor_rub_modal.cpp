@@ -116,7 +116,7 @@ bool write_matrices_file(const std::string& path, const std::string& source, con
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace cli = rotor_rub::tools::cli;
+  namespace cli = rotor_rub::cli;
   namespace core = rotor_rub::core;
   std::string rotor_path, campbell_csv, response_csv, shapes_csv, export_path;
   double max_speed = 1000.0, me = 0.0;

@@ -23,7 +23,7 @@
 namespace {
 
 using namespace rotor_rub;
-namespace cli = rotor_rub::tools::cli;
+namespace cli = rotor_rub::cli;
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitOutput = 6;

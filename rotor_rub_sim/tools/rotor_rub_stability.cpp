@@ -58,7 +58,7 @@ double located(double lo, double hi, Pred pred) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace cli = tools::cli;
+  namespace cli = rotor_rub::cli;
   std::string scene_path, csv_path, branch_path;
   std::vector<std::string> sets;
   std::vector<double> range;

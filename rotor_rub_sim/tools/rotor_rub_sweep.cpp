@@ -26,7 +26,7 @@ namespace {
 using namespace rotor_rub;
 using tools::SweepResult;
 using tools::Values;
-namespace cli = rotor_rub::tools::cli;
+namespace cli = rotor_rub::cli;
 
 [[noreturn]] void bad_input(const std::string& what) {
   std::cerr << "rotor_rub_sweep: " << what << "\n";
@@ -272,7 +272,7 @@ Parsed parse(int argc, char** argv) {
   o.progress = !no_progress;
   if (o.scene_path.empty()) {
     try {
-      o.scene_path = tools::find_package_file("config/paper_runup.yaml");
+      o.scene_path = cli::find_package_file("config/paper_runup.yaml");
     } catch (const std::exception& e) {
       bad_input(std::string("no default scene: ") + e.what() + "; give --scene FILE");
     }

@@ -134,7 +134,7 @@ TEST(BenchCli, DefaultSceneBesideTheExecutableInAnInstallSpace) {
 
 TEST(PackagePaths, CandidatesInOrderAndTheErrorNamesThemAll) {
   ::setenv("ROS_PACKAGE_PATH", "/nonexistent_ws/src:/opt/nonexistent", 1);
-  const auto c = rotor_rub::tools::package_file_candidates("config/x.yaml");
+  const auto c = rotor_rub::cli::package_file_candidates("config/x.yaml");
   ASSERT_EQ(c.size(), 4u);
   // This test's executable: <devel>/lib/rotor_rub_sim/test_bench_cli.
   EXPECT_NE(c[0].find("/share/rotor_rub_sim/config/x.yaml"), std::string::npos) << c[0];
@@ -142,19 +142,19 @@ TEST(PackagePaths, CandidatesInOrderAndTheErrorNamesThemAll) {
   EXPECT_EQ(c[2], "/opt/nonexistent/rotor_rub_sim/config/x.yaml");
   EXPECT_EQ(c[3], std::string(ROTOR_RUB_SOURCE_DIR) + "/config/x.yaml");
   try {
-    rotor_rub::tools::find_package_file("config/no_such_scene.yaml");
+    rotor_rub::cli::find_package_file("config/no_such_scene.yaml");
     ADD_FAILURE() << "no exception";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    for (const auto& p : rotor_rub::tools::package_file_candidates("config/no_such_scene.yaml")) {
+    for (const auto& p : rotor_rub::cli::package_file_candidates("config/no_such_scene.yaml")) {
       EXPECT_NE(what.find(p), std::string::npos) << p << " in " << what;
     }
   }
   // A ROS_PACKAGE_PATH entry that is the package itself (its package.xml names it).
   ::setenv("ROS_PACKAGE_PATH", ROTOR_RUB_SOURCE_DIR, 1);
-  const auto own = rotor_rub::tools::package_file_candidates("config/paper_runup.yaml");
+  const auto own = rotor_rub::cli::package_file_candidates("config/paper_runup.yaml");
   EXPECT_NE(std::find(own.begin(), own.end(), std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_runup.yaml"),
             own.end());
-  EXPECT_EQ(rotor_rub::tools::find_package_file("config/paper_runup.yaml"),
+  EXPECT_EQ(rotor_rub::cli::find_package_file("config/paper_runup.yaml"),
             std::string(ROTOR_RUB_SOURCE_DIR) + "/config/paper_runup.yaml");
 }

@@ -29,7 +29,7 @@ void resolve_rotor_file(std::map<std::string, std::string>& values) {
     return;
   }
   try {
-    it->second = rotor_rub::tools::find_package_file("config/" + it->second);
+    it->second = rotor_rub::cli::find_package_file("config/" + it->second);
   } catch (const std::runtime_error&) {
     // Left as given: the scene's check names the key and the file.
   }
@@ -38,7 +38,7 @@ void resolve_rotor_file(std::map<std::string, std::string>& values) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace cli = rotor_rub::tools::cli;
+  namespace cli = rotor_rub::cli;
   // ROS's own arguments (__name:=x, __ns:=/y, _param:=value, topic:=other)
   // are ros::init's; CLI11 sees the rest, so an unknown --flag is an error.
   // Neither --help nor --list-keys needs a master.

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace rotor_rub::tools {
+namespace rotor_rub::cli {
 
 // Where `relative` (a path inside the package, e.g. "config/paper_runup.yaml")
 // may be, in the order they are tried:
@@ -20,4 +20,4 @@ std::vector<std::string> package_file_candidates(const std::string& relative);
 // path tried when none does.
 std::string find_package_file(const std::string& relative);
 
-}  // namespace rotor_rub::tools
+}  // namespace rotor_rub::cli

@@ -1,12 +1,13 @@
-// The tools' command lines on CLI11: validators whose messages read like the
-// scene keys' ("value 'abc' is not a number; accepted: [1, 10000000]"), and
-// one way to end on --help (exit 0) and on a usage error (one line, exit 2).
+// The programs' command lines on CLI11 (the tools' and the node's):
+// validators whose messages read like the scene keys' ("value 'abc' is not a
+// number; accepted: [1, 10000000]"), and one way to end on --help (exit 0)
+// and on a usage error (one line, exit 2).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 
-namespace rotor_rub::tools::cli {
+namespace rotor_rub::cli {
 
 constexpr int kExitUsage = 2;
 
@@ -38,4 +39,4 @@ void parse_or_exit(CLI::App& app, int argc, const char* const* argv);
 // one-line message and exit status 2.
 [[noreturn]] void usage_error(const CLI::App& app, const std::string& message);
 
-}  // namespace rotor_rub::tools::cli
+}  // namespace rotor_rub::cli

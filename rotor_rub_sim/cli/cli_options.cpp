@@ -8,7 +8,7 @@
 
 #include "rotor_rub_sim/core/scene_keys.hpp"
 
-namespace rotor_rub::tools::cli {
+namespace rotor_rub::cli {
 namespace {
 
 std::string format_double(double v) {  // as the scene keys print their ranges
@@ -146,4 +146,4 @@ CLI::Validator shard_spec() {
       "", "shard");
 }
 
-}  // namespace rotor_rub::tools::cli
+}  // namespace rotor_rub::cli

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace rotor_rub::tools {
+namespace rotor_rub::cli {
 namespace {
 
 constexpr const char* kPackage = "rotor_rub_sim";
@@ -73,4 +73,4 @@ std::string find_package_file(const std::string& relative) {
                            " not found (tried: " + (tried.empty() ? "no path" : tried) + ")");
 }
 
-}  // namespace rotor_rub::tools
+}  // namespace rotor_rub::cli
