@@ -38,6 +38,13 @@ constexpr double kBranchTolerance = 1e-7;
 // continuation's own error, so the trace is the penalty contact's.
 constexpr double kPenaltyFoldShift_rad_per_s = 0.04;
 constexpr double kOwnFoldShift_rad_per_s = 1e-6;
+// Within this distance of a fold the branch's least stable eigenvalue is
+// near 0 (as the square root of the distance) and a Newton from the closed
+// form nearly singular: the stability verdicts and the penalty's Newton
+// comparisons are taken outside it.
+constexpr double kNearFold_rad_per_s = 1.0;
+// Just inside a discriminant's zero, where both roots are still real.
+constexpr double kInside_rad_per_s = 1e-6;
 
 core::ModelParameters paper(core::StatorModel stator, double f) {
   core::ModelParameters p = test::paper_scene().model;
@@ -62,7 +69,7 @@ std::vector<double> discriminant_folds(const core::ModelParameters& p, double lo
           boost::math::tools::toms748_solve(disc, w0, w1, d0, d1, boost::math::tools::eps_tolerance<double>(52), it);
       const double w = 0.5 * (bracket.first + bracket.second);
       // A fold of positive normal forces: just inside, both roots are positive.
-      const double inside = d0 > 0.0 ? w - 1e-6 : w + 1e-6;
+      const double inside = d0 > 0.0 ? w - kInside_rad_per_s : w + kInside_rad_per_s;
       if (core::synchronous_full_rub(p, inside).size() == 2) folds.push_back(w);
     }
     w0 = w1;
@@ -127,7 +134,8 @@ TEST(FullRubContinuation, FoldsAreWhereTheDiscriminantVanishes) {
       past_fold = past_fold || on_lower;
       const double n = on_lower ? lower : upper;
       EXPECT_NEAR(pt.rub.normal_force_N, n, kBranchTolerance * n) << pt.speed_rad_per_s;
-      if (std::abs(pt.speed_rad_per_s - fold) > 1.0) EXPECT_EQ(pt.rub.stable(), !on_lower) << pt.speed_rad_per_s;
+      if (std::abs(pt.speed_rad_per_s - fold) > kNearFold_rad_per_s)
+        EXPECT_EQ(pt.rub.stable(), !on_lower) << pt.speed_rad_per_s;
     }
     EXPECT_TRUE(past_fold);
     EXPECT_EQ(branch.end.rfind("the normal force's fall to 0 near", 0), 0u) << branch.end;
@@ -158,7 +166,7 @@ TEST(FullRubContinuation, ThePenaltyContactsBranch) {
   EXPECT_GT(std::abs(branch.folds_rad_per_s.front() - rigid), kOwnFoldShift_rad_per_s);
   int compared = 0;
   for (const core::FullRubBranchPoint& pt : branch.points) {
-    if (std::abs(pt.speed_rad_per_s - rigid) < 1.0) continue;  // Newton from the closed form is ill-posed there
+    if (std::abs(pt.speed_rad_per_s - rigid) < kNearFold_rad_per_s) continue;
     const auto newton = core::full_rub_stability(p, pt.speed_rad_per_s, true);
     double nearest = 1e300;
     for (const auto& r : newton) nearest = std::min(nearest, std::abs(r.normal_force_N - pt.rub.normal_force_N));
