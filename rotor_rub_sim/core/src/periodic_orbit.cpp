@@ -1,0 +1,372 @@
+#include "rotor_rub_sim/core/periodic_orbit.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <boost/numeric/odeint.hpp>
+#include <boost/numeric/odeint/external/eigen/eigen.hpp>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "rotor_rub_sim/core/event_location.hpp"
+#include "rub_flow.hpp"
+
+namespace rotor_rub::core {
+
+const char* to_string(OrbitEvent::Kind kind) {
+  switch (kind) {
+    case OrbitEvent::Kind::kImpact:
+      return "impact";
+    case OrbitEvent::Kind::kTouchdown:
+      return "touchdown";
+    case OrbitEvent::Kind::kLiftOff:
+      return "lift-off";
+  }
+  return "?";
+}
+
+Eigen::MatrixXd RubFlow::tangent_basis(const Eigen::VectorXd& y) const {
+  Eigen::MatrixXd normals(n_, 2);
+  normals.col(0) = gap_gradient(y).transpose();
+  normals.col(1) = closing_rate_gradient(y).transpose();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normals);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n_, n_);
+  return q.rightCols(n_ - 2);
+}
+
+namespace {
+
+using Vector = Eigen::VectorXd;
+namespace odeint = boost::numeric::odeint;
+using Stepper = odeint::runge_kutta_fehlberg78<Vector, double, Vector, double, odeint::vector_space_algebra>;
+using ErrorChecker = odeint::default_error_checker<double, odeint::vector_space_algebra, odeint::default_operations>;
+using Controlled = odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
+
+// A start this close to the bore (in units of C) and pressed onto it is in
+// contact: a settled run's full rub lies on the bore to its tolerance.
+constexpr double kOnBore = 1e-6;
+// A slip this small (in units of C w) at a contact's start is a stick.
+constexpr double kStickSlip = 1e-9;
+// The controlled stepper's shortest step in periods before the shot fails.
+constexpr double kMinStepPeriods = 1e-14;
+
+// One shot of the flow: its state, the Jacobian carried along, the regime.
+struct Shot {
+  Vector y;
+  Eigen::MatrixXd phi;
+  OrbitRegime regime = OrbitRegime::kFree;
+  double slip_sign = 1.0;
+  std::vector<OrbitEvent> events;
+  double slowest_impact = std::numeric_limits<double>::infinity();
+  double closest_miss = std::numeric_limits<double>::infinity();
+};
+
+class Shooter {
+ public:
+  Shooter(const RubFlow& flow, const OrbitSettings& s, bool with_jacobian)
+      : flow_(flow), s_(s), jac_(with_jacobian), n_(flow.size()) {}
+
+  // The regime a state starts in, and its slip's sign in contact.
+  void start(Shot& shot, double t) const {
+    shot.regime = OrbitRegime::kFree;
+    if (flow_.gap(shot.y) > -kOnBore && flow_.normal_force(t, shot.y) > 0.0) {
+      flow_.project_to_bore(shot.y);
+      enter_contact(shot, t);
+    } else if (flow_.gap(shot.y) > 0.0) {
+      throw OrbitError("the start lies inside the bore and is not pressed onto it");
+    }
+    if (jac_) shot.phi = Eigen::MatrixXd::Identity(n_, n_);
+  }
+
+  void advance(Shot& shot, double t0, double t1) const {
+    const double dt_max = flow_.period() / s_.min_steps_per_period;
+    Controlled controlled(ErrorChecker(s_.tolerance, s_.tolerance, 1.0, 1.0));
+    const std::size_t max_events =
+        shot.events.size() + static_cast<std::size_t>(s_.max_events * std::ceil((t1 - t0) / flow_.period()));
+    double t = t0, dt = 0.1 * dt_max;
+    Vector z = pack(shot), z_new;
+    auto system = [this, &shot](const Vector& zz, Vector& dzdt, double tt) { augmented(shot, zz, dzdt, tt); };
+    while (t < t1) {
+      dt = std::min({dt, dt_max, t1 - t});
+      double t_new = t, dt_try = dt;
+      z_new = z;
+      if (controlled.try_step(system, z_new, t_new, dt_try) != odeint::success) {
+        dt = dt_try;
+        if (dt < kMinStepPeriods * flow_.period()) {
+          throw OrbitError("the integrator's step collapsed at t = " + std::to_string(t) + " s");
+        }
+        continue;
+      }
+      const double t_event = find_event(shot, z, t, z_new, t_new);
+      if (t_event < t_new) {
+        Stepper().do_step(system, z, t, z_new, t_event - t);
+        t_new = t_event;
+      }
+      z = z_new;
+      t = t_new;
+      dt = dt_try;
+      unpack(z, shot);
+      if (t_event == t_new) {
+        jump(shot, t);
+        z = pack(shot);
+      }
+      if (shot.events.size() > max_events) {
+        throw OrbitError("more than " + std::to_string(s_.max_events) +
+                         " events in a forcing period: a chattering sequence of impacts, which the shooting does not "
+                         "follow");
+      }
+    }
+  }
+
+ private:
+  Vector pack(const Shot& shot) const {
+    Vector z(jac_ ? n_ + n_ * n_ : n_);
+    z.head(n_) = shot.y;
+    if (jac_) z.tail(n_ * n_) = Eigen::Map<const Vector>(shot.phi.data(), n_ * n_);
+    return z;
+  }
+  void unpack(const Vector& z, Shot& shot) const {
+    shot.y = z.head(n_);
+    if (jac_) shot.phi = Eigen::Map<const Eigen::MatrixXd>(z.data() + n_, n_, n_);
+  }
+  void augmented(const Shot& shot, const Vector& z, Vector& dzdt, double t) const {
+    const Vector y = z.head(n_);
+    Vector f;
+    flow_.field(t, y, shot.regime, shot.slip_sign, f);
+    dzdt.resize(z.size());
+    dzdt.head(n_) = f;
+    if (jac_) {
+      const Eigen::Map<const Eigen::MatrixXd> phi(z.data() + n_, n_, n_);
+      Eigen::Map<Eigen::MatrixXd>(dzdt.data() + n_, n_, n_) = flow_.jacobian(t, y, shot.regime, shot.slip_sign) * phi;
+    }
+  }
+
+  // The state at t in [ta, tb] of a step from za: one step of the same
+  // stepper, shorter than the accepted one (no larger error).
+  Vector state_at(const Shot& shot, const Vector& za, double ta, double t) const {
+    if (t == ta) return za.head(n_);
+    Vector y = za.head(n_), out;
+    auto system = [this, &shot](const Vector& yy, Vector& dydt, double tt) {
+      flow_.field(tt, yy, shot.regime, shot.slip_sign, dydt);
+    };
+    Stepper().do_step(system, y, ta, out, t - ta);
+    return out;
+  }
+
+  // The first event in (ta, tb], or +infinity.
+  double find_event(Shot& shot, const Vector& za, double ta, const Vector& zb, double tb) const {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    RunStats stats;
+    const Vector ya = za.head(n_), yb = zb.head(n_);
+    if (shot.regime == OrbitRegime::kFree) {
+      auto gap = [&](double t) { return flow_.gap(state_at(shot, za, ta, t)); };
+      const double ga = flow_.gap(ya), gb = flow_.gap(yb);
+      if (ga < 0.0 && gb >= 0.0) return locate_event(gap, ta, ga, tb, gb, stats);
+      // An apex inside the step: where delta' falls through 0.
+      const double ra = flow_.closing_rate(ya), rb = flow_.closing_rate(yb);
+      if (ga < 0.0 && gb < 0.0 && ra > 0.0 && rb < 0.0) {
+        auto falling = [&](double t) { return -flow_.closing_rate(state_at(shot, za, ta, t)); };
+        const double t_apex = locate_event(falling, ta, -ra, tb, -rb, stats);
+        const double g_apex = gap(t_apex);
+        if (g_apex >= 0.0) return locate_event(gap, ta, ga, t_apex, g_apex, stats);
+        shot.closest_miss = std::min(shot.closest_miss, -g_apex);
+      }
+      return kNone;
+    }
+    const double slip_b = flow_.slip(tb, yb);
+    if (slip_b * shot.slip_sign <= 0.0) {
+      throw OrbitError("the slip stops at t ~ " + std::to_string(tb) +
+                       " s: a sticking phase (rolling), which the shooting does not follow");
+    }
+    auto pull = [&](double t) { return -flow_.normal_force(t, state_at(shot, za, ta, t)); };
+    const double pa = -flow_.normal_force(ta, ya), pb = -flow_.normal_force(tb, yb);
+    if (pa < 0.0 && pb >= 0.0) return locate_event(pull, ta, pa, tb, pb, stats);
+    if (pa < 0.0 && pb < 0.0) {
+      return locate_interior_crossing(pull, ta, pa, tb, pb, kInteriorRateStep * (tb - ta), stats);
+    }
+    return kNone;
+  }
+
+  void enter_contact(Shot& shot, double t) const {
+    const double slip = flow_.slip(t, shot.y);
+    if (std::abs(slip) < kStickSlip) {
+      throw OrbitError("a contact starts without slip at t = " + std::to_string(t) +
+                       " s: a sticking phase (rolling), which the shooting does not follow");
+    }
+    shot.regime = OrbitRegime::kContact;
+    shot.slip_sign = slip > 0.0 ? 1.0 : -1.0;
+  }
+
+  // The event at t: its jump, and the saltation matrix on the Jacobian.
+  void jump(Shot& shot, double t) const {
+    if (shot.regime == OrbitRegime::kContact) {
+      // A lift-off: N = 0, the two fields agree; the saltation matrix is I.
+      shot.regime = OrbitRegime::kFree;
+      shot.events.push_back({OrbitEvent::Kind::kLiftOff, t, 0.0});
+      return;
+    }
+    const Vector y = shot.y;
+    const double vn = flow_.closing_rate(y);
+    if (!(vn > kGrazingVelocity)) {
+      std::ostringstream msg;
+      msg << "the orbit grazes the bore at t = " << t << " s (closing velocity " << vn
+          << " of C w): its monodromy is not defined there";
+      throw OrbitError(msg.str());
+    }
+    shot.slowest_impact = std::min(shot.slowest_impact, vn);
+    bool settles = false;
+    shot.y = flow_.impact(t, y, &settles);
+    const bool pressed = settles && flow_.normal_force(t, shot.y) > 0.0;
+    if (pressed) enter_contact(shot, t);
+    shot.events.push_back({pressed ? OrbitEvent::Kind::kTouchdown : OrbitEvent::Kind::kImpact, t,
+                           vn * flow_.model().parameters().clearance_m * flow_.speed()});
+    if (!jac_) return;
+    Vector f_minus, f_plus;
+    flow_.field(t, y, OrbitRegime::kFree, 0.0, f_minus);
+    flow_.field(t, shot.y, shot.regime, shot.slip_sign, f_plus);
+    const Eigen::MatrixXd g = flow_.impact_jacobian(t, y);
+    const Eigen::RowVectorXd h = flow_.gap_gradient(y);
+    const Eigen::MatrixXd saltation = g + (f_plus - g * f_minus) * h / h.dot(f_minus);
+    shot.phi = saltation * shot.phi;
+  }
+
+  const RubFlow& flow_;
+  const OrbitSettings& s_;
+  bool jac_;
+  int n_;
+};
+
+void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
+  if (p.drive_model != DriveModel::kPrescribed) {
+    throw std::invalid_argument(
+        "periodic orbits: drive_model must be prescribed (a motor's spin is not periodic in "
+        "the forcing's period)");
+  }
+  if (!(w > 0.0) || !std::isfinite(w)) {
+    throw std::invalid_argument("periodic orbits: speed " + std::to_string(w) + " rad/s; accepted: (0, inf)");
+  }
+  if (s.periods < 1) {
+    throw std::invalid_argument("periodic orbits: periods " + std::to_string(s.periods) + "; accepted: integer >= 1");
+  }
+}
+
+double settle_apex_m(const ModelParameters& p, const OrbitSettings& s) { return s.tolerance * p.clearance_m; }
+
+std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m) {
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(m, false);
+  std::vector<std::complex<double>> out(es.eigenvalues().data(), es.eigenvalues().data() + m.rows());
+  std::stable_sort(out.begin(), out.end(), [](const std::complex<double>& a, const std::complex<double>& b) {
+    return std::abs(a) > std::abs(b);
+  });
+  return out;
+}
+
+}  // namespace
+
+OrbitFlow orbit_flow(const ModelParameters& p, double w, const Eigen::VectorXd& x0, double t0, double t1,
+                     const OrbitSettings& s) {
+  check_scene(p, w, s);
+  const RubFlow flow(p, w, settle_apex_m(p, s));
+  if (x0.size() != flow.size()) {
+    throw std::invalid_argument("periodic orbits: a state of " + std::to_string(x0.size()) + " entries; accepted: " +
+                                std::to_string(flow.size()) + " (the free layout's for this stator)");
+  }
+  const Shooter shooter(flow, s, true);
+  Shot shot;
+  shot.y = flow.scaled(x0);
+  shooter.start(shot, t0);
+  shooter.advance(shot, t0, t1);
+  OrbitFlow out;
+  out.state = flow.physical(shot.y);
+  out.jacobian = flow.physical_jacobian(shot.phi);
+  out.events = shot.events;
+  out.ends_in_contact = shot.regime == OrbitRegime::kContact;
+  out.slowest_impact = shot.slowest_impact;
+  out.closest_miss = shot.closest_miss;
+  return out;
+}
+
+PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eigen::VectorXd& guess,
+                                  const OrbitSettings& s) {
+  check_scene(p, w, s);
+  const RubFlow flow(p, w, settle_apex_m(p, s));
+  const int n = flow.size();
+  if (guess.size() != n) {
+    throw std::invalid_argument("periodic orbits: a guess of " + std::to_string(guess.size()) +
+                                " entries; accepted: " + std::to_string(n));
+  }
+  const Shooter shooter(flow, s, true);
+  const double period = s.periods * flow.period();
+  Shot start;
+  start.y = flow.scaled(guess);
+  shooter.start(start, 0.0);
+  const bool in_contact = start.regime == OrbitRegime::kContact;
+  Vector y = start.y;
+  PeriodicOrbit orbit;
+  orbit.speed_rad_per_s = w;
+  orbit.period_s = period;
+  orbit.periods = s.periods;
+  orbit.starts_in_contact = in_contact;
+  for (int it = 0;; ++it) {
+    Shot shot;
+    shot.y = y;
+    shooter.start(shot, 0.0);
+    if ((shot.regime == OrbitRegime::kContact) != in_contact) {
+      throw OrbitError("Newton's iterate left the start's regime: no orbit near the guess");
+    }
+    y = shot.y;  // projected onto the bore in contact
+    shooter.advance(shot, 0.0, period);
+    if ((shot.regime == OrbitRegime::kContact) != in_contact) {
+      throw OrbitError(std::string("the shot ends ") + (in_contact ? "in free flight" : "in contact") +
+                       " where it started " + (in_contact ? "in contact" : "in free flight") +
+                       ": no orbit near the guess");
+    }
+    const Vector r = shot.y - y;
+    const double residual = r.lpNorm<Eigen::Infinity>();
+    const Eigen::MatrixXd basis = in_contact ? flow.tangent_basis(y) : Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd m = basis.transpose() * shot.phi * basis;
+    if (residual < s.newton_tolerance) {
+      orbit.state = flow.physical(y);
+      orbit.events = shot.events;
+      orbit.monodromy = m;
+      orbit.tangent_basis = basis;
+      orbit.multipliers = sorted_eigenvalues(m);
+      orbit.newton_iterations = it;
+      orbit.residual = residual;
+      orbit.slowest_impact = shot.slowest_impact;
+      orbit.closest_miss = shot.closest_miss;
+      if (orbit.closest_miss < kGrazingGap) {
+        throw OrbitError("the orbit passes within " + std::to_string(orbit.closest_miss) +
+                         " C of the bore without touching it: a grazing orbit, whose monodromy is not defined");
+      }
+      return orbit;
+    }
+    if (it >= s.max_newton_iterations || !std::isfinite(residual)) {
+      std::ostringstream msg;
+      msg << "no periodic orbit near the guess: Newton's residual is " << residual << " of C after " << it
+          << " iterations";
+      throw OrbitError(msg.str());
+    }
+    const Eigen::MatrixXd a = m - Eigen::MatrixXd::Identity(m.rows(), m.cols());
+    y += basis * a.fullPivLu().solve(-(basis.transpose() * r));
+    if (in_contact) flow.project_to_bore(y);
+  }
+}
+
+Eigen::VectorXd settled_state(const ModelParameters& p, double w, int periods, const OrbitSettings& s) {
+  check_scene(p, w, s);
+  const RubFlow flow(p, w, settle_apex_m(p, s));
+  const StationModel& station = flow.model();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(flow.size());
+  const Kinematics rest = station.initial_kinematics();
+  x.head<2>() = rest.rotor_pos + station.frame_shift();
+  if (flow.size() == 8) x.segment<2>(2) = rest.stator_pos;
+  const Shooter shooter(flow, s, false);
+  Shot shot;
+  shot.y = flow.scaled(x);
+  shooter.start(shot, 0.0);
+  shooter.advance(shot, 0.0, periods * flow.period());
+  return flow.physical(shot.y);
+}
+
+}  // namespace rotor_rub::core

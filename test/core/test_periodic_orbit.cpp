@@ -1,0 +1,316 @@
+// Periodic orbits and their Floquet multipliers (periodic_orbit.hpp): the
+// free rotor's exponentials, the full rub's eigenvalues in the turning
+// frame, the flow's own derivative by differences through impacts, contact
+// phases and lift-offs, and the switching and iteration methods' runs, which
+// come back to the orbit after its period.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/contact_method.hpp"
+#include "rotor_rub_sim/core/full_rub_stability.hpp"
+#include "rotor_rub_sim/core/model.hpp"
+#include "rotor_rub_sim/core/periodic_orbit.hpp"
+#include "rotor_rub_sim/core/speed_profile.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+using cd = std::complex<double>;
+
+namespace {
+
+core::ModelParameters paper(core::StatorModel stator, double f) {
+  core::ModelParameters p = test::paper_scene().model;
+  p.stator_model = stator;
+  p.friction_coefficient = f;
+  return p;
+}
+
+// The paper's rotor on a rigid stator under gravity (its sag 1.64 mm of the
+// 2 mm clearance), where the unbalance's orbit reaches the bore's bottom
+// once a revolution: at 60 rad/s with e = 0.5 one impact per period; at 70
+// rad/s, plastic, an impact, then a touchdown, a contact and a lift-off.
+core::ModelParameters sagging(double restitution) {
+  core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  p.gravity_m_per_s2 = 9.81;
+  p.restitution = restitution;
+  return p;
+}
+
+// The largest distance between each of `expected` and its nearest in `got`.
+double worst_match(const std::vector<cd>& expected, const std::vector<cd>& got) {
+  double worst = 0.0;
+  for (const cd& e : expected) {
+    double best = INFINITY;
+    for (const cd& g : got) best = std::min(best, std::abs(g - e));
+    worst = std::max(worst, best);
+  }
+  return worst;
+}
+
+std::vector<cd> eigenvalues(const Eigen::MatrixXd& m) {
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(m, false);
+  return {es.eigenvalues().data(), es.eigenvalues().data() + m.rows()};
+}
+
+// The state x of the free layout as kinematics.
+core::Kinematics kinematics(const Eigen::VectorXd& x) {
+  core::Kinematics k;
+  const int v = static_cast<int>(x.size()) / 2;
+  k.rotor_pos = x.head<2>();
+  k.rotor_vel = x.segment<2>(v);
+  if (x.size() == 8) {
+    k.stator_pos = x.segment<2>(2);
+    k.stator_vel = x.segment<2>(v + 2);
+  }
+  return k;
+}
+
+// A method (dop853 at rtol 1e-10) started on x at t = 0 under the constant
+// speed w, its state at t_s.
+Eigen::VectorXd method_state(core::Method method, const core::ModelParameters& p, double w, const Eigen::VectorXd& x,
+                             double t_s) {
+  core::Scene s;
+  s.model = p;
+  s.solver.method = method;
+  s.solver.integrator = core::Integrator::kDop853;
+  s.solver.rtol = 1e-10;
+  s.solver.atol = 1e-14;
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
+  s.speed.acceleration_rad_per_s2 = 0.0;
+  s.end_time_s = t_s;
+  const core::SpeedProfile profile(s.speed);
+  const std::unique_ptr<core::ContactMethod> m = core::make_contact_method(s);
+  m->start(0.0, kinematics(x), profile.segment_at(0.0));
+  std::vector<core::ContactEvent> events;
+  m->change_model(0.0, p, events);  // a start on the bore: decided as at a touchdown without closing speed
+  while (m->step_end() < t_s) m->step(t_s, events);
+  const core::Kinematics k = m->sample(t_s).kin;
+  Eigen::VectorXd out(x.size());
+  const int v = static_cast<int>(x.size()) / 2;
+  out.head<2>() = k.rotor_pos;
+  out.segment<2>(v) = k.rotor_vel;
+  if (x.size() == 8) {
+    out.segment<2>(2) = k.stator_pos;
+    out.segment<2>(v + 2) = k.stator_vel;
+  }
+  return out;
+}
+
+// |x| in units of C (positions) and C w (velocities).
+double scaled_norm(const Eigen::VectorXd& x, const core::ModelParameters& p, double w) {
+  const int v = static_cast<int>(x.size()) / 2;
+  return std::max(x.head(v).cwiseAbs().maxCoeff() / p.clearance_m,
+                  x.tail(v).cwiseAbs().maxCoeff() / (p.clearance_m * w));
+}
+
+// The Newton tolerance (in C and C w) bounds a fixed point's error by the
+// residual over 1 - |mu| (here at least 0.1).
+constexpr double kFixedPoint = 1e-8;
+
+}  // namespace
+
+// Without contact (C = 1 m) the flow is linear: the orbit is the unbalance's
+// steady response about the sag, and the multipliers are exp(lambda T) of
+// the free rotor's and stator's eigenvalues (m l^2 + c l + k = 0, each twice)
+// to kExponentials: the integrator's tolerance 1e-11, relative.
+TEST(PeriodicOrbit, WithoutContactTheMultipliersAreTheFreeRotorsExponentials) {
+  constexpr double kExponentials = 1e-10;
+  for (double w : {50.0, 300.0}) {
+    core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+    p.clearance_m = 1.0;
+    p.gravity_m_per_s2 = 9.81;
+    const core::PeriodicOrbit o = core::find_periodic_orbit(p, w, Eigen::VectorXd::Zero(8));
+    const double period = 2.0 * M_PI / w;
+    std::vector<cd> expected;
+    for (const auto& [m, c, k] :
+         {std::tuple{p.rotor_mass_kg, p.rotor_damping_N_s_per_m, p.rotor_stiffness_N_per_m},
+          std::tuple{p.stator_mass_kg, p.stator_damping_N_s_per_m, p.stator_stiffness_N_per_m}}) {
+      const cd root = std::sqrt(cd(c * c - 4.0 * m * k));
+      for (const cd l : {(-c + root) / (2.0 * m), (-c - root) / (2.0 * m)}) {
+        expected.push_back(std::exp(l * period));
+        expected.push_back(std::exp(l * period));
+      }
+    }
+    ASSERT_EQ(o.multipliers.size(), 8u);
+    EXPECT_LT(worst_match(expected, o.multipliers), kExponentials) << w;
+    EXPECT_TRUE(o.stable());
+    EXPECT_TRUE(o.events.empty());
+    // x + i y of the rotor: m e w^2 / (k - m w^2 + i c w) below the sag.
+    const double m = p.rotor_mass_kg;
+    const cd z =
+        m * p.eccentricity_m * w * w / cd(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w) -
+        cd(0.0, m * p.gravity_m_per_s2 / p.rotor_stiffness_N_per_m);
+    const cd v = cd(0.0, w) * (z + cd(0.0, m * p.gravity_m_per_s2 / p.rotor_stiffness_N_per_m));
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(8);
+    x << z.real(), z.imag(), 0.0, -p.stator_mass_kg * p.gravity_m_per_s2 / p.stator_stiffness_N_per_m, v.real(),
+        v.imag(), 0.0, 0.0;
+    EXPECT_LT(scaled_norm(o.state - x, p, w), kFixedPoint) << w;
+  }
+}
+
+// The full rub is an orbit that stays in contact: its multipliers on the
+// bore's tangent space are exp(lambda T) of the turning frame's eigenvalues
+// (full_rub_stability.hpp; the turning frame's rotation is the identity
+// after a period), both branches, to kTurningFrame of the largest (measured
+// 7e-11 to 5.6e-10: the contact field's central differences, 1e-10, and the
+// integrator's 1e-11 over a period).
+TEST(PeriodicOrbit, TheFullRubsMultipliersAreItsEigenvaluesExponentials) {
+  constexpr double kTurningFrame = 1e-8;
+  struct Case {
+    core::StatorModel stator;
+    double w;
+  };
+  for (const Case& c : {Case{core::StatorModel::kRigid, 300.0}, Case{core::StatorModel::kElastic, 120.0},
+                        Case{core::StatorModel::kElastic, 300.0}}) {
+    const core::ModelParameters p = paper(c.stator, 0.1);
+    const auto branches = core::full_rub_stability(p, c.w);
+    ASSERT_EQ(branches.size(), 2u);
+    for (const core::FullRubStability& b : branches) {
+      const int n = c.stator == core::StatorModel::kRigid ? 4 : 8, v = n / 2;
+      Eigen::VectorXd guess = Eigen::VectorXd::Zero(n);
+      const cd vr = cd(0.0, c.w) * b.station_m, vs = cd(0.0, c.w) * b.stator_m;
+      guess.head<2>() << b.station_m.real(), b.station_m.imag();
+      guess.segment<2>(v) << vr.real(), vr.imag();
+      if (n == 8) {
+        guess.segment<2>(2) << b.stator_m.real(), b.stator_m.imag();
+        guess.segment<2>(v + 2) << vs.real(), vs.imag();
+      }
+      const core::PeriodicOrbit o = core::find_periodic_orbit(p, c.w, guess);
+      std::vector<cd> expected;
+      for (const cd& l : b.eigenvalues) expected.push_back(std::exp(l * o.period_s));
+      SCOPED_TRACE(std::string(core::to_string(c.stator)) + " w " + std::to_string(c.w));
+      EXPECT_TRUE(o.starts_in_contact);
+      EXPECT_TRUE(o.events.empty());
+      ASSERT_EQ(o.multipliers.size(), b.eigenvalues.size());
+      const double off = worst_match(expected, o.multipliers) / std::abs(expected.front());
+      std::printf("full rub %s w %g: |mu| max %.6f, off exp(lambda T) by %.2e of it\n", core::to_string(c.stator), c.w,
+                  std::abs(o.multipliers.front()), off);
+      EXPECT_LT(off, kTurningFrame);
+      EXPECT_EQ(o.stable(), b.stable());
+      EXPECT_LT(scaled_norm(o.state - guess, p, c.w), kFixedPoint);
+    }
+  }
+}
+
+// Through impacts, a contact phase and its lift-off, the monodromy (in C and
+// C w) is the flow's derivative: central differences of the flow over a
+// period (step 1e-6 in C and C w) agree to kDifference (measured 2.6e-10 to
+// 4.7e-10: the integrator's error is smooth in the start and cancels in the
+// difference, which leaves the step's square and the rounding over the
+// step). A plastic impact leaves a multiplier 0, a touchdown into contact
+// another, to kZero (the contact field's central differences, 1e-10).
+TEST(PeriodicOrbit, TheMonodromyIsTheFlowsDerivative) {
+  constexpr double kDifference = 1e-8;
+  constexpr double kZero = 1e-8;
+  struct Case {
+    double restitution, w;
+    std::vector<core::OrbitEvent::Kind> events;
+    int zeros;
+  };
+  using K = core::OrbitEvent::Kind;
+  for (const Case& c : {Case{0.5, 60.0, {K::kImpact}, 0}, Case{0.0, 60.0, {K::kImpact}, 1},
+                        Case{0.0, 70.0, {K::kImpact, K::kTouchdown, K::kLiftOff}, 2}}) {
+    const core::ModelParameters p = sagging(c.restitution);
+    const core::PeriodicOrbit o = core::find_periodic_orbit(p, c.w, core::settled_state(p, c.w, 100));
+    SCOPED_TRACE("e " + std::to_string(c.restitution) + " w " + std::to_string(c.w));
+    ASSERT_EQ(o.events.size(), c.events.size());
+    for (std::size_t j = 0; j < c.events.size(); ++j) EXPECT_EQ(o.events[j].kind, c.events[j]);
+    EXPECT_TRUE(o.stable());
+    Eigen::MatrixXd diff(4, 4);
+    for (int i = 0; i < 4; ++i) {
+      Eigen::VectorXd step = Eigen::VectorXd::Zero(4);
+      step(i) = 1e-6 * p.clearance_m * (i < 2 ? 1.0 : c.w);
+      diff.col(i) = (core::orbit_flow(p, c.w, o.state + step, 0.0, o.period_s).state -
+                     core::orbit_flow(p, c.w, o.state - step, 0.0, o.period_s).state) /
+                    2.0;
+      diff.col(i).head(2) /= p.clearance_m;
+      diff.col(i).tail(2) /= p.clearance_m * c.w;
+      diff.col(i) /= 1e-6;
+    }
+    const double off = (diff - o.monodromy).cwiseAbs().maxCoeff();
+    std::printf("e %g w %g: the monodromy against the flow's differences: %.2e\n", c.restitution, c.w, off);
+    EXPECT_LT(off, kDifference);
+    EXPECT_LT(worst_match(eigenvalues(diff), o.multipliers), kDifference);
+    int zeros = 0;
+    for (const cd& mu : o.multipliers) zeros += std::abs(mu) < kZero;
+    EXPECT_EQ(zeros, c.zeros);
+  }
+}
+
+// The switching and iteration methods started on an orbit come back to it
+// after its period, to kMethods of C and C w (measured 4.5e-12 to 7.6e-11:
+// their rtol 1e-10 over a period), through impacts, contact phases and the
+// full rub; a period-2 shot of a period-1 orbit has the squares of its
+// multipliers.
+TEST(PeriodicOrbit, TheRigidMethodsComeBackToTheOrbit) {
+  constexpr double kMethods = 1e-9;
+  constexpr double kSquares = 1e-9;
+  struct Case {
+    core::ModelParameters p;
+    double w;
+  };
+  core::ModelParameters full_rub = paper(core::StatorModel::kElastic, 0.1);
+  for (const Case& c : {Case{sagging(0.5), 60.0}, Case{sagging(0.0), 70.0}, Case{full_rub, 120.0}}) {
+    const Eigen::VectorXd start = core::settled_state(c.p, c.w, 200);
+    const core::PeriodicOrbit o = core::find_periodic_orbit(c.p, c.w, start);
+    for (const core::Method method : {core::Method::kSwitching, core::Method::kIteration}) {
+      const Eigen::VectorXd x = method_state(method, c.p, c.w, o.state, o.period_s);
+      const double back = scaled_norm(x - o.state, c.p, c.w);
+      std::printf("%s w %g: back on the orbit after a period to %.2e of C\n", core::to_string(method), c.w, back);
+      EXPECT_LT(back, kMethods);
+    }
+    core::OrbitSettings twice;
+    twice.periods = 2;
+    const core::PeriodicOrbit o2 = core::find_periodic_orbit(c.p, c.w, o.state, twice);
+    std::vector<cd> squares;
+    for (const cd& mu : o.multipliers) squares.push_back(mu * mu);
+    EXPECT_LT(worst_match(squares, o2.multipliers), kSquares) << c.w;
+    EXPECT_EQ(o2.events.size(), 2 * o.events.size());
+  }
+}
+
+// What the shooting cannot do is said, never drawn: a guess far from any
+// orbit, a grazing orbit, a chattering shot, a motor drive.
+TEST(PeriodicOrbit, BadStartsAreClearErrors) {
+  const core::ModelParameters p = sagging(0.0);
+  // Without contact the rotor circles its sag s = m g / k at the radius A of
+  // the unbalance's response: its farthest point from the bore's centre is
+  // s + A below it. A bore 1e-12 beyond it is missed by a hair, one 1e-14
+  // short of it is touched at 1e-7 of C w.
+  const double w = 40.0, m = p.rotor_mass_kg;
+  const double reach =
+      m * p.gravity_m_per_s2 / p.rotor_stiffness_N_per_m +
+      std::abs(m * p.eccentricity_m * w * w / cd(p.rotor_stiffness_N_per_m - m * w * w, p.rotor_damping_N_s_per_m * w));
+  core::ModelParameters apart = p;
+  apart.clearance_m = 1.0;
+  const Eigen::VectorXd guess = core::find_periodic_orbit(apart, w, Eigen::VectorXd::Zero(4)).state;
+  for (double margin : {1e-12, -1e-14}) {
+    core::ModelParameters g = p;
+    g.clearance_m = reach * (1.0 + margin);
+    try {
+      core::find_periodic_orbit(g, w, guess);
+      ADD_FAILURE() << "a grazing orbit passed: margin " << margin;
+    } catch (const core::OrbitError& e) {
+      EXPECT_NE(std::string(e.what()).find("graz"), std::string::npos) << e.what();
+    }
+  }
+  core::OrbitSettings one_event;
+  one_event.max_events = 1;
+  EXPECT_THROW(core::find_periodic_orbit(p, 70.0, core::settled_state(p, 70.0, 100), one_event), core::OrbitError);
+  // A guess on the bore where the full rub does not hold (p: 70 rad/s).
+  Eigen::VectorXd on_bore = Eigen::VectorXd::Zero(4);
+  on_bore << 0.0, -p.clearance_m, 70.0 * p.clearance_m, 0.0;
+  EXPECT_THROW(core::find_periodic_orbit(p, 70.0, on_bore), core::OrbitError);
+  core::ModelParameters motor = p;
+  motor.drive_model = core::DriveModel::kMotor;
+  EXPECT_THROW(core::find_periodic_orbit(motor, 70.0, on_bore), std::invalid_argument);
+  EXPECT_THROW(core::find_periodic_orbit(p, -1.0, on_bore), std::invalid_argument);
+  EXPECT_THROW(core::find_periodic_orbit(p, 70.0, Eigen::VectorXd::Zero(8)), std::invalid_argument);
+}
