@@ -6,6 +6,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "regula_falsi.hpp"
+
 namespace rotor_rub::core {
 namespace {
 
@@ -128,30 +130,6 @@ class RestPoint {
   Eigen::VectorXd scale_;
 };
 
-// The root of phi in (0, s1) by regula falsi with the Illinois rule, phi(0)
-// = phi0 and phi(s1) = phi1 of opposite signs.
-double regula_falsi(const std::function<double(double)>& phi, double phi0, double s1, double phi1) {
-  double a = 0.0, fa = phi0, b = s1, fb = phi1;
-  int side = 0;
-  for (int it = 0; it < 100 && b - a > kLocateFraction * s1; ++it) {
-    const double c = b - fb * (b - a) / (fb - fa);
-    const double fc = phi(c);
-    if (fc == 0.0) return c;
-    if ((fc < 0.0) == (fb < 0.0)) {
-      b = c;
-      fb = fc;
-      if (side == -1) fa *= 0.5;
-      side = -1;
-    } else {
-      a = c;
-      fa = fc;
-      if (side == 1) fb *= 0.5;
-      side = 1;
-    }
-  }
-  return std::abs(fa) < std::abs(fb) ? a : b;
-}
-
 }  // namespace
 
 FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& stator, double C, double f,
@@ -209,7 +187,8 @@ FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& 
     FullRubStability rub;
     try {
       if (t(nq) * t_new(nq) < 0.0) {  // dw/ds changes sign: a fold
-        const double s = regula_falsi([&](double si) { return g.tangent(point_at(si), t)(nq); }, t(nq), ds, t_new(nq));
+        const double s = regula_falsi([&](double si) { return g.tangent(point_at(si), t)(nq); }, t(nq), ds, t_new(nq),
+                                      kLocateFraction);
         branch.folds_rad_per_s.push_back(g.speed(point_at(s)));
       }
       rub = g.linearise(y_new);
@@ -222,7 +201,7 @@ FullRubBranch continue_full_rub(const TurningRotor& rotor, const StationStator& 
       if (last.stable() != rub.stable()) {
         const double growth0 = last.eigenvalues.front().real(), growth1 = rub.eigenvalues.front().real();
         const double s = regula_falsi([&](double si) { return g.linearise(point_at(si)).eigenvalues.front().real(); },
-                                      growth0, ds, growth1);
+                                      growth0, ds, growth1, kLocateFraction);
         branch.stability_changes_rad_per_s.push_back(g.speed(point_at(s)));
       }
     } catch (const std::runtime_error& e) {

@@ -8,8 +8,8 @@
 #include <limits>
 #include <sstream>
 
+#include "orbit_shot.hpp"
 #include "rotor_rub_sim/core/event_location.hpp"
-#include "rub_flow.hpp"
 
 namespace rotor_rub::core {
 
@@ -236,6 +236,15 @@ class Shooter {
   int n_;
 };
 
+}  // namespace
+
+void check_grazing(double closest_miss) {
+  if (closest_miss < kGrazingGap) {
+    throw OrbitError("the orbit passes within " + std::to_string(closest_miss) +
+                     " C of the bore without touching it: a grazing orbit, whose monodromy is not defined");
+  }
+}
+
 void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
   if (p.drive_model != DriveModel::kPrescribed) {
     throw std::invalid_argument(
@@ -250,8 +259,6 @@ void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
   }
 }
 
-double settle_apex_m(const ModelParameters& p, const OrbitSettings& s) { return s.tolerance * p.clearance_m; }
-
 std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m) {
   const Eigen::EigenSolver<Eigen::MatrixXd> es(m, false);
   std::vector<std::complex<double>> out(es.eigenvalues().data(), es.eigenvalues().data() + m.rows());
@@ -261,7 +268,24 @@ std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m) {
   return out;
 }
 
-}  // namespace
+OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0, double t1, const OrbitSettings& s,
+                bool with_jacobian) {
+  const Shooter shooter(flow, s, with_jacobian);
+  Shot shot;
+  shot.y = y0;
+  shooter.start(shot, t0);
+  OrbitShot out;
+  out.start = shot.y;
+  out.starts_in_contact = shot.regime == OrbitRegime::kContact;
+  shooter.advance(shot, t0, t1);
+  out.end = shot.y;
+  out.jacobian = std::move(shot.phi);
+  out.events = std::move(shot.events);
+  out.ends_in_contact = shot.regime == OrbitRegime::kContact;
+  out.slowest_impact = shot.slowest_impact;
+  out.closest_miss = shot.closest_miss;
+  return out;
+}
 
 OrbitFlow orbit_flow(const ModelParameters& p, double w, const Eigen::VectorXd& x0, double t0, double t1,
                      const OrbitSettings& s) {
@@ -271,16 +295,12 @@ OrbitFlow orbit_flow(const ModelParameters& p, double w, const Eigen::VectorXd& 
     throw std::invalid_argument("periodic orbits: a state of " + std::to_string(x0.size()) + " entries; accepted: " +
                                 std::to_string(flow.size()) + " (the free layout's for this stator)");
   }
-  const Shooter shooter(flow, s, true);
-  Shot shot;
-  shot.y = flow.scaled(x0);
-  shooter.start(shot, t0);
-  shooter.advance(shot, t0, t1);
+  const OrbitShot shot = shoot(flow, flow.scaled(x0), t0, t1, s, true);
   OrbitFlow out;
-  out.state = flow.physical(shot.y);
-  out.jacobian = flow.physical_jacobian(shot.phi);
+  out.state = flow.physical(shot.end);
+  out.jacobian = flow.physical_jacobian(shot.jacobian);
   out.events = shot.events;
-  out.ends_in_contact = shot.regime == OrbitRegime::kContact;
+  out.ends_in_contact = shot.ends_in_contact;
   out.slowest_impact = shot.slowest_impact;
   out.closest_miss = shot.closest_miss;
   return out;
@@ -295,37 +315,31 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
     throw std::invalid_argument("periodic orbits: a guess of " + std::to_string(guess.size()) +
                                 " entries; accepted: " + std::to_string(n));
   }
-  const Shooter shooter(flow, s, true);
   const double period = s.periods * flow.period();
-  Shot start;
-  start.y = flow.scaled(guess);
-  shooter.start(start, 0.0);
-  const bool in_contact = start.regime == OrbitRegime::kContact;
-  Vector y = start.y;
+  Vector y = flow.scaled(guess);
+  bool in_contact = false;
   PeriodicOrbit orbit;
   orbit.speed_rad_per_s = w;
   orbit.period_s = period;
   orbit.periods = s.periods;
-  orbit.starts_in_contact = in_contact;
   for (int it = 0;; ++it) {
-    Shot shot;
-    shot.y = y;
-    shooter.start(shot, 0.0);
-    if ((shot.regime == OrbitRegime::kContact) != in_contact) {
+    const OrbitShot shot = shoot(flow, y, 0.0, period, s, true);
+    if (it == 0) in_contact = shot.starts_in_contact;
+    if (shot.starts_in_contact != in_contact) {
       throw OrbitError("Newton's iterate left the start's regime: no orbit near the guess");
     }
-    y = shot.y;  // projected onto the bore in contact
-    shooter.advance(shot, 0.0, period);
-    if ((shot.regime == OrbitRegime::kContact) != in_contact) {
+    y = shot.start;  // projected onto the bore in contact
+    if (shot.ends_in_contact != in_contact) {
       throw OrbitError(std::string("the shot ends ") + (in_contact ? "in free flight" : "in contact") +
                        " where it started " + (in_contact ? "in contact" : "in free flight") +
                        ": no orbit near the guess");
     }
-    const Vector r = shot.y - y;
+    const Vector r = shot.end - y;
     const double residual = r.lpNorm<Eigen::Infinity>();
     const Eigen::MatrixXd basis = in_contact ? flow.tangent_basis(y) : Eigen::MatrixXd::Identity(n, n);
-    const Eigen::MatrixXd m = basis.transpose() * shot.phi * basis;
+    const Eigen::MatrixXd m = basis.transpose() * shot.jacobian * basis;
     if (residual < s.newton_tolerance) {
+      orbit.starts_in_contact = in_contact;
       orbit.state = flow.physical(y);
       orbit.events = shot.events;
       orbit.monodromy = m;
@@ -335,10 +349,7 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
       orbit.residual = residual;
       orbit.slowest_impact = shot.slowest_impact;
       orbit.closest_miss = shot.closest_miss;
-      if (orbit.closest_miss < kGrazingGap) {
-        throw OrbitError("the orbit passes within " + std::to_string(orbit.closest_miss) +
-                         " C of the bore without touching it: a grazing orbit, whose monodromy is not defined");
-      }
+      check_grazing(orbit.closest_miss);
       return orbit;
     }
     if (it >= s.max_newton_iterations || !std::isfinite(residual)) {
@@ -361,12 +372,7 @@ Eigen::VectorXd settled_state(const ModelParameters& p, double w, int periods, c
   const Kinematics rest = station.initial_kinematics();
   x.head<2>() = rest.rotor_pos + station.frame_shift();
   if (flow.size() == 8) x.segment<2>(2) = rest.stator_pos;
-  const Shooter shooter(flow, s, false);
-  Shot shot;
-  shot.y = flow.scaled(x);
-  shooter.start(shot, 0.0);
-  shooter.advance(shot, 0.0, periods * flow.period());
-  return flow.physical(shot.y);
+  return flow.physical(shoot(flow, flow.scaled(x), 0.0, periods * flow.period(), s, false).end);
 }
 
 }  // namespace rotor_rub::core

@@ -1,0 +1,41 @@
+// One shot of the Jeffcott's event-driven flow with its variational
+// equations (periodic_orbit.cpp): what the shooting and the orbits'
+// continuation (orbit_continuation.cpp) build on.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <vector>
+
+#include "rotor_rub_sim/core/periodic_orbit.hpp"
+#include "rub_flow.hpp"
+
+namespace rotor_rub::core {
+
+struct OrbitShot {
+  Eigen::VectorXd start;     // y(t0): projected onto the bore when it starts in contact
+  Eigen::VectorXd end;       // y(t1)
+  Eigen::MatrixXd jacobian;  // d y(t1) / d y(t0) (empty without)
+  std::vector<OrbitEvent> events;
+  bool starts_in_contact = false, ends_in_contact = false;
+  double slowest_impact = 0.0, closest_miss = 0.0;  // OrbitFlow's
+};
+
+// The flow from y0 (RubFlow's units) at t0 to t1: in contact when y0 lies
+// within 1e-6 C of the bore and is pressed onto it. Throws OrbitError.
+OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0_s, double t1_s, const OrbitSettings& s,
+                bool with_jacobian);
+
+// The eigenvalues of m, the largest modulus first.
+std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m);
+
+// std::invalid_argument for a scene, speed or settings the orbits do not
+// model (a motor drive, a speed not above 0, periods below 1).
+void check_scene(const ModelParameters& p, double w_rad_per_s, const OrbitSettings& s);
+// OrbitError for an orbit that passes closer to the bore than kGrazingGap.
+void check_grazing(double closest_miss);
+
+// RubFlow's settle apex for the settings (the integrator's tolerance of C).
+inline double settle_apex_m(const ModelParameters& p, const OrbitSettings& s) { return s.tolerance * p.clearance_m; }
+
+}  // namespace rotor_rub::core
