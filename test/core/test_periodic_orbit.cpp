@@ -9,11 +9,9 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "rotor_rub_sim/core/contact_method.hpp"
 #include "rotor_rub_sim/core/full_rub_stability.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/periodic_orbit.hpp"
@@ -59,57 +57,6 @@ std::vector<cd> eigenvalues(const Eigen::MatrixXd& m) {
   return {es.eigenvalues().data(), es.eigenvalues().data() + m.rows()};
 }
 
-// The state x of the free layout as kinematics.
-core::Kinematics kinematics(const Eigen::VectorXd& x) {
-  core::Kinematics k;
-  const int v = static_cast<int>(x.size()) / 2;
-  k.rotor_pos = x.head<2>();
-  k.rotor_vel = x.segment<2>(v);
-  if (x.size() == 8) {
-    k.stator_pos = x.segment<2>(2);
-    k.stator_vel = x.segment<2>(v + 2);
-  }
-  return k;
-}
-
-// A method (dop853 at rtol 1e-10) started on x at t = 0 under the constant
-// speed w, its state at t_s.
-Eigen::VectorXd method_state(core::Method method, const core::ModelParameters& p, double w, const Eigen::VectorXd& x,
-                             double t_s) {
-  core::Scene s;
-  s.model = p;
-  s.solver.method = method;
-  s.solver.integrator = core::Integrator::kDop853;
-  s.solver.rtol = 1e-10;
-  s.solver.atol = 1e-14;
-  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
-  s.speed.acceleration_rad_per_s2 = 0.0;
-  s.end_time_s = t_s;
-  const core::SpeedProfile profile(s.speed);
-  const std::unique_ptr<core::ContactMethod> m = core::make_contact_method(s);
-  m->start(0.0, kinematics(x), profile.segment_at(0.0));
-  std::vector<core::ContactEvent> events;
-  m->change_model(0.0, p, events);  // a start on the bore: decided as at a touchdown without closing speed
-  while (m->step_end() < t_s) m->step(t_s, events);
-  const core::Kinematics k = m->sample(t_s).kin;
-  Eigen::VectorXd out(x.size());
-  const int v = static_cast<int>(x.size()) / 2;
-  out.head<2>() = k.rotor_pos;
-  out.segment<2>(v) = k.rotor_vel;
-  if (x.size() == 8) {
-    out.segment<2>(2) = k.stator_pos;
-    out.segment<2>(v + 2) = k.stator_vel;
-  }
-  return out;
-}
-
-// |x| in units of C (positions) and C w (velocities).
-double scaled_norm(const Eigen::VectorXd& x, const core::ModelParameters& p, double w) {
-  const int v = static_cast<int>(x.size()) / 2;
-  return std::max(x.head(v).cwiseAbs().maxCoeff() / p.clearance_m,
-                  x.tail(v).cwiseAbs().maxCoeff() / (p.clearance_m * w));
-}
-
 // The Newton tolerance (in C and C w) bounds a fixed point's error by the
 // residual over 1 - |mu| (here at least 0.1).
 constexpr double kFixedPoint = 1e-8;
@@ -151,7 +98,7 @@ TEST(PeriodicOrbit, WithoutContactTheMultipliersAreTheFreeRotorsExponentials) {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(8);
     x << z.real(), z.imag(), 0.0, -p.stator_mass_kg * p.gravity_m_per_s2 / p.stator_stiffness_N_per_m, v.real(),
         v.imag(), 0.0, 0.0;
-    EXPECT_LT(scaled_norm(o.state - x, p, w), kFixedPoint) << w;
+    EXPECT_LT(test::scaled_norm(o.state - x, p, w), kFixedPoint) << w;
   }
 }
 
@@ -194,7 +141,7 @@ TEST(PeriodicOrbit, TheFullRubsMultipliersAreItsEigenvaluesExponentials) {
                   std::abs(o.multipliers.front()), off);
       EXPECT_LT(off, kTurningFrame);
       EXPECT_EQ(o.stable(), b.stable());
-      EXPECT_LT(scaled_norm(o.state - guess, p, c.w), kFixedPoint);
+      EXPECT_LT(test::scaled_norm(o.state - guess, p, c.w), kFixedPoint);
     }
   }
 }
@@ -261,8 +208,8 @@ TEST(PeriodicOrbit, TheRigidMethodsComeBackToTheOrbit) {
     const Eigen::VectorXd start = core::settled_state(c.p, c.w, 200);
     const core::PeriodicOrbit o = core::find_periodic_orbit(c.p, c.w, start);
     for (const core::Method method : {core::Method::kSwitching, core::Method::kIteration}) {
-      const Eigen::VectorXd x = method_state(method, c.p, c.w, o.state, o.period_s);
-      const double back = scaled_norm(x - o.state, c.p, c.w);
+      const Eigen::VectorXd x = test::method_states(method, c.p, c.w, o.state, {o.period_s}).front();
+      const double back = test::scaled_norm(x - o.state, c.p, c.w);
       std::printf("%s w %g: back on the orbit after a period to %.2e of C\n", core::to_string(method), c.w, back);
       EXPECT_LT(back, kMethods);
     }

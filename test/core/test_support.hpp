@@ -1,6 +1,8 @@
 // Shared helpers of the core tests.
 #pragma once
 
+#include <Eigen/Core>
+#include <algorithm>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -9,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "rotor_rub_sim/core/contact_method.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
@@ -111,6 +114,58 @@ inline core::Scene with_method(core::Scene s, const Solver& m, double rtol, doub
   s = with_method(std::move(s), m.method, rtol, atol);
   s.solver.integrator = m.integrator;
   return s;
+}
+
+// A method of the rigid contact (dop853 at rtol 1e-10) started on the free
+// layout's state x (the rotor's position, the elastic stator's, their
+// velocities: periodic_orbit.hpp) at t = 0 under the constant speed w: its
+// states at `times` (increasing), in x's layout.
+inline std::vector<Eigen::VectorXd> method_states(core::Method method, const core::ModelParameters& p, double w,
+                                                  const Eigen::VectorXd& x, const std::vector<double>& times) {
+  core::Scene s;
+  s.model = p;
+  s.solver.method = method;
+  s.solver.integrator = core::Integrator::kDop853;
+  s.solver.rtol = 1e-10;
+  s.solver.atol = 1e-14;
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
+  s.speed.acceleration_rad_per_s2 = 0.0;
+  s.end_time_s = times.back();
+  const core::SpeedProfile profile(s.speed);
+  const std::unique_ptr<core::ContactMethod> m = core::make_contact_method(s);
+  const int v = static_cast<int>(x.size()) / 2;
+  const bool elastic = x.size() == 8;
+  core::Kinematics k;
+  k.rotor_pos = x.head<2>();
+  k.rotor_vel = x.segment<2>(v);
+  if (elastic) {
+    k.stator_pos = x.segment<2>(2);
+    k.stator_vel = x.segment<2>(v + 2);
+  }
+  m->start(0.0, k, profile.segment_at(0.0));
+  std::vector<core::ContactEvent> events;
+  m->change_model(0.0, p, events);  // a start on the bore: decided as at a touchdown without closing speed
+  std::vector<Eigen::VectorXd> out;
+  for (const double t : times) {
+    while (m->step_end() < t) m->step(times.back(), events);
+    const core::Kinematics at = m->sample(t).kin;
+    Eigen::VectorXd y(x.size());
+    y.head<2>() = at.rotor_pos;
+    y.segment<2>(v) = at.rotor_vel;
+    if (elastic) {
+      y.segment<2>(2) = at.stator_pos;
+      y.segment<2>(v + 2) = at.stator_vel;
+    }
+    out.push_back(y);
+  }
+  return out;
+}
+
+// |x| in units of C (positions) and C w (velocities) of the free layout.
+inline double scaled_norm(const Eigen::VectorXd& x, const core::ModelParameters& p, double w) {
+  const int v = static_cast<int>(x.size()) / 2;
+  return std::max(x.head(v).cwiseAbs().maxCoeff() / p.clearance_m,
+                  x.tail(v).cwiseAbs().maxCoeff() / (p.clearance_m * w));
 }
 
 }  // namespace rotor_rub::test

@@ -26,6 +26,11 @@ struct OrbitShot {
 OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0_s, double t1_s, const OrbitSettings& s,
                 bool with_jacobian);
 
+// The states at the keyphasor over an orbit from y at its section t0
+// (PeriodicOrbit::keyphasor_states).
+std::vector<Eigen::VectorXd> keyphasor_states(const RubFlow& flow, const Eigen::VectorXd& y, double t0_s,
+                                              const OrbitSettings& s);
+
 // The eigenvalues of m, the largest modulus first.
 std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m);
 

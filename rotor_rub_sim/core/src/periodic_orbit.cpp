@@ -73,7 +73,7 @@ class Shooter {
       flow_.project_to_bore(shot.y);
       enter_contact(shot, t);
     } else if (flow_.gap(shot.y) > 0.0) {
-      throw OrbitError("the start lies inside the bore and is not pressed onto it");
+      throw OrbitError("the state at t = " + std::to_string(t) + " s lies inside the bore and is not pressed onto it");
     }
     if (jac_) shot.phi = Eigen::MatrixXd::Identity(n_, n_);
   }
@@ -254,6 +254,10 @@ void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
   if (!(w > 0.0) || !std::isfinite(w)) {
     throw std::invalid_argument("periodic orbits: speed " + std::to_string(w) + " rad/s; accepted: (0, inf)");
   }
+  if (!(s.section_angle_rad >= 0.0 && s.section_angle_rad < 2.0 * M_PI)) {
+    throw std::invalid_argument("periodic orbits: section_angle_rad " + std::to_string(s.section_angle_rad) +
+                                "; accepted: [0, 2 pi)");
+  }
   if (s.periods < 1) {
     throw std::invalid_argument("periodic orbits: periods " + std::to_string(s.periods) + "; accepted: integer >= 1");
   }
@@ -287,6 +291,19 @@ OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0, doubl
   return out;
 }
 
+std::vector<Eigen::VectorXd> keyphasor_states(const RubFlow& flow, const Eigen::VectorXd& y, double t0,
+                                              const OrbitSettings& s) {
+  const double period = flow.period();
+  double t = std::ceil(t0 / period) * period;
+  std::vector<Eigen::VectorXd> out;
+  Eigen::VectorXd at = t == t0 ? y : shoot(flow, y, t0, t, s, false).end;
+  for (int k = 0; k < s.periods; ++k, t += period) {
+    out.push_back(flow.physical(at));
+    if (k + 1 < s.periods) at = shoot(flow, at, t, t + period, s, false).end;
+  }
+  return out;
+}
+
 OrbitFlow orbit_flow(const ModelParameters& p, double w, const Eigen::VectorXd& x0, double t0, double t1,
                      const OrbitSettings& s) {
   check_scene(p, w, s);
@@ -315,7 +332,7 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
     throw std::invalid_argument("periodic orbits: a guess of " + std::to_string(guess.size()) +
                                 " entries; accepted: " + std::to_string(n));
   }
-  const double period = s.periods * flow.period();
+  const double period = s.periods * flow.period(), t0 = s.section_angle_rad / w;
   Vector y = flow.scaled(guess);
   bool in_contact = false;
   PeriodicOrbit orbit;
@@ -323,7 +340,7 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
   orbit.period_s = period;
   orbit.periods = s.periods;
   for (int it = 0;; ++it) {
-    const OrbitShot shot = shoot(flow, y, 0.0, period, s, true);
+    const OrbitShot shot = shoot(flow, y, t0, t0 + period, s, true);
     if (it == 0) in_contact = shot.starts_in_contact;
     if (shot.starts_in_contact != in_contact) {
       throw OrbitError("Newton's iterate left the start's regime: no orbit near the guess");
@@ -340,7 +357,9 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
     const Eigen::MatrixXd m = basis.transpose() * shot.jacobian * basis;
     if (residual < s.newton_tolerance) {
       orbit.starts_in_contact = in_contact;
+      orbit.section_angle_rad = s.section_angle_rad;
       orbit.state = flow.physical(y);
+      orbit.keyphasor_states = keyphasor_states(flow, y, t0, s);
       orbit.events = shot.events;
       orbit.monodromy = m;
       orbit.tangent_basis = basis;
@@ -372,7 +391,8 @@ Eigen::VectorXd settled_state(const ModelParameters& p, double w, int periods, c
   const Kinematics rest = station.initial_kinematics();
   x.head<2>() = rest.rotor_pos + station.frame_shift();
   if (flow.size() == 8) x.segment<2>(2) = rest.stator_pos;
-  return flow.physical(shoot(flow, flow.scaled(x), 0.0, periods * flow.period(), s, false).end);
+  const double t1 = periods * flow.period() + s.section_angle_rad / w;
+  return flow.physical(shoot(flow, flow.scaled(x), 0.0, t1, s, false).end);
 }
 
 }  // namespace rotor_rub::core

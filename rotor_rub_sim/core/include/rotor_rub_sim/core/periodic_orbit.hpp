@@ -11,9 +11,9 @@
 /// and after). A lift-off's is the identity (N = 0 there: the two fields
 /// agree); a plastic impact's has rank n - 1 (the normal velocity dies: a
 /// multiplier 0), and n - 2 when a contact follows it (the gap dies too). The forcing is periodic in T = 2 pi / w, so
-/// an orbit of n periods is a fixed point of the flow over n T from the spin
-/// angle 0 (the section phi = 0): Newton on the state there, on the bore's
-/// tangent space when the orbit starts in contact (the full rub).
+/// an orbit of n periods is a fixed point of the flow over n T from a spin
+/// angle psi (the section, 0 unless chosen): Newton on the state there, on
+/// the bore's tangent space when the orbit starts in contact (the full rub).
 ///
 /// The state is the free layout's (state_layout.hpp): the rotor's position
 /// and, with an elastic stator, the stator's, then their velocities [m,
@@ -62,6 +62,9 @@ struct OrbitSettings {
   int max_newton_iterations = 30;  ///< then OrbitError
   int max_events = 200;            ///< per forcing period, then OrbitError (chattering)
   int min_steps_per_period = 64;   ///< the integrator's longest step T / this
+  /// The section: the spin angle psi in [0, 2 pi) where an orbit's state is
+  /// taken (t = psi / w); a guess is a state there.
+  double section_angle_rad = 0.0;
 };
 
 /// An event of the flow. kImpact: a rebound (e > 0); kTouchdown: a plastic
@@ -90,9 +93,14 @@ struct PeriodicOrbit {
   double speed_rad_per_s = 0.0;
   double period_s = 0.0;  ///< n T
   int periods = 1;
-  Eigen::VectorXd state;  ///< x at the section (t = 0, spin angle 0)
+  double section_angle_rad = 0.0;  ///< OrbitSettings'
+  Eigen::VectorXd state;           ///< x at the section (t = psi / w)
+  /// x at the keyphasor (spin angle 0 mod 2 pi) once per forcing period over
+  /// the orbit, the first at or after the section: what a run's Poincare
+  /// points (rotor_rub_bifurcation) see of it, n of them.
+  std::vector<Eigen::VectorXd> keyphasor_states;
   bool starts_in_contact = false;
-  std::vector<OrbitEvent> events;  ///< over one orbit, t in (0, n T]
+  std::vector<OrbitEvent> events;  ///< over one orbit, t in (psi / w, psi / w + n T]
   /// d y(nT) / d y(0) of y = (positions / C, velocities / (C w)); starting
   /// in contact, its part on the bore's tangent space in y (n - 2 columns of
   /// an orthonormal basis of it, tangent_basis).
@@ -115,15 +123,16 @@ OrbitFlow orbit_flow(const ModelParameters& p, double w_rad_per_s, const Eigen::
                      const OrbitSettings& settings = {});
 
 /// The periodic orbit of n = settings.periods forcing periods near guess (a
-/// state at the spin angle 0), found by Newton on the shooting residual.
+/// state at the section's spin angle), found by Newton on the shooting
+/// residual.
 /// Throws OrbitError when Newton does not converge (no orbit near the
 /// guess), the orbit grazes, sticks or chatters.
 PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w_rad_per_s, const Eigen::VectorXd& guess,
                                   const OrbitSettings& settings = {});
 
-/// The state at spin angle 0 after `periods` forcing periods of the flow
-/// from the rotor and stator at rest on their springs' centres: a guess for
-/// a stable orbit.
+/// The state at the section's spin angle after `periods` forcing periods of
+/// the flow from the rotor and stator at rest on their springs' centres: a
+/// guess for a stable orbit.
 Eigen::VectorXd settled_state(const ModelParameters& p, double w_rad_per_s, int periods,
                               const OrbitSettings& settings = {});
 

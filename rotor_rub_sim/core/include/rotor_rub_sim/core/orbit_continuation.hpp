@@ -1,0 +1,67 @@
+/// @file
+/// A periodic orbit's branch in the speed (periodic_orbit.hpp's orbits of
+/// the Jeffcott's rub) by pseudo-arclength continuation of the shooting's
+/// fixed point: the unknowns (y, w / w0), y the section's state in units of
+/// C and C w; the residual y(nT) - y; its Jacobian [M - I, dR/dw], M the
+/// exact monodromy, the speed's column by central differences of two shots;
+/// a tangent predictor and a Newton corrector on the hyperplane normal to
+/// the tangent. Along the branch:
+/// * folds where dw/ds changes sign (a multiplier passes +1),
+/// * period doublings where det(M + I) changes sign (a real multiplier
+///   passes -1),
+/// * Neimark-Sacker points where the count of complex multipliers outside
+///   the unit circle changes (a pair crosses it),
+/// each located by regula falsi along the arclength. At a period doubling
+/// the branch of twice the period leaves along the multiplier's
+/// eigenvector: continue_period_doubled switches onto it.
+///
+/// A branch's orbits keep the events of its start (their kinds in order):
+/// where they change (an impact appears at a grazing, a contact phase
+/// begins), the branch is nonsmooth and the trace ends there, said in `end`,
+/// as it ends at a sticking phase, a chattering sequence or an orbit whose
+/// section (spin angle 0) lies in a contact (the full rub:
+/// full_rub_continuation.hpp). Tests: test_orbit_continuation.cpp.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/full_rub_continuation.hpp"
+#include "rotor_rub_sim/core/periodic_orbit.hpp"
+
+namespace rotor_rub::core {
+
+enum class OrbitBifurcationKind { kFold, kPeriodDoubling, kNeimarkSacker };
+/// "fold", "period_doubling", "neimark_sacker".
+const char* to_string(OrbitBifurcationKind kind);
+
+/// A bifurcation located on a branch, with its orbit there.
+struct OrbitBifurcation {
+  OrbitBifurcationKind kind = OrbitBifurcationKind::kFold;
+  double speed_rad_per_s = 0.0;
+  PeriodicOrbit orbit;
+};
+
+struct OrbitBranch {
+  std::vector<PeriodicOrbit> points;  ///< in the order traced (each knows its speed)
+  std::vector<OrbitBifurcation> bifurcations;
+  std::string end;  ///< what stopped the trace
+};
+
+/// The branch through `start` (find_periodic_orbit's, its section in free
+/// flight), one direction per call (settings.increasing_speed), its speeds
+/// in the settings' range. The orbits' settings are `orbit` (periods: the
+/// start's). Throws std::invalid_argument for an empty range or a start
+/// outside it, OrbitError for a start whose section lies in a contact.
+OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
+                           const OrbitSettings& orbit = {});
+
+/// The branch of twice the period born at a period doubling `pd` (a
+/// bifurcation of kind kPeriodDoubling), traced from it away from the
+/// branch of the single period; its first point is the doubled orbit's
+/// nearest to pd. Throws OrbitError when the corrector falls back onto the
+/// single period's orbit.
+OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurcation& pd,
+                                    const ContinuationSettings& settings, const OrbitSettings& orbit = {});
+
+}  // namespace rotor_rub::core

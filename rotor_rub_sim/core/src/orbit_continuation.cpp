@@ -1,0 +1,397 @@
+#include "rotor_rub_sim/core/orbit_continuation.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "orbit_shot.hpp"
+#include "regula_falsi.hpp"
+
+namespace rotor_rub::core {
+
+const char* to_string(OrbitBifurcationKind kind) {
+  switch (kind) {
+    case OrbitBifurcationKind::kFold:
+      return "fold";
+    case OrbitBifurcationKind::kPeriodDoubling:
+      return "period_doubling";
+    case OrbitBifurcationKind::kNeimarkSacker:
+      return "neimark_sacker";
+  }
+  return "?";
+}
+
+namespace {
+
+// The speed column's difference step, in units of the start's speed: the
+// shot's error is smooth in the speed and cancels in the difference, which
+// leaves the step's square and the integrator's rounding over it.
+constexpr double kSpeedStep = 1e-6;
+// The corrector's iterations before a step is halved, and the smallest step.
+constexpr int kMaxCorrections = 8;
+constexpr double kMinStep = 1e-7;
+// A step whose tangent turns by more than this angle's cosine (18 deg) is
+// taken again at half the length (full_rub_continuation.cpp's reason).
+constexpr double kMinTurnCosine = 0.95;
+// A bifurcation's regula falsi stops on a bracket of this fraction of the step.
+constexpr double kLocateFraction = 1e-8;
+// A multiplier this far from the real axis is complex.
+constexpr double kRealAxis = 1e-9;
+// A doubled orbit whose two halves differ by less than this (in C and C w)
+// is the single period's.
+constexpr double kSameHalves = 1e-6;
+// The doubled branch's first step, a fraction of the settings' step.
+constexpr double kFirstDoubledStep = 0.05;
+// An event nearer the section than this fraction of the orbit's period
+// moves the section to the middle of the longest stretch without events:
+// an event that crosses the section would change the section's regime and
+// the events' order, which the trace reads as the end of the branch.
+constexpr double kSectionMargin = 1.0 / 16.0;
+
+using Vector = Eigen::VectorXd;
+
+std::vector<OrbitEvent::Kind> kinds(const std::vector<OrbitEvent>& events) {
+  std::vector<OrbitEvent::Kind> out;
+  for (const OrbitEvent& e : events) out.push_back(e.kind);
+  return out;
+}
+
+// The fixed point's equations in Y = (y, w / w0).
+class OrbitEquations {
+ public:
+  OrbitEquations(const ModelParameters& p, const OrbitSettings& s, double w0, const std::vector<OrbitEvent>& events)
+      : p_(&p), s_(s), w0_(w0), kinds_(kinds(events)) {}
+  double speed(const Vector& Y) const { return Y(Y.size() - 1) * w0_; }
+  const OrbitSettings& settings() const { return s_; }
+  const ModelParameters& parameters() const { return *p_; }
+  double start_speed() const { return w0_; }
+
+  // One shot from Y's section over the orbit's periods; OrbitError where the
+  // events differ from the branch's or the section is in contact.
+  OrbitShot shot(const Vector& Y, bool with_jacobian) const {
+    const double w = speed(Y);
+    check_scene(*p_, w, s_);
+    const RubFlow flow(*p_, w, settle_apex_m(*p_, s_));
+    const double t0 = s_.section_angle_rad / w;
+    OrbitShot out = shoot(flow, Y.head(Y.size() - 1), t0, t0 + s_.periods * flow.period(), s_, with_jacobian);
+    if (out.starts_in_contact) {
+      throw OrbitError("the section lies in a contact near " + std::to_string(w) + " rad/s");
+    }
+    if (kinds(out.events) != kinds_) {
+      throw OrbitError("the orbit's events change near " + std::to_string(w) +
+                       " rad/s (a grazing: an impact or a contact phase appears or ends)");
+    }
+    return out;
+  }
+  Vector residual(const Vector& Y) const {
+    const OrbitShot s = shot(Y, false);
+    return s.end - s.start;
+  }
+  // [R, d R / d Y] at Y (n x (n + 1)).
+  Eigen::MatrixXd jacobian(const Vector& Y, Vector* r = nullptr) const {
+    const int n = static_cast<int>(Y.size()) - 1;
+    const OrbitShot s = shot(Y, true);
+    if (r != nullptr) *r = s.end - s.start;
+    Eigen::MatrixXd j(n, n + 1);
+    j.leftCols(n) = s.jacobian - Eigen::MatrixXd::Identity(n, n);
+    Vector up = Y, down = Y;
+    up(n) += kSpeedStep;
+    down(n) -= kSpeedStep;
+    j.col(n) = (residual(up) - residual(down)) / (2.0 * kSpeedStep);
+    return j;
+  }
+  Vector tangent(const Vector& Y, const Vector& previous) const {
+    const int n = static_cast<int>(Y.size()) - 1;
+    Eigen::MatrixXd a(n + 1, n + 1);
+    a.topRows(n) = jacobian(Y);
+    a.row(n) = previous.transpose();
+    Vector rhs = Vector::Zero(n + 1);
+    rhs(n) = 1.0;
+    return a.fullPivLu().solve(rhs).normalized();
+  }
+  // Newton from Y_pred on the hyperplane t . (Y - Y_pred) = 0.
+  bool correct(const Vector& Y_pred, const Vector& t, Vector& Y, int& iterations) const {
+    const int n = static_cast<int>(Y_pred.size()) - 1;
+    Y = Y_pred;
+    for (iterations = 0; iterations < kMaxCorrections; ++iterations) {
+      Vector r;
+      Eigen::MatrixXd a(n + 1, n + 1);
+      a.topRows(n) = jacobian(Y, &r);
+      if (!r.allFinite()) return false;
+      if (r.lpNorm<Eigen::Infinity>() < s_.newton_tolerance) return true;
+      a.row(n) = t.transpose();
+      Vector rhs(n + 1);
+      rhs.head(n) = -r;
+      rhs(n) = -t.dot(Y - Y_pred);
+      Y += a.fullPivLu().solve(rhs);
+    }
+    return false;
+  }
+  PeriodicOrbit orbit(const Vector& Y) const {
+    const double w = speed(Y);
+    const RubFlow flow(*p_, w, settle_apex_m(*p_, s_));
+    const OrbitShot s = shot(Y, true);
+    check_grazing(s.closest_miss);
+    PeriodicOrbit o;
+    o.speed_rad_per_s = w;
+    o.periods = s_.periods;
+    o.period_s = s_.periods * flow.period();
+    o.section_angle_rad = s_.section_angle_rad;
+    o.state = flow.physical(s.start);
+    o.keyphasor_states = keyphasor_states(flow, s.start, s_.section_angle_rad / w, s_);
+    o.events = s.events;
+    o.monodromy = s.jacobian;
+    o.tangent_basis = Eigen::MatrixXd::Identity(s.jacobian.rows(), s.jacobian.cols());
+    o.multipliers = sorted_eigenvalues(s.jacobian);
+    o.residual = (s.end - s.start).lpNorm<Eigen::Infinity>();
+    o.slowest_impact = s.slowest_impact;
+    o.closest_miss = s.closest_miss;
+    return o;
+  }
+  Vector unknowns(const PeriodicOrbit& o) const {
+    const RubFlow flow(*p_, o.speed_rad_per_s, settle_apex_m(*p_, s_));
+    Vector Y(o.state.size() + 1);
+    Y.head(o.state.size()) = flow.scaled(o.state);
+    Y(o.state.size()) = o.speed_rad_per_s / w0_;
+    return Y;
+  }
+
+ private:
+  const ModelParameters* p_;
+  OrbitSettings s_;
+  double w0_;
+  std::vector<OrbitEvent::Kind> kinds_;
+};
+
+// The test functions of the bifurcations: det(M + I) (a real multiplier at
+// -1), and the complex multipliers outside the unit circle.
+double doubling_test(const PeriodicOrbit& o) {
+  return (o.monodromy + Eigen::MatrixXd::Identity(o.monodromy.rows(), o.monodromy.cols())).determinant();
+}
+int complex_outside(const PeriodicOrbit& o) {
+  int count = 0;
+  for (const auto& mu : o.multipliers) count += std::abs(mu.imag()) > kRealAxis && std::abs(mu) > 1.0;
+  return count;
+}
+double complex_modulus_test(const PeriodicOrbit& o, double near) {
+  // The complex pair's modulus closest to `near` (its value at the step's
+  // start), less 1.
+  double best = INFINITY, value = 0.0;
+  for (const auto& mu : o.multipliers) {
+    if (std::abs(mu.imag()) <= kRealAxis) continue;
+    if (std::abs(std::abs(mu) - near) < best) {
+      best = std::abs(std::abs(mu) - near);
+      value = std::abs(mu) - 1.0;
+    }
+  }
+  return value;
+}
+
+// Where an event lies within kSectionMargin of the orbit's section, the
+// section moves to the middle of its longest stretch without events: the
+// equations, the unknowns and the tangent (carried by the flow's Jacobian)
+// there. Returns false where it stays.
+bool resection(OrbitEquations& g, const PeriodicOrbit& o, Vector& Y, Vector& t) {
+  if (o.events.empty()) return false;
+  const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w, span = o.period_s;
+  std::vector<double> tau;  // the events' times after the section, in (0, span], in order
+  for (const OrbitEvent& e : o.events) tau.push_back(e.time_s - t0);
+  if (std::min(tau.front(), span - tau.back()) >= kSectionMargin * span) return false;
+  // The longest stretch in free flight: not after a touchdown (a contact).
+  const std::size_t m = tau.size();
+  double best = -1.0, middle = 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    if (o.events[i].kind == OrbitEvent::Kind::kTouchdown) continue;
+    const double next = i + 1 < m ? tau[i + 1] : tau.front() + span;
+    if (next - tau[i] > best) {
+      best = next - tau[i];
+      middle = std::fmod(0.5 * (tau[i] + next), span);
+    }
+  }
+  if (best < 2.0 * kSectionMargin * span) return false;  // no better place
+  OrbitSettings s = g.settings();
+  const RubFlow flow(g.parameters(), w, settle_apex_m(g.parameters(), s));
+  const int n = static_cast<int>(o.state.size());
+  const OrbitShot to_new = shoot(flow, Y.head(n), t0, t0 + middle, s, true);
+  s.section_angle_rad = std::fmod(s.section_angle_rad + w * middle, 2.0 * M_PI);
+  const OrbitShot round = shoot(flow, to_new.end, t0 + middle, t0 + middle + span, s, false);
+  g = OrbitEquations(g.parameters(), s, g.start_speed(), round.events);
+  Vector direction(n + 1);
+  direction.head(n) = to_new.jacobian * t.head(n);
+  direction(n) = t(n);
+  Y.head(n) = to_new.end;
+  t = g.tangent(Y, direction);
+  return true;
+}
+
+// The trace from Y along t (the first point already in the branch).
+void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& settings, double ds, OrbitBranch& branch) {
+  resection(g, branch.points.back(), Y, t);
+  const int n = static_cast<int>(Y.size()) - 1;
+  while (true) {
+    if (static_cast<int>(branch.points.size()) >= settings.max_points) {
+      branch.end = "max_points (" + std::to_string(settings.max_points) + ")";
+      return;
+    }
+    try {
+      Vector Y_new;
+      int iterations = 0;
+      if (!g.correct(Y + ds * t, t, Y_new, iterations)) {
+        ds *= 0.5;
+        if (ds < kMinStep) {
+          branch.end = "the corrector's failure at the smallest step";
+          return;
+        }
+        continue;
+      }
+      const Vector t_new = g.tangent(Y_new, t);
+      if (t.dot(t_new) < kMinTurnCosine) {
+        ds *= 0.5;
+        if (ds < kMinStep) {
+          branch.end = "a turn of the tangent at the smallest step";
+          return;
+        }
+        continue;
+      }
+      auto point_at = [&](double s) {
+        Vector Ys;
+        int its = 0;
+        if (!g.correct(Y + s * t, t, Ys, its)) {
+          throw OrbitError("the corrector failed inside a step at " + std::to_string(g.speed(Y)) + " rad/s");
+        }
+        return Ys;
+      };
+      const PeriodicOrbit orbit = g.orbit(Y_new);
+      const PeriodicOrbit& last = branch.points.back();
+      auto locate = [&](OrbitBifurcationKind kind, const std::function<double(double)>& test, double f0, double f1) {
+        const double s = regula_falsi(test, f0, ds, f1, kLocateFraction);
+        const PeriodicOrbit o = g.orbit(point_at(s));
+        branch.bifurcations.push_back({kind, o.speed_rad_per_s, o});
+      };
+      if (t(n) * t_new(n) < 0.0) {
+        locate(
+            OrbitBifurcationKind::kFold, [&](double s) { return g.tangent(point_at(s), t)(n); }, t(n), t_new(n));
+      }
+      const double d0 = doubling_test(last), d1 = doubling_test(orbit);
+      if ((d0 < 0.0) != (d1 < 0.0)) {
+        locate(
+            OrbitBifurcationKind::kPeriodDoubling, [&](double s) { return doubling_test(g.orbit(point_at(s))); }, d0,
+            d1);
+      }
+      if (complex_outside(last) != complex_outside(orbit)) {
+        const double near = 1.0;
+        locate(
+            OrbitBifurcationKind::kNeimarkSacker,
+            [&](double s) { return complex_modulus_test(g.orbit(point_at(s)), near); },
+            complex_modulus_test(last, near), complex_modulus_test(orbit, near));
+      }
+      const double w_new = orbit.speed_rad_per_s;
+      if (w_new < settings.min_speed_rad_per_s || w_new > settings.max_speed_rad_per_s) {
+        branch.end = "the speed range's end";
+        return;
+      }
+      branch.points.push_back(orbit);
+      Y = Y_new;
+      t = t_new;
+      resection(g, orbit, Y, t);
+      if (iterations <= 2) ds = std::min(1.5 * ds, settings.max_step);
+    } catch (const OrbitError& e) {
+      // A step that meets what the branch cannot pass (a grazing, a section
+      // inside the bore, a sticking phase) is halved until the smallest: the
+      // trace ends as close to it as that step.
+      ds *= 0.5;
+      if (ds < kMinStep) {
+        branch.end = std::string(e.what()) + " (at the smallest step)";  // the points so far stand
+        return;
+      }
+    }
+  }
+}
+
+void check_range(const ContinuationSettings& settings, double w0) {
+  if (!(settings.min_speed_rad_per_s < settings.max_speed_rad_per_s) || !(w0 > 0.0) ||
+      !(w0 >= settings.min_speed_rad_per_s) || !(w0 <= settings.max_speed_rad_per_s)) {
+    throw std::invalid_argument(
+        "orbit continuation: the start's speed must be above 0 and lie in a speed range of some width");
+  }
+}
+
+}  // namespace
+
+OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
+                           const OrbitSettings& orbit) {
+  check_range(settings, start.speed_rad_per_s);
+  if (start.starts_in_contact) {
+    throw OrbitError("the orbit's section lies in a contact (the full rub: continue_full_rub)");
+  }
+  OrbitSettings s = orbit;
+  s.periods = start.periods;
+  const OrbitEquations g(p, s, start.speed_rad_per_s, start.events);
+  const Vector Y = g.unknowns(start);
+  Vector direction = Vector::Zero(Y.size());
+  direction(Y.size() - 1) = settings.increasing_speed ? 1.0 : -1.0;
+  OrbitBranch branch;
+  branch.points.push_back(start);
+  try {
+    trace(g, Y, g.tangent(Y, direction), settings, settings.step, branch);
+  } catch (const OrbitError& e) {
+    branch.end = e.what();
+  }
+  return branch;
+}
+
+OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurcation& pd,
+                                    const ContinuationSettings& settings, const OrbitSettings& orbit) {
+  if (pd.kind != OrbitBifurcationKind::kPeriodDoubling) {
+    throw std::invalid_argument("continue_period_doubled: the bifurcation is a " + std::string(to_string(pd.kind)));
+  }
+  check_range(settings, pd.speed_rad_per_s);
+  const PeriodicOrbit& single = pd.orbit;
+  // The multiplier's eigenvector at -1: the doubled branch leaves along it.
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(single.monodromy);
+  int k = 0;
+  for (int i = 1; i < es.eigenvalues().size(); ++i) {
+    if (std::abs(es.eigenvalues()(i) + 1.0) < std::abs(es.eigenvalues()(k) + 1.0)) k = i;
+  }
+  const int n = static_cast<int>(single.state.size());
+  Vector t0 = Vector::Zero(n + 1);
+  t0.head(n) = es.eigenvectors().col(k).real().normalized();
+  OrbitSettings s = orbit;
+  s.periods = 2 * single.periods;
+  // The doubled orbit's events: the single's twice (the shot of its own
+  // period at the bifurcation).
+  std::vector<OrbitEvent> events = single.events;
+  events.insert(events.end(), single.events.begin(), single.events.end());
+  const OrbitEquations g(p, s, single.speed_rad_per_s, events);
+  Vector Y0 = g.unknowns(single);
+  OrbitBranch branch;
+  try {
+    Vector Y1;
+    int iterations = 0;
+    // The doubled orbit leaves the single one as the square root of the
+    // speed's distance from the doubling: a first step of the usual length
+    // would pass a doubling of its own that follows close behind (a cascade).
+    double ds = kFirstDoubledStep * settings.step;
+    while (!g.correct(Y0 + ds * t0, t0, Y1, iterations)) {
+      ds *= 0.5;
+      if (ds < kMinStep) throw OrbitError("the doubled branch's first point: the corrector fails at the smallest step");
+    }
+    const PeriodicOrbit first = g.orbit(Y1);
+    // Its two halves differ: not the single period's orbit.
+    const RubFlow flow(p, first.speed_rad_per_s, settle_apex_m(p, s));
+    const OrbitShot half = shoot(flow, flow.scaled(first.state), 0.0, single.periods * flow.period(), s, false);
+    if ((half.end - half.start).lpNorm<Eigen::Infinity>() < kSameHalves) {
+      throw OrbitError("the corrector fell back onto the single period's orbit at the period doubling");
+    }
+    branch.points.push_back(first);
+    Vector direction = Y1 - Y0;
+    trace(g, Y1, g.tangent(Y1, direction), settings, ds, branch);
+  } catch (const OrbitError& e) {
+    if (branch.points.empty()) throw;
+    branch.end = e.what();
+  }
+  return branch;
+}
+
+}  // namespace rotor_rub::core

@@ -1,0 +1,203 @@
+// Branches of periodic orbits in the speed (orbit_continuation.hpp) on the
+// paper's rotor lying horizontal on a rigid stator (its sag 1.64 mm of the
+// 2 mm clearance, e = 0.5): one impact per revolution from 53 to 65 rad/s.
+// The bifurcations located along the branch are checked on the orbits
+// themselves (a multiplier at -1, a pair on the unit circle), and the
+// switching method's runs are checked against the branches: the unstable
+// orbit's disturbance grows at its largest multiplier, and a run settles on
+// the doubled orbit that branch switching found.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rotor_rub_sim/core/orbit_continuation.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+
+namespace {
+
+core::ModelParameters horizontal() {
+  core::ModelParameters p = test::paper_scene().model;
+  p.stator_model = core::StatorModel::kRigid;
+  p.gravity_m_per_s2 = 9.81;
+  p.restitution = 0.5;
+  return p;
+}
+
+core::ContinuationSettings range(bool up) {
+  core::ContinuationSettings s;
+  s.min_speed_rad_per_s = 40.0;
+  s.max_speed_rad_per_s = 80.0;
+  s.increasing_speed = up;
+  return s;
+}
+
+const core::OrbitBifurcation* first(const core::OrbitBranch& b, core::OrbitBifurcationKind kind) {
+  for (const auto& bif : b.bifurcations) {
+    if (bif.kind == kind) return &bif;
+  }
+  return nullptr;
+}
+
+// The bifurcations' regula falsi stops on 1e-8 of a step (at most 0.05 in
+// the scaled unknowns); the multipliers move by about 20 per rad/s there.
+constexpr double kLocated = 1e-5;
+
+struct Branches {
+  core::PeriodicOrbit start;
+  core::OrbitBranch down, up;
+};
+const Branches& branches() {
+  static const Branches b = [] {
+    Branches out;
+    const core::ModelParameters p = horizontal();
+    out.start = core::find_periodic_orbit(p, 60.0, core::settled_state(p, 60.0, 100));
+    out.down = core::continue_orbit(p, out.start, range(false));
+    out.up = core::continue_orbit(p, out.start, range(true));
+    return out;
+  }();
+  return b;
+}
+
+}  // namespace
+
+// Down in speed the impacting orbit doubles its period at 53.09 rad/s, where
+// a real multiplier passes -1 (the orbit found again there by
+// find_periodic_orbit has it to kLocated), then its impact slows to a
+// graze: the trace ends where the events change, its multipliers growing as
+// the impact velocity falls (the grazing's square-root singularity).
+TEST(OrbitContinuation, DownInSpeedTheOrbitDoublesThenGrazes) {
+  const Branches& b = branches();
+  const core::OrbitBifurcation* pd = first(b.down, core::OrbitBifurcationKind::kPeriodDoubling);
+  ASSERT_NE(pd, nullptr);
+  std::printf("period doubling at %.9f rad/s; the trace ends: %s\n", pd->speed_rad_per_s, b.down.end.c_str());
+  EXPECT_GT(pd->speed_rad_per_s, 53.0);
+  EXPECT_LT(pd->speed_rad_per_s, 53.2);
+  const core::PeriodicOrbit again = core::find_periodic_orbit(horizontal(), pd->speed_rad_per_s, pd->orbit.state);
+  for (const core::PeriodicOrbit* o : {&pd->orbit, &again}) {
+    double nearest = INFINITY;
+    for (const auto& mu : o->multipliers) nearest = std::min(nearest, std::abs(mu + 1.0));
+    EXPECT_LT(nearest, kLocated);
+  }
+  EXPECT_NE(b.down.end.find("events change"), std::string::npos) << b.down.end;
+  const core::PeriodicOrbit& last = b.down.points.back();
+  EXPECT_LT(last.speed_rad_per_s, pd->speed_rad_per_s);
+  EXPECT_LT(last.slowest_impact, 0.1 * b.start.slowest_impact);
+  EXPECT_GT(std::abs(last.multipliers.front()), 10.0);
+  for (const auto& pt : b.down.points) EXPECT_EQ(pt.events.size(), 1u);
+}
+
+// Up in speed a complex pair of multipliers leaves the unit circle (a
+// Neimark-Sacker point) near 64.9 rad/s.
+TEST(OrbitContinuation, UpInSpeedAPairCrossesTheUnitCircle) {
+  const Branches& b = branches();
+  const core::OrbitBifurcation* ns = first(b.up, core::OrbitBifurcationKind::kNeimarkSacker);
+  ASSERT_NE(ns, nullptr) << b.up.end;
+  std::printf("Neimark-Sacker at %.9f rad/s; the trace ends: %s\n", ns->speed_rad_per_s, b.up.end.c_str());
+  double nearest = INFINITY;
+  for (const auto& mu : ns->orbit.multipliers) {
+    if (std::abs(mu.imag()) > 1e-6) nearest = std::min(nearest, std::abs(std::abs(mu) - 1.0));
+  }
+  EXPECT_LT(nearest, kLocated);
+  EXPECT_TRUE(b.start.stable());
+  for (const auto& pt : b.up.points) EXPECT_EQ(pt.stable(), pt.speed_rad_per_s < ns->speed_rad_per_s);
+}
+
+// Between the doubling and the graze the single orbit is unstable: the
+// switching method started 1e-9 of C off it leaves it at its largest
+// multiplier's rate, to kRate (the runs' rtol 1e-10 against a disturbance
+// of 1e-9 to 1e-6: 1e-4 relative, over ten periods), and settles on the
+// doubled orbit that branch switching found there, to kSettled (the orbit's
+// slowest multiplier after the run's periods).
+TEST(OrbitContinuation, RunsLeaveTheUnstableOrbitAndSettleOnTheDoubledOne) {
+  constexpr double kRate = 0.02;
+  constexpr double kSettled = 1e-6;
+  const core::ModelParameters p = horizontal();
+  const Branches& b = branches();
+  const core::OrbitBifurcation* pd = first(b.down, core::OrbitBifurcationKind::kPeriodDoubling);
+  ASSERT_NE(pd, nullptr);
+  const core::OrbitBranch doubled = core::continue_period_doubled(p, *pd, range(false));
+  ASSERT_GE(doubled.points.size(), 3u) << doubled.end;
+  // A stable doubled orbit a little below the doubling.
+  const core::PeriodicOrbit* two = nullptr;
+  for (const auto& pt : doubled.points) {
+    if (pt.stable() && pt.speed_rad_per_s < pd->speed_rad_per_s - 0.005) {
+      two = &pt;
+      break;
+    }
+  }
+  ASSERT_NE(two, nullptr) << doubled.end;
+  const double w = two->speed_rad_per_s, period = 2.0 * M_PI / w;
+  std::printf("the doubled orbit at %.6f rad/s: |mu| max %.4f, %zu events\n", w, std::abs(two->multipliers.front()),
+              two->events.size());
+  EXPECT_EQ(two->periods, 2);
+  EXPECT_EQ(two->events.size(), 2u);
+  ASSERT_EQ(two->keyphasor_states.size(), 2u);
+  EXPECT_GT(test::scaled_norm(two->keyphasor_states[0] - two->keyphasor_states[1], p, w), 1e-4);
+  const core::PeriodicOrbit one = core::find_periodic_orbit(p, w, pd->orbit.state);
+  ASSERT_FALSE(one.stable());
+  const double growth = std::abs(one.multipliers.front());
+  Eigen::VectorXd start = one.state;
+  start(0) += 1e-9 * p.clearance_m;
+  std::vector<double> times;
+  for (int k = 0; k <= 400; ++k) times.push_back(k * period);
+  const std::vector<Eigen::VectorXd> run = test::method_states(core::Method::kSwitching, p, w, start, times);
+  const double d5 = test::scaled_norm(run[5] - one.state, p, w), d15 = test::scaled_norm(run[15] - one.state, p, w);
+  const double rate = std::pow(d15 / d5, 0.1);
+  std::printf("the run leaves the single orbit at %.5f per period; its largest multiplier %.5f\n", rate, growth);
+  EXPECT_NEAR(rate / growth, 1.0, kRate);
+  const Eigen::VectorXd& a = run[399];
+  const Eigen::VectorXd& c = run[400];
+  const double settled = std::min(std::max(test::scaled_norm(a - two->keyphasor_states[0], p, w),
+                                           test::scaled_norm(c - two->keyphasor_states[1], p, w)),
+                                  std::max(test::scaled_norm(a - two->keyphasor_states[1], p, w),
+                                           test::scaled_norm(c - two->keyphasor_states[0], p, w)));
+  std::printf("after 400 periods the run is %.2e of C from the doubled orbit\n", settled);
+  EXPECT_LT(settled, kSettled);
+  // The doubled orbit doubles again close below (a cascade): there the
+  // run repeats every 4 periods, not every 2.
+  const core::OrbitBifurcation* pd2 = first(doubled, core::OrbitBifurcationKind::kPeriodDoubling);
+  ASSERT_NE(pd2, nullptr) << doubled.end;
+  std::printf("the doubled orbit doubles at %.9f rad/s\n", pd2->speed_rad_per_s);
+  EXPECT_LT(pd2->speed_rad_per_s, w);
+  const double w4 = pd2->speed_rad_per_s - 0.002, period4 = 2.0 * M_PI / w4;
+  Eigen::VectorXd start4 = core::find_periodic_orbit(p, w4, pd->orbit.state).state;
+  start4(0) += 1e-6 * p.clearance_m;
+  std::vector<double> times4;
+  for (int k = 2990; k <= 3000; ++k) times4.push_back(k * period4);
+  times4.insert(times4.begin(), 0.0);
+  const std::vector<Eigen::VectorXd> run4 = test::method_states(core::Method::kSwitching, p, w4, start4, times4);
+  const double every4 = test::scaled_norm(run4[10] - run4[6], p, w4),
+               every2 = test::scaled_norm(run4[10] - run4[8], p, w4);
+  std::printf("at %.4f rad/s the run repeats every 4 periods to %.2e of C, every 2 to %.2e\n", w4, every4, every2);
+  EXPECT_LT(every4, kSettled);
+  EXPECT_GT(every2, 100.0 * kSettled);
+}
+
+TEST(OrbitContinuation, BadInputIsAClearError) {
+  const core::ModelParameters p = horizontal();
+  const Branches& b = branches();
+  core::ContinuationSettings empty = range(true);
+  empty.max_speed_rad_per_s = empty.min_speed_rad_per_s;
+  EXPECT_THROW(core::continue_orbit(p, b.start, empty), std::invalid_argument);
+  core::ContinuationSettings above = range(true);
+  above.min_speed_rad_per_s = 70.0;
+  EXPECT_THROW(core::continue_orbit(p, b.start, above), std::invalid_argument);
+  core::OrbitBifurcation not_pd;
+  not_pd.kind = core::OrbitBifurcationKind::kNeimarkSacker;
+  not_pd.orbit = b.start;
+  not_pd.speed_rad_per_s = 60.0;
+  EXPECT_THROW(core::continue_period_doubled(p, not_pd, range(true)), std::invalid_argument);
+  // The full rub's section lies in a contact.
+  core::ModelParameters rub = p;
+  rub.gravity_m_per_s2 = 0.0;
+  rub.stator_model = core::StatorModel::kRigid;
+  core::PeriodicOrbit on_bore = b.start;
+  on_bore.starts_in_contact = true;
+  EXPECT_THROW(core::continue_orbit(rub, on_bore, range(true)), core::OrbitError);
+}
