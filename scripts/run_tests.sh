@@ -159,6 +159,14 @@ timed "checks: charts --quick" check "charts: make_charts.sh --quick" bash -c "'
        bench_rows table2 stick_slip \
   && ! cmp -s '$ROOT/docs/benchmarks.md' '$CHARTS/benchmarks.md' \
   && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
+# The periodic orbits' picture end to end on a small grid.
+ORB="$WS/orbits_check"
+rm -rf "$ORB"
+timed "checks: orbits --quick" check "orbits: make_orbits.sh --quick" bash -c "'$ROOT/scripts/make_orbits.sh' --quick '$ORB' \
+  > '$WS/orbits_check.log' 2>&1 && test -s '$ORB/periodic_orbits.png' \
+  && grep -q 'plot_orbits: period doubling at 53.092018 rad/s' '$WS/orbits_check.log' \
+  && grep -q 'plot_orbits: neimark sacker at 64.892792 rad/s' '$WS/orbits_check.log'"
+
 # The bifurcation chart command end to end on a small grid (every picture drawn).
 BIF="$WS/bifurcation_check"
 rm -rf "$BIF"

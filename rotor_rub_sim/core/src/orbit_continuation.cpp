@@ -190,9 +190,11 @@ double complex_modulus_test(const PeriodicOrbit& o, double near) {
 
 // Where an event lies within kSectionMargin of the orbit's section, the
 // section moves to the middle of its longest stretch without events: the
-// equations, the unknowns and the tangent (carried by the flow's Jacobian)
-// there. Returns false where it stays.
-bool resection(OrbitEquations& g, const PeriodicOrbit& o, Vector& Y, Vector& t) {
+// equations, the unknowns and the tangent there, its orientation from the
+// previous point carried to the new section as well (else the flow's
+// Jacobian on t, which leaves out the speed's share). Returns false where
+// it stays.
+bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* previous, Vector& Y, Vector& t) {
   if (o.events.empty()) return false;
   const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w, span = o.period_s;
   std::vector<double> tau;  // the events' times after the section, in (0, span], in order
@@ -214,12 +216,20 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, Vector& Y, Vector& t) 
   const RubFlow flow(g.parameters(), w, settle_apex_m(g.parameters(), s));
   const int n = static_cast<int>(o.state.size());
   const OrbitShot to_new = shoot(flow, Y.head(n), t0, t0 + middle, s, true);
-  s.section_angle_rad = std::fmod(s.section_angle_rad + w * middle, 2.0 * M_PI);
-  const OrbitShot round = shoot(flow, to_new.end, t0 + middle, t0 + middle + span, s, false);
-  g = OrbitEquations(g.parameters(), s, g.start_speed(), round.events);
   Vector direction(n + 1);
   direction.head(n) = to_new.jacobian * t.head(n);
   direction(n) = t(n);
+  if (previous != nullptr) {
+    // The same spin angle on: the previous orbit's own time to it.
+    const double wp = previous->speed_rad_per_s, tp = previous->section_angle_rad / wp;
+    const RubFlow flow_p(g.parameters(), wp, settle_apex_m(g.parameters(), s));
+    const Vector moved = shoot(flow_p, flow_p.scaled(previous->state), tp, tp + middle * w / wp, s, false).end;
+    direction.head(n) = to_new.end - moved;
+    direction(n) = Y(n) - wp / g.start_speed();
+  }
+  s.section_angle_rad = std::fmod(s.section_angle_rad + w * middle, 2.0 * M_PI);
+  const OrbitShot round = shoot(flow, to_new.end, t0 + middle, t0 + middle + span, s, false);
+  g = OrbitEquations(g.parameters(), s, g.start_speed(), round.events);
   Y.head(n) = to_new.end;
   t = g.tangent(Y, direction);
   return true;
@@ -227,7 +237,7 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, Vector& Y, Vector& t) 
 
 // The trace from Y along t (the first point already in the branch).
 void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& settings, double ds, OrbitBranch& branch) {
-  resection(g, branch.points.back(), Y, t);
+  resection(g, branch.points.back(), nullptr, Y, t);
   const int n = static_cast<int>(Y.size()) - 1;
   while (true) {
     if (static_cast<int>(branch.points.size()) >= settings.max_points) {
@@ -294,7 +304,7 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
       branch.points.push_back(orbit);
       Y = Y_new;
       t = t_new;
-      resection(g, orbit, Y, t);
+      resection(g, orbit, &branch.points[branch.points.size() - 2], Y, t);
       if (iterations <= 2) ds = std::min(1.5 * ds, settings.max_step);
     } catch (const OrbitError& e) {
       // A step that meets what the branch cannot pass (a grazing, a section

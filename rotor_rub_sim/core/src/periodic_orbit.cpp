@@ -248,8 +248,8 @@ void check_grazing(double closest_miss) {
 void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
   if (p.drive_model != DriveModel::kPrescribed) {
     throw std::invalid_argument(
-        "periodic orbits: drive_model must be prescribed (a motor's spin is not periodic in "
-        "the forcing's period)");
+        "periodic orbits: scene key 'drive_model' is 'motor'; accepted: prescribed (a motor's spin is not periodic "
+        "in the forcing's period)");
   }
   if (!(w > 0.0) || !std::isfinite(w)) {
     throw std::invalid_argument("periodic orbits: speed " + std::to_string(w) + " rad/s; accepted: (0, inf)");

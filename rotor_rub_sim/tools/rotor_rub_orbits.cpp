@@ -1,0 +1,216 @@
+// rotor_rub_orbits: the periodic orbit a Jeffcott scene settles into at a
+// constant speed, and whether it holds (periodic_orbit.hpp): its events
+// over a period, its Floquet multipliers from the exact monodromy, stable or
+// not; with --continue, its branch over a speed range in both directions by
+// pseudo-arclength continuation (orbit_continuation.hpp), with its folds,
+// period doublings and Neimark-Sacker points, and the branches of twice the
+// period born at the doublings (--doublings levels deep). The orbit starts
+// from the scene's event-driven flow (the switching method's physics) run
+// from rest for --settle-periods periods, then Newton on the shooting
+// residual. The contact is the rigid one (the scene's method switching or
+// iteration), under the prescribed drive (docs/periodic_orbits.md).
+//
+// Exit status: 0 ok (a branch's end is reported, not an error); 2 bad input
+// (usage, scene, a scene it does not model); 3 no periodic orbit at the
+// speed (Newton does not converge, the orbit grazes, sticks or chatters).
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_options.hpp"
+#include "rotor_rub_sim/core/orbit_continuation.hpp"
+#include "rotor_rub_sim/core/periodic_orbit.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
+#include "rotor_rub_sim/core/scene_keys.hpp"
+
+namespace {
+
+using namespace rotor_rub;
+
+[[noreturn]] void bad_input(const std::string& msg) {
+  std::cerr << "rotor_rub_orbits: " << msg << "\n";
+  std::exit(2);
+}
+
+void print_orbit(const core::PeriodicOrbit& o) {
+  std::printf("orbit at %.6f rad/s: period %d T = %.9g s, %s, Newton %d iterations (residual %.2g of C)\n",
+              o.speed_rad_per_s, o.periods, o.period_s, o.stable() ? "stable" : "unstable", o.newton_iterations,
+              o.residual);
+  for (const core::OrbitEvent& e : o.events) {
+    std::printf("  %-9s at t = %.9f s (spin angle %.4f rad)", core::to_string(e.kind), e.time_s,
+                std::fmod(e.time_s * o.speed_rad_per_s, 2.0 * M_PI));
+    if (e.kind != core::OrbitEvent::Kind::kLiftOff) std::printf(", closing at %.6g m/s", e.normal_velocity_m_per_s);
+    std::printf("\n");
+  }
+  if (o.events.empty()) std::printf("  no contact\n");
+  for (const std::complex<double>& mu : o.multipliers) {
+    std::printf("  multiplier %+.9f %+.9fi  |mu| %.9f\n", mu.real(), mu.imag(), std::abs(mu));
+  }
+}
+
+// One CSV row per keyphasor point of each orbit (rotor minus stator, as
+// rotor_rub_bifurcation's Poincare points).
+void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, const char* bifurcation) {
+  const int v = static_cast<int>(o.state.size()) / 2;
+  for (std::size_t k = 0; k < o.keyphasor_states.size(); ++k) {
+    const Eigen::VectorXd& x = o.keyphasor_states[k];
+    Eigen::Vector2d rel = x.head<2>();
+    if (v == 4) rel -= x.segment<2>(2);
+    csv << branch << "," << o.periods << "," << o.speed_rad_per_s << "," << k << "," << rel.x() << "," << rel.y() << ","
+        << rel.norm() << "," << std::abs(o.multipliers.front()) << "," << (o.stable() ? 1 : 0) << "," << o.events.size()
+        << "," << bifurcation << "\n";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace cli = rotor_rub::cli;
+  std::string scene_path, csv_path;
+  std::vector<std::string> sets;
+  std::vector<double> range;
+  double speed = 0.0;
+  int periods = 1, settle_periods = 200, doublings = 1;
+  CLI::App app(
+      "The periodic orbit a Jeffcott scene settles into at a constant speed and its Floquet multipliers (the exact "
+      "monodromy of the event-driven flow); with --continue, its branch over a speed range by continuation, its "
+      "folds, period doublings and Neimark-Sacker points, and the doubled branches. Rigid contact, prescribed drive.",
+      "rotor_rub_orbits");
+  app.add_option("--scene", scene_path, "the scene file (flat YAML of scene keys); required")
+      ->type_name("FILE")
+      ->check(cli::existing_file());
+  app.add_option("--set", sets, "sets any scene key, repeatable")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false)
+      ->check(cli::key_value());
+  app.add_option("--speed", speed, "the constant speed [rad/s]; required")
+      ->type_name("W")
+      ->check(cli::number_in(0.0, 1e7, true));
+  app.add_option("--periods", periods, "the orbit's period in forcing periods 2 pi / W (period-n)")
+      ->type_name("N")
+      ->capture_default_str()
+      ->check(cli::integer_in(1, 64));
+  app.add_option("--settle-periods", settle_periods, "forcing periods run from rest before Newton")
+      ->type_name("P")
+      ->capture_default_str()
+      ->check(cli::integer_in(0, 1000000));
+  app.add_option("--continue", range, "trace the orbit's branch both ways within LO..HI [rad/s]")
+      ->type_name("LO HI")
+      ->expected(2)
+      ->check(cli::number_in(0.0, 1e7, true));
+  app.add_option("--doublings", doublings, "with --continue: levels of branches born at period doublings traced")
+      ->type_name("K")
+      ->capture_default_str()
+      ->check(cli::integer_in(0, 8));
+  app.add_option("--csv", csv_path,
+                 "write branch, periods, speed_rad_per_s, keyphasor, x_m, y_m, radius_m (rotor minus stator at "
+                 "each keyphasor of each orbit, as rotor_rub_bifurcation's Poincare points), max_multiplier, "
+                 "stable, events, bifurcation")
+      ->type_name("FILE");
+  app.footer("Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model); 3 no periodic orbit found.");
+  cli::parse_or_exit(app, argc, argv);
+  if (scene_path.empty()) cli::usage_error(app, "--scene is required");
+  if (!(speed > 0.0)) cli::usage_error(app, "--speed is required");
+  if (!range.empty() && !(range[0] < speed && speed < range[1])) {
+    cli::usage_error(app, "--continue needs LO < --speed < HI");
+  }
+  std::map<std::string, std::string> overrides;
+  for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
+  core::Scene scene;
+  try {
+    scene = core::load_scene(scene_path, overrides);
+  } catch (const std::exception& e) {
+    bad_input(e.what());
+  }
+  if (core::rotor_kind(scene) != core::RotorKind::kJeffcott) {
+    bad_input("scene key 'rotor_file' is '" + scene.rotor.file + "': periodic orbits of the Jeffcott rotor only");
+  }
+  if (scene.solver.method == core::Method::kPenalty) {
+    bad_input("scene key 'method' is 'penalty': the orbits are the rigid contact's; accepted: switching, iteration");
+  }
+  const core::ModelParameters& p = scene.model;
+  core::OrbitSettings settings;
+  settings.periods = periods;
+  core::PeriodicOrbit orbit;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    orbit = core::find_periodic_orbit(p, speed, core::settled_state(p, speed, settle_periods, settings), settings);
+  } catch (const std::invalid_argument& e) {
+    bad_input(e.what());
+  } catch (const core::OrbitError& e) {
+    std::cerr << "rotor_rub_orbits: no periodic orbit of " << periods << " period(s) at " << speed
+              << " rad/s: " << e.what() << "\n";
+    return 3;
+  }
+  const double orbit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %s stator, f = %g, e = %g, g = %g m/s^2 (settled %d periods from rest, %.3f s)\n",
+              scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution,
+              p.gravity_m_per_s2, settle_periods, orbit_s);
+  print_orbit(orbit);
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    if (!csv) bad_input("--csv: cannot write '" + csv_path + "'");
+    csv.precision(12);
+    csv << "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation\n";
+    write_rows(csv, 0, orbit, "");
+  }
+  if (range.empty()) return 0;
+  if (orbit.starts_in_contact) {
+    bad_input("the orbit at " + std::to_string(speed) +
+              " rad/s is the full rub (its section in contact): rotor_rub_stability --branch-csv traces it");
+  }
+  core::ContinuationSettings cs;
+  cs.min_speed_rad_per_s = range[0];
+  cs.max_speed_rad_per_s = range[1];
+  // Each branch to trace: its start, or a doubling it is born at.
+  struct Pending {
+    int level;
+    core::OrbitBifurcation born_at;
+  };
+  std::vector<Pending> pending;
+  int next_branch = 0;
+  std::size_t points = 0;
+  const auto t1 = std::chrono::steady_clock::now();
+  // skip: the branch's first point is written already (the start, traced both ways).
+  auto report = [&](int id, const core::OrbitBranch& b, bool skip, int level) {
+    if (b.points.empty()) return;
+    std::printf("branch %d (period %d): %zu points, %.6f to %.6f rad/s, ended by %s\n", id, b.points.front().periods,
+                b.points.size(), b.points.front().speed_rad_per_s, b.points.back().speed_rad_per_s, b.end.c_str());
+    points += b.points.size();
+    for (const core::OrbitBifurcation& bif : b.bifurcations) {
+      std::printf("branch %d: %s at %.9f rad/s\n", id, core::to_string(bif.kind), bif.speed_rad_per_s);
+      if (bif.kind == core::OrbitBifurcationKind::kPeriodDoubling && level < doublings)
+        pending.push_back({level + 1, bif});
+    }
+    if (csv.is_open()) {
+      for (std::size_t j = skip ? 1 : 0; j < b.points.size(); ++j) write_rows(csv, id, b.points[j], "");
+      for (const core::OrbitBifurcation& bif : b.bifurcations)
+        write_rows(csv, id, bif.orbit, core::to_string(bif.kind));
+    }
+  };
+  for (const bool up : {false, true}) {
+    cs.increasing_speed = up;
+    report(next_branch, core::continue_orbit(p, orbit, cs, settings), true, 0);
+  }
+  ++next_branch;
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    const Pending job = pending[i];
+    try {
+      // The doubled branch leaves on the single one's unstable side, which
+      // the corrector finds; one call traces it.
+      report(next_branch++, core::continue_period_doubled(p, job.born_at, cs, settings), false, job.level);
+    } catch (const core::OrbitError& e) {
+      std::printf("the branch born at %.9f rad/s: %s\n", job.born_at.speed_rad_per_s, e.what());
+    }
+  }
+  const double branch_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  std::printf("continuation: %zu orbits on %d branches in %.3f s\n", points, next_branch, branch_s);
+  return 0;
+}

@@ -1,0 +1,129 @@
+#!/usr/bin/python3
+"""Draws periodic orbits' branches (rotor_rub_orbits --continue --csv) over
+the brute-force bifurcation diagram (rotor_rub_bifurcation's Poincare points
+CSV): the Poincare radius |rotor - stator| at the keyphasor against speed,
+each branch solid where stable and dashed where not (a period-n orbit has n
+points per speed), its bifurcations marked, and every run's Poincare points
+as dots. A user sees the runs land on the stable parts and the unstable
+parts that no sweep shows. Prints, per bifurcation, its kind and speed.
+
+usage: plot_orbits.py --orbits ORBITS.csv --out FILE.png [--points BIFURCATION.csv.points.csv] [--title TEXT]
+                      [--zoom LO HI]
+With --zoom, a second panel shows the speeds LO..HI (a cascade of doublings).
+"""
+import argparse
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+BIFURCATION_MARKERS = {"fold": ("x", "#e41a1c"), "period_doubling": ("D", "#984ea3"),
+                       "neimark_sacker": ("s", "#ff7f00")}
+BRANCH_COLOURS = ["#000000", "#377eb8", "#4daf4a", "#a65628", "#f781bf"]
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def curves(rows):
+    """Per (branch, keyphasor): the orbits' points in the order traced, split
+    where the verdict changes (one line style each)."""
+    out = {}
+    for r in rows:
+        if r["bifurcation"]:
+            continue
+        out.setdefault((r["branch"], r["keyphasor"]), []).append(r)
+    parts = []
+    for key, pts in out.items():
+        # The trace runs out from its start both ways: order by speed within a
+        # branch's period-1 trace (two directions from one start), as traced
+        # for the doubled ones.
+        if key[0] == "0":
+            pts = sorted(pts, key=lambda r: float(r["speed_rad_per_s"]))
+        current = [pts[0]]
+        for r in pts[1:]:
+            if r["stable"] != current[-1]["stable"]:
+                parts.append((key, current + [r]))
+                current = [r]
+            else:
+                current.append(r)
+        parts.append((key, current))
+    return parts
+
+
+def draw(ax, rows, points, legend, report):
+    if points:
+        ax.scatter([float(p["speed_rad_per_s"]) for p in points], [1e3 * float(p["r_rel_m"]) for p in points], s=3,
+                   color="#999999", zorder=1, label="runs' Poincare points (constant speed, settled)")
+    labelled = set()
+    for (branch, _), part in curves(rows):
+        stable = part[0]["stable"] == "1"  # (its last point is the next part's first, for continuity)
+        period = part[0]["periods"]
+        colour = BRANCH_COLOURS[int(branch) % len(BRANCH_COLOURS)]
+        label = "period %s, %s" % (period, "stable" if stable else "unstable")
+        ax.plot([float(r["speed_rad_per_s"]) for r in part], [1e3 * float(r["radius_m"]) for r in part], color=colour,
+                ls="-" if stable else "--", lw=1.4 if stable else 1.0, zorder=2,
+                label=None if (label, colour) in labelled else label)
+        labelled.add((label, colour))
+    for kind, (marker, colour) in BIFURCATION_MARKERS.items():
+        sel = [r for r in rows if r["bifurcation"] == kind]
+        if not sel:
+            continue
+        ax.scatter([float(r["speed_rad_per_s"]) for r in sel], [1e3 * float(r["radius_m"]) for r in sel],
+                   marker=marker, s=36, color=colour, zorder=4, label=kind.replace("_", " "))
+        if report:
+            for w in sorted({float(r["speed_rad_per_s"]) for r in sel}):
+                print("plot_orbits: %s at %.6f rad/s" % (kind.replace("_", " "), w))
+    ax.set_xlabel("speed [rad/s]")
+    ax.set_ylabel("Poincare radius |rotor - stator| at the keyphasor [mm]")
+    if legend:
+        ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--orbits", required=True, help="rotor_rub_orbits --csv output")
+    ap.add_argument("--out", required=True, help="the PNG to write")
+    ap.add_argument("--points", help="rotor_rub_bifurcation's OUT.csv.points.csv (the runs' Poincare points)")
+    ap.add_argument("--title", default="periodic orbits: branches and runs")
+    ap.add_argument("--zoom", nargs=2, type=float, metavar=("LO", "HI"), help="a second panel over these speeds")
+    a = ap.parse_args(argv)
+    try:
+        rows = read(a.orbits)
+        points = read(a.points) if a.points else []
+    except (OSError, csv.Error) as e:
+        print("plot_orbits.py: cannot read: %s" % e, file=sys.stderr)
+        return 2
+    if not rows:
+        print("plot_orbits.py: %s holds no orbit" % a.orbits, file=sys.stderr)
+        return 2
+    if a.zoom:
+        fig, axes = plt.subplots(1, 2, figsize=(14, 5), gridspec_kw={"width_ratios": [3, 2]})
+    else:
+        fig, axes = plt.subplots(figsize=(10, 5))
+        axes = [axes]
+    for i, ax in enumerate(axes):
+        draw(ax, rows, points, legend=i == 0, report=i == 0)
+        ax.set_title(a.title if i == 0 else "speeds %g to %g rad/s" % tuple(a.zoom))
+    if a.zoom:
+        lo, hi = a.zoom
+        axes[1].set_xlim(lo, hi)
+        inside = [1e3 * float(r["radius_m"]) for r in rows if lo <= float(r["speed_rad_per_s"]) <= hi]
+        inside += [1e3 * float(p["r_rel_m"]) for p in points if lo <= float(p["speed_rad_per_s"]) <= hi]
+        if inside:
+            pad = 0.05 * (max(inside) - min(inside) or 1.0)
+            axes[1].set_ylim(min(inside) - pad, max(inside) + pad)
+    fig.tight_layout()
+    fig.savefig(a.out, dpi=120)
+    print("plot_orbits: wrote %s" % a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

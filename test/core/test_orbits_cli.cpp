@@ -1,0 +1,66 @@
+// rotor_rub_orbits' command line: the horizontal rotor's orbit at 60 rad/s,
+// its branch with the bifurcations the core's tests hold
+// (test_orbit_continuation.cpp), its CSV, no orbit as exit status 3, and bad
+// input as one line with exit status 2.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <utility>
+
+#include "cli_support.hpp"
+#include "temp_dir.hpp"
+
+namespace {
+
+using Result = rotor_rub::test::CliResult;
+
+Result orbits(const std::string& args) { return rotor_rub::test::run_cli(ROTOR_RUB_ORBITS, args); }
+
+std::string config(const std::string& name) { return std::string(ROTOR_RUB_SOURCE_DIR) + "/config/" + name; }
+
+}  // namespace
+
+TEST(OrbitsCli, TheHorizontalRotorsBranchAndItsCsv) {
+  const std::string csv = rotor_rub::test::tmp() + "/orbits.csv";
+  const Result r = orbits("--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 45 75 --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* line :
+       {"orbit at 60.000000 rad/s: period 1 T = 0.104719755 s, stable", "impact    at t = 0.073478137 s",
+        "branch 0: period_doubling at 53.0920", "branch 0: neimark_sacker at 64.8927",
+        "branch 1: period_doubling at 53.0622", "ended by the orbit's events change near 52.98"}) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation");
+  int period2 = 0, doublings = 0;
+  while (std::getline(in, line)) {
+    period2 += line.rfind("1,2,", 0) == 0;
+    doublings += line.find(",period_doubling") != std::string::npos;
+  }
+  EXPECT_GT(period2, 10);
+  EXPECT_EQ(doublings, 1 + 2);  // the single orbit's (one keyphasor point) and the doubled one's (two)
+}
+
+TEST(OrbitsCli, NoOrbitAndBadInput) {
+  // Past the Neimark-Sacker point the motion is not periodic: exit 3.
+  const Result none = orbits("--scene " + config("horizontal_rub.yaml") + " --speed 66.5");
+  EXPECT_EQ(none.status, 3) << none.out;
+  EXPECT_NE(none.err.find("no periodic orbit near the guess"), std::string::npos) << none.err;
+  for (const auto& [args, part] :
+       {std::pair<std::string, std::string>{
+            "--scene " + config("horizontal_rub.yaml") + " --speed 60 --set method=penalty",
+            "scene key 'method' is 'penalty'"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --set drive_model=motor",
+         "scene key 'drive_model' is 'motor'"},
+        {"--scene " + config("seal_rub_runup.yaml") + " --speed 100", "the Jeffcott rotor only"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 61 70", "LO < --speed < HI"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --set restitutoin=0.2",
+         "did you mean 'restitution'"}}) {
+    const Result r = orbits(args);
+    EXPECT_EQ(r.status, 2) << args;
+    EXPECT_NE(r.err.find(part), std::string::npos) << args << ": " << r.err;
+  }
+}
