@@ -179,6 +179,57 @@ TEST(OrbitContinuation, RunsLeaveTheUnstableOrbitAndSettleOnTheDoubledOne) {
   EXPECT_GT(every2, 100.0 * kSettled);
 }
 
+// With less sag (g = 7 m/s^2) the branch from 90 rad/s down loses and
+// regains its stability at two Neimark-Sacker points and turns back at a
+// fold at 70.11 rad/s, where a real multiplier passes +1: above the fold two
+// orbits (the stable one traced before it, a saddle after it), below it
+// none; a run started 1e-9 of C off the saddle leaves it at its largest
+// multiplier's rate, to kRate (the run's rtol 1e-10 against a disturbance
+// of 1e-8 to 2e-5 of C).
+TEST(OrbitContinuation, TheBranchTurnsBackAtAFold) {
+  constexpr double kRate = 0.02;
+  core::ModelParameters p = horizontal();
+  p.gravity_m_per_s2 = 7.0;
+  const core::PeriodicOrbit start = core::find_periodic_orbit(p, 90.0, core::settled_state(p, 90.0, 200));
+  core::ContinuationSettings settings = range(false);
+  settings.max_speed_rad_per_s = 100.0;
+  const core::OrbitBranch down = core::continue_orbit(p, start, settings);
+  const core::OrbitBifurcation* fold = first(down, core::OrbitBifurcationKind::kFold);
+  ASSERT_NE(fold, nullptr) << down.end;
+  std::printf("fold at %.9f rad/s; the trace ends: %s\n", fold->speed_rad_per_s, down.end.c_str());
+  double nearest = INFINITY;
+  for (const auto& mu : fold->orbit.multipliers) nearest = std::min(nearest, std::abs(mu - 1.0));
+  EXPECT_LT(nearest, kLocated);
+  // The points on either side of the fold in the order traced.
+  std::size_t k = 0;
+  while (k + 1 < down.points.size() && down.points[k + 1].speed_rad_per_s < down.points[k].speed_rad_per_s) ++k;
+  ASSERT_LT(k + 1, down.points.size()) << "the trace does not turn back";
+  EXPECT_NEAR(down.points[k].speed_rad_per_s, fold->speed_rad_per_s, 0.1);
+  const double above = fold->speed_rad_per_s + 0.05;
+  const core::PeriodicOrbit node = core::find_periodic_orbit(p, above, down.points[k - 1].state);
+  const core::PeriodicOrbit saddle = core::find_periodic_orbit(p, above, down.points[k + 1].state);
+  EXPECT_GT(test::scaled_norm(node.state - saddle.state, p, above), 1e-4);
+  EXPECT_TRUE(node.stable());
+  ASSERT_FALSE(saddle.stable());
+  EXPECT_LT(std::abs(saddle.multipliers.front().imag()), 1e-9);  // a real multiplier past +1
+  EXPECT_GT(saddle.multipliers.front().real(), 1.0);
+  EXPECT_THROW(core::find_periodic_orbit(p, fold->speed_rad_per_s - 0.05, fold->orbit.state), core::OrbitError);
+  Eigen::VectorXd off = saddle.state;
+  off(0) += 1e-9 * p.clearance_m;
+  const double period = 2.0 * M_PI / above;
+  std::vector<double> times;
+  for (int j = 0; j <= 35; ++j) times.push_back(j * period);
+  const auto run = test::method_states(core::Method::kSwitching, p, above, off, times);
+  // From the 20th period: the next multipliers, a complex pair of modulus
+  // 0.94, have died against the saddle's by then (a factor 1e-3).
+  const double rate = std::pow(
+      test::scaled_norm(run[35] - saddle.state, p, above) / test::scaled_norm(run[20] - saddle.state, p, above),
+      1.0 / 15.0);
+  std::printf("the run leaves the saddle at %.5f per period; its largest multiplier %.5f\n", rate,
+              saddle.multipliers.front().real());
+  EXPECT_NEAR(rate / saddle.multipliers.front().real(), 1.0, kRate);
+}
+
 TEST(OrbitContinuation, BadInputIsAClearError) {
   const core::ModelParameters p = horizontal();
   const Branches& b = branches();

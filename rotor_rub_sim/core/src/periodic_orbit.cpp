@@ -42,11 +42,18 @@ using Stepper = odeint::runge_kutta_fehlberg78<Vector, double, Vector, double, o
 using ErrorChecker = odeint::default_error_checker<double, odeint::vector_space_algebra, odeint::default_operations>;
 using Controlled = odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
 
-// A start this close to the bore (in units of C) and pressed onto it is in
-// contact: a settled run's full rub lies on the bore to its tolerance.
+// A start this close to the bore (in units of C), this slow across it (of
+// C w) and pressed onto it is in contact: a settled run's full rub lies on
+// the bore to its tolerance.
 constexpr double kOnBore = 1e-6;
 // A slip this small (in units of C w) at a contact's start is a stick.
 constexpr double kStickSlip = 1e-9;
+// Where a flight that starts on the bore is probed for the gap's opening,
+// in fractions of the step (it departs as a power of the time).
+constexpr double kDepartureProbes[] = {1e-3, 1e-2, 1e-1, 0.5};
+// A free flight's gap above this (of C) at a step's end with no event
+// found is a missed contact.
+constexpr double kPenetration = 1e-9;
 // The controlled stepper's shortest step in periods before the shot fails.
 constexpr double kMinStepPeriods = 1e-14;
 
@@ -69,11 +76,14 @@ class Shooter {
   // The regime a state starts in, and its slip's sign in contact.
   void start(Shot& shot, double t) const {
     shot.regime = OrbitRegime::kFree;
-    if (flow_.gap(shot.y) > -kOnBore && flow_.normal_force(t, shot.y) > 0.0) {
+    if (flow_.gap(shot.y) > -kOnBore && std::abs(flow_.closing_rate(shot.y)) < kOnBore &&
+        flow_.normal_force(t, shot.y) > 0.0) {
       flow_.project_to_bore(shot.y);
       enter_contact(shot, t);
-    } else if (flow_.gap(shot.y) > 0.0) {
-      throw OrbitError("the state at t = " + std::to_string(t) + " s lies inside the bore and is not pressed onto it");
+    } else if (flow_.gap(shot.y) > kPenetration ||
+               (flow_.gap(shot.y) > 0.0 && flow_.closing_rate(shot.y) > kGrazingVelocity)) {
+      throw OrbitError("the state at t = " + std::to_string(t) +
+                       " s lies inside the bore, not pressed onto it and not leaving it");
     }
     if (jac_) shot.phi = Eigen::MatrixXd::Identity(n_, n_);
   }
@@ -105,6 +115,7 @@ class Shooter {
       z = z_new;
       t = t_new;
       dt = dt_try;
+      if (!z.allFinite()) throw OrbitError("the state is not finite at t = " + std::to_string(t) + " s");
       unpack(z, shot);
       if (t_event == t_new) {
         jump(shot, t);
@@ -162,6 +173,32 @@ class Shooter {
       auto gap = [&](double t) { return flow_.gap(state_at(shot, za, ta, t)); };
       const double ga = flow_.gap(ya), gb = flow_.gap(yb);
       if (ga < 0.0 && gb >= 0.0) return locate_event(gap, ta, ga, tb, gb, stats);
+      if (ga >= 0.0 && gb >= 0.0) {
+        // A flight that starts on the bore and is back on it at the step's
+        // end. Leaving at a rate (a rebound), the gap over the time since
+        // the start has that rate's sign at the start and the far one at
+        // the end: a bracket however short the flight (the switching
+        // method's deflation). Leaving without one (a plastic impact's
+        // departure, a lift-off: the gap opens as a power of the time),
+        // probed nearer the start (as is a rebound too slow for its rate to
+        // stand above the gap's rounding: one the impact law settles).
+        const double ra = flow_.closing_rate(ya);
+        if (ra < -kGrazingVelocity) {
+          // (Counted from the start's own gap, a rounding on the far side,
+          // which divided by a short time would make a root of its own.)
+          auto deflated = [&](double t) { return (gap(t) - ga) / (t - ta); };
+          return locate_event(deflated, ta, ra * flow_.speed(), tb, (gb - ga) / (tb - ta), stats);
+        }
+        for (const double fraction : kDepartureProbes) {
+          const double t = ta + fraction * (tb - ta), g = gap(t);
+          if (g < 0.0) return locate_event(gap, t, g, tb, gb, stats);
+        }
+        if (gb > kPenetration) {
+          throw OrbitError("the free flight stays on the bore from t = " + std::to_string(ta) +
+                           " s: neither pressed onto it nor leaving it (a graze the shooting cannot resolve)");
+        }
+        return kNone;  // on the bore to the rounding: leaving it
+      }
       // An apex inside the step: where delta' falls through 0.
       const double ra = flow_.closing_rate(ya), rb = flow_.closing_rate(yb);
       if (ga < 0.0 && gb < 0.0 && ra > 0.0 && rb < 0.0) {
@@ -173,18 +210,21 @@ class Shooter {
       }
       return kNone;
     }
-    const double slip_b = flow_.slip(tb, yb);
-    if (slip_b * shot.slip_sign <= 0.0) {
-      throw OrbitError("the slip stops at t ~ " + std::to_string(tb) +
-                       " s: a sticking phase (rolling), which the shooting does not follow");
-    }
     auto pull = [&](double t) { return -flow_.normal_force(t, state_at(shot, za, ta, t)); };
     const double pa = -flow_.normal_force(ta, ya), pb = -flow_.normal_force(tb, yb);
-    if (pa < 0.0 && pb >= 0.0) return locate_event(pull, ta, pa, tb, pb, stats);
-    if (pa < 0.0 && pb < 0.0) {
-      return locate_interior_crossing(pull, ta, pa, tb, pb, kInteriorRateStep * (tb - ta), stats);
+    double t_lift = kNone;
+    if (pa < 0.0 && pb >= 0.0) {
+      t_lift = locate_event(pull, ta, pa, tb, pb, stats);
+    } else if (pa < 0.0 && pb < 0.0) {
+      t_lift = locate_interior_crossing(pull, ta, pa, tb, pb, kInteriorRateStep * (tb - ta), stats);
     }
-    return kNone;
+    // The slip up to the lift-off (past it the contact's field is not the flow's).
+    const double t_slip = std::min(t_lift, tb);
+    if (flow_.slip(t_slip, t_slip == tb ? yb : state_at(shot, za, ta, t_slip)) * shot.slip_sign <= 0.0) {
+      throw OrbitError("the slip stops before t = " + std::to_string(t_slip) +
+                       " s: a sticking phase (rolling), which the shooting does not follow");
+    }
+    return t_lift;
   }
 
   void enter_contact(Shot& shot, double t) const {
@@ -340,7 +380,13 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
   orbit.period_s = period;
   orbit.periods = s.periods;
   for (int it = 0;; ++it) {
-    const OrbitShot shot = shoot(flow, y, t0, t0 + period, s, true);
+    OrbitShot shot;
+    try {
+      shot = shoot(flow, y, t0, t0 + period, s, true);
+    } catch (const OrbitError& e) {
+      if (it == 0) throw;
+      throw OrbitError("no periodic orbit near the guess: Newton's iterate " + std::to_string(it) + ": " + e.what());
+    }
     if (it == 0) in_contact = shot.starts_in_contact;
     if (shot.starts_in_contact != in_contact) {
       throw OrbitError("Newton's iterate left the start's regime: no orbit near the guess");
