@@ -677,7 +677,7 @@ class SwitchingMethod final : public ContactMethod {
       // A rebound at v_n < 0 pressed back at a_press returns after about
       // 2 |v_n| / a_press (a parabola over so short a flight); the probe
       // lies kReturnProbe times that after the start, on the bore's far
-      // side if it returned (ShallowGraze.ARebounds...).
+      // side if it returned (ReboundCascade.EveryReturnIsFound).
       typename FL::State x;
       free_int_.state_at(t_s, x);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
