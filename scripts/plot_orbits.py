@@ -31,29 +31,32 @@ def read(path):
 
 
 def curves(rows):
-    """Per (branch, keyphasor): the orbits' points in the order traced, split
-    where the verdict changes (one line style each)."""
+    """Per (branch, keyphasor): the orbits' points in the CSV's order (along
+    the branch), split where the verdict changes; a bifurcation's row (no
+    verdict) ends one part and starts the next."""
     out = {}
     for r in rows:
-        if r["bifurcation"]:
-            continue
         out.setdefault((r["branch"], r["keyphasor"]), []).append(r)
     parts = []
     for key, pts in out.items():
-        # The trace runs out from its start both ways: order by speed within a
-        # branch's period-1 trace (two directions from one start), as traced
-        # for the doubled ones.
-        if key[0] == "0":
-            pts = sorted(pts, key=lambda r: float(r["speed_rad_per_s"]))
-        current = [pts[0]]
-        for r in pts[1:]:
-            if r["stable"] != current[-1]["stable"]:
+        current = []
+        for r in pts:
+            if current and r["stable"] and current[-1]["stable"] and r["stable"] != current[-1]["stable"]:
+                parts.append((key, current + [r]))  # no bifurcation row between: meet at the next point
+                current = [r]
+            elif not r["stable"] and current:
                 parts.append((key, current + [r]))
                 current = [r]
             else:
                 current.append(r)
-        parts.append((key, current))
+        if len(current) > 1 or (current and current[0]["stable"]):
+            parts.append((key, current))
     return parts
+
+
+def verdict(part):
+    """A part's verdict: its first row's that has one."""
+    return next((r["stable"] for r in part if r["stable"]), "1")
 
 
 def draw(ax, rows, points, legend, report):
@@ -62,7 +65,7 @@ def draw(ax, rows, points, legend, report):
                    color="#999999", zorder=1, label="runs' Poincare points (constant speed, settled)")
     labelled = set()
     for (branch, _), part in curves(rows):
-        stable = part[0]["stable"] == "1"  # (its last point is the next part's first, for continuity)
+        stable = verdict(part) == "1"
         period = part[0]["periods"]
         colour = BRANCH_COLOURS[int(branch) % len(BRANCH_COLOURS)]
         label = "period %s, %s" % (period, "stable" if stable else "unstable")

@@ -38,10 +38,36 @@ using namespace rotor_rub;
   std::exit(2);
 }
 
-void print_orbit(const core::PeriodicOrbit& o) {
+// The least period of an orbit of n forcing periods, in forcing periods: the
+// smallest divisor d of n whose shot returns to the state (to kSamePoint of
+// C and C w).
+int least_period(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
+  constexpr double kSamePoint = 1e-7;
+  const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w, period = 2.0 * M_PI / w;
+  const int v = static_cast<int>(o.state.size()) / 2;
+  for (int d = 1; d < o.periods; ++d) {
+    if (o.periods % d != 0) continue;
+    const Eigen::VectorXd back = core::orbit_flow(p, w, o.state, t0, t0 + d * period).state - o.state;
+    const double off = std::max(back.head(v).cwiseAbs().maxCoeff() / p.clearance_m,
+                                back.tail(v).cwiseAbs().maxCoeff() / (p.clearance_m * w));
+    if (off < kSamePoint) return d;
+  }
+  return o.periods;
+}
+
+void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
   std::printf("orbit at %.6f rad/s: period %d T = %.9g s, %s, Newton %d iterations (residual %.2g of C)\n",
               o.speed_rad_per_s, o.periods, o.period_s, o.stable() ? "stable" : "unstable", o.newton_iterations,
               o.residual);
+  if (const int least = least_period(p, o); least < o.periods) {
+    std::printf("  note: its least period is %d T: it is the orbit of --periods %d traced %d times\n", least, least,
+                o.periods / least);
+  }
+  if (!o.stable()) {
+    std::printf(
+        "  note: unstable, so no run stays on it: the run from rest settled elsewhere (a periodic orbit of "
+        "more periods, --periods 2, 4, ...; or a motion that is not periodic)\n");
+  }
   for (const core::OrbitEvent& e : o.events) {
     std::printf("  %-9s at t = %.9f s (spin angle %.4f rad)", core::to_string(e.kind), e.time_s,
                 std::fmod(e.time_s * o.speed_rad_per_s, 2.0 * M_PI));
@@ -49,22 +75,36 @@ void print_orbit(const core::PeriodicOrbit& o) {
     std::printf("\n");
   }
   if (o.events.empty()) std::printf("  no contact\n");
+  if (o.starts_in_contact) {
+    std::printf("  (the section lies in a contact: the multipliers on the bore's tangent space, %zu of them)\n",
+                o.multipliers.size());
+  }
   for (const std::complex<double>& mu : o.multipliers) {
     std::printf("  multiplier %+.9f %+.9fi  |mu| %.9f\n", mu.real(), mu.imag(), std::abs(mu));
   }
 }
 
 // One CSV row per keyphasor point of each orbit (rotor minus stator, as
-// rotor_rub_bifurcation's Poincare points).
+// rotor_rub_bifurcation's Poincare points), in the orbit's order from the
+// point of the largest radius (keyphasor 0), which follows the same point
+// along a branch wherever the section moves. A bifurcation's row has no
+// verdict (stable empty: it is the boundary).
 void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, const char* bifurcation) {
   const int v = static_cast<int>(o.state.size()) / 2;
-  for (std::size_t k = 0; k < o.keyphasor_states.size(); ++k) {
-    const Eigen::VectorXd& x = o.keyphasor_states[k];
-    Eigen::Vector2d rel = x.head<2>();
-    if (v == 4) rel -= x.segment<2>(2);
-    csv << branch << "," << o.periods << "," << o.speed_rad_per_s << "," << k << "," << rel.x() << "," << rel.y() << ","
-        << rel.norm() << "," << std::abs(o.multipliers.front()) << "," << (o.stable() ? 1 : 0) << "," << o.events.size()
-        << "," << bifurcation << "\n";
+  const std::size_t n = o.keyphasor_states.size();
+  std::vector<Eigen::Vector2d> rel(n);
+  std::size_t first = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    rel[k] = o.keyphasor_states[k].head<2>();
+    if (v == 4) rel[k] -= o.keyphasor_states[k].segment<2>(2);
+    if (rel[k].norm() > rel[first].norm()) first = k;
+  }
+  const std::string verdict = *bifurcation != '\0' ? "" : (o.stable() ? "1" : "0");
+  for (std::size_t j = 0; j < n; ++j) {
+    const Eigen::Vector2d& r = rel[(first + j) % n];
+    csv << branch << "," << o.periods << "," << o.speed_rad_per_s << "," << j << "," << r.x() << "," << r.y() << ","
+        << r.norm() << "," << std::abs(o.multipliers.front()) << "," << verdict << "," << o.events.size() << ","
+        << bifurcation << "\n";
   }
 }
 
@@ -118,7 +158,8 @@ int main(int argc, char** argv) {
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
   if (!(speed > 0.0)) cli::usage_error(app, "--speed is required");
   if (!range.empty() && !(range[0] < speed && speed < range[1])) {
-    cli::usage_error(app, "--continue needs LO < --speed < HI");
+    cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " " + core::exact_text(range[1]) +
+                              " does not hold --speed " + core::exact_text(speed) + "; accepted: LO < --speed < HI");
   }
   std::map<std::string, std::string> overrides;
   for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
@@ -135,6 +176,13 @@ int main(int argc, char** argv) {
     bad_input("scene key 'method' is 'penalty': the orbits are the rigid contact's; accepted: switching, iteration");
   }
   const core::ModelParameters& p = scene.model;
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    if (!csv) bad_input("--csv: cannot write '" + csv_path + "'");
+    csv.precision(12);
+    csv << "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation\n";
+  }
   core::OrbitSettings settings;
   settings.periods = periods;
   core::PeriodicOrbit orbit;
@@ -145,26 +193,25 @@ int main(int argc, char** argv) {
     bad_input(e.what());
   } catch (const core::OrbitError& e) {
     std::cerr << "rotor_rub_orbits: no periodic orbit of " << periods << " period(s) at " << speed
-              << " rad/s: " << e.what() << "\n";
+              << " rad/s: " << e.what()
+              << " (the motion there may have more periods, --periods N; settle longer, --settle-periods; or start "
+                 "from a neighbouring speed's orbit with --continue)\n";
     return 3;
   }
   const double orbit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("%s: %s stator, f = %g, e = %g, g = %g m/s^2 (settled %d periods from rest, %.3f s)\n",
-              scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution,
-              p.gravity_m_per_s2, settle_periods, orbit_s);
-  print_orbit(orbit);
-  std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(csv_path);
-    if (!csv) bad_input("--csv: cannot write '" + csv_path + "'");
-    csv.precision(12);
-    csv << "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation\n";
-    write_rows(csv, 0, orbit, "");
+  std::printf(
+      "%s: %s stator, f = %g, e = %g, g = %g m/s^2 (the flow run from rest for %d periods, then Newton: "
+      "%.3f s of wall time)\n",
+      scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution, p.gravity_m_per_s2,
+      settle_periods, orbit_s);
+  print_orbit(p, orbit);
+  if (range.empty()) {
+    if (csv.is_open()) write_rows(csv, 0, orbit, "");
+    return 0;
   }
-  if (range.empty()) return 0;
-  if (orbit.starts_in_contact) {
-    bad_input("the orbit at " + std::to_string(speed) +
-              " rad/s is the full rub (its section in contact): rotor_rub_stability --branch-csv traces it");
+  if (orbit.starts_in_contact && orbit.events.empty()) {
+    bad_input("the orbit at " + core::exact_text(speed) +
+              " rad/s never leaves the bore (the full rub): rotor_rub_stability --branch-csv traces its branch");
   }
   core::ContinuationSettings cs;
   cs.min_speed_rad_per_s = range[0];
@@ -178,26 +225,38 @@ int main(int argc, char** argv) {
   int next_branch = 0;
   std::size_t points = 0;
   const auto t1 = std::chrono::steady_clock::now();
-  // skip: the branch's first point is written already (the start, traced both ways).
-  auto report = [&](int id, const core::OrbitBranch& b, bool skip, int level) {
+  // The CSV holds each branch in one order along it: the first (traced both
+  // ways from the start) from the far end of its trace down, through the
+  // start, to the far end of its trace up (reversed: write the down trace
+  // backwards; skip: the up trace without its start).
+  auto report = [&](int id, const core::OrbitBranch& b, bool reversed, bool skip, int level) {
     if (b.points.empty()) return;
-    std::printf("branch %d (period %d): %zu points, %.6f to %.6f rad/s, ended by %s\n", id, b.points.front().periods,
-                b.points.size(), b.points.front().speed_rad_per_s, b.points.back().speed_rad_per_s, b.end.c_str());
+    std::printf("branch %d (period %d): %zu point%s, %.6f to %.6f rad/s; it ends: %s\n", id, b.points.front().periods,
+                b.points.size(), b.points.size() == 1 ? "" : "s", b.points.front().speed_rad_per_s,
+                b.points.back().speed_rad_per_s, b.end.c_str());
     points += b.points.size();
     for (const core::OrbitBifurcation& bif : b.bifurcations) {
       std::printf("branch %d: %s at %.9f rad/s\n", id, core::to_string(bif.kind), bif.speed_rad_per_s);
       if (bif.kind == core::OrbitBifurcationKind::kPeriodDoubling && level < doublings)
         pending.push_back({level + 1, bif});
     }
-    if (csv.is_open()) {
-      for (std::size_t j = skip ? 1 : 0; j < b.points.size(); ++j) write_rows(csv, id, b.points[j], "");
-      for (const core::OrbitBifurcation& bif : b.bifurcations)
-        write_rows(csv, id, bif.orbit, core::to_string(bif.kind));
+    if (!csv.is_open()) return;
+    auto bifurcations_after = [&](std::size_t j) {
+      for (const core::OrbitBifurcation& bif : b.bifurcations) {
+        if (bif.after_point == j) write_rows(csv, id, bif.orbit, core::to_string(bif.kind));
+      }
+    };
+    const std::size_t last = b.points.size() - 1;
+    for (std::size_t i = 0; i <= last; ++i) {  // each bifurcation between its two points
+      const std::size_t j = reversed ? last - i : i;
+      if (reversed && j < last) bifurcations_after(j);
+      if (j > 0 || !skip) write_rows(csv, id, b.points[j], "");
+      if (!reversed) bifurcations_after(j);
     }
   };
   for (const bool up : {false, true}) {
     cs.increasing_speed = up;
-    report(next_branch, core::continue_orbit(p, orbit, cs, settings), true, 0);
+    report(next_branch, core::continue_orbit(p, orbit, cs, settings), !up, up, 0);
   }
   ++next_branch;
   for (std::size_t i = 0; i < pending.size(); ++i) {
@@ -205,12 +264,13 @@ int main(int argc, char** argv) {
     try {
       // The doubled branch leaves on the single one's unstable side, which
       // the corrector finds; one call traces it.
-      report(next_branch++, core::continue_period_doubled(p, job.born_at, cs, settings), false, job.level);
+      report(next_branch++, core::continue_period_doubled(p, job.born_at, cs, settings), false, false, job.level);
     } catch (const core::OrbitError& e) {
       std::printf("the branch born at %.9f rad/s: %s\n", job.born_at.speed_rad_per_s, e.what());
     }
   }
   const double branch_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-  std::printf("continuation: %zu orbits on %d branches in %.3f s\n", points, next_branch, branch_s);
+  std::printf("continuation: %zu orbits on %d branch%s in %.3f s of wall time\n", points, next_branch,
+              next_branch == 1 ? "" : "es", branch_s);
   return 0;
 }

@@ -614,8 +614,8 @@ INSTANTIATE_TEST_SUITE_P(AllMethods, ShallowGraze, ::testing::ValuesIn(test::all
 // dop853's long free steps, and the switching method once missed a return
 // whose whole excursion into the bore fell between two scan points (the
 // gap below zero at both: the run failed at 0.554 s, 6e-8 m inside the
-// bore). A rebound's return is probed at 1.5 times its parabola's flight
-// (switching_method_impl.hpp's return_probe_s_). Every rigid solver at the
+// bore). A point is scanned past a rebound's return predicted by its
+// parabola (switching_method_impl.hpp's return_s_). Every rigid solver at the
 // scene's tolerances runs 1 s, never further inside the bore than the
 // invariant's limit (30 atol).
 class ReboundCascade : public ::testing::TestWithParam<test::Solver> {};

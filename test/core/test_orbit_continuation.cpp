@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "rotor_rub_sim/core/full_rub_stability.hpp"
 #include "rotor_rub_sim/core/orbit_continuation.hpp"
 #include "test_support.hpp"
 
@@ -230,6 +231,47 @@ TEST(OrbitContinuation, TheBranchTurnsBackAtAFold) {
   EXPECT_NEAR(rate / saddle.multipliers.front().real(), 1.0, kRate);
 }
 
+// Plastic (e = 0) at 100 rad/s the orbit lifts off, flies, hits the bore
+// and touches down into a contact that holds through the section: its
+// multipliers there are the bore's tangent space's (two). Taken again at a
+// section in free flight (continue_orbit does) it has four, two of them 0
+// (the touchdown's), and the others are the same: the multipliers do not
+// depend on the section, to kSection (the contact field's differences).
+// The doubled orbit traced up from 53.07 rad/s turns back where it meets
+// the single one, at the doubling: the trace ends there, no fold.
+TEST(OrbitContinuation, SectionsInContactAndDoubledBranchesMeetingTheSingle) {
+  constexpr double kSection = 1e-8;
+  core::ModelParameters p = horizontal();
+  p.restitution = 0.0;
+  const core::PeriodicOrbit o = core::find_periodic_orbit(p, 100.0, core::settled_state(p, 100.0, 200));
+  ASSERT_TRUE(o.starts_in_contact);
+  ASSERT_FALSE(o.events.empty());
+  ASSERT_EQ(o.multipliers.size(), 2u);
+  core::ContinuationSettings up = range(true);
+  up.max_speed_rad_per_s = 110.0;
+  const core::OrbitBranch b = core::continue_orbit(p, o, up);
+  ASSERT_GE(b.points.size(), 2u) << b.end;
+  const core::PeriodicOrbit& moved = b.points.front();
+  EXPECT_FALSE(moved.starts_in_contact);
+  ASSERT_EQ(moved.multipliers.size(), 4u);
+  EXPECT_LT(std::abs(moved.multipliers[2]), kSection);
+  EXPECT_LT(std::abs(moved.multipliers[3]), kSection);
+  for (int j = 0; j < 2; ++j) EXPECT_LT(std::abs(moved.multipliers[j] - o.multipliers[j]), kSection) << j;
+  std::printf("the orbit at 100 rad/s: its multipliers %.9f, %.9f on the bore; the branch ends: %s\n",
+              std::abs(o.multipliers[0]), std::abs(o.multipliers[1]), b.end.c_str());
+
+  const core::ModelParameters h = horizontal();
+  core::OrbitSettings two;
+  two.periods = 2;
+  const core::PeriodicOrbit doubled = core::find_periodic_orbit(h, 53.07, core::settled_state(h, 53.07, 400), two);
+  ASSERT_TRUE(doubled.stable());
+  const core::OrbitBranch toward = core::continue_orbit(h, doubled, range(true), two);
+  std::printf("the doubled branch up from 53.07 rad/s ends: %s\n", toward.end.c_str());
+  EXPECT_NE(toward.end.find("meets the orbit of half its period at 53.0920"), std::string::npos) << toward.end;
+  EXPECT_EQ(first(toward, core::OrbitBifurcationKind::kFold), nullptr);
+  for (const auto& pt : toward.points) EXPECT_LT(pt.speed_rad_per_s, 53.0921);
+}
+
 TEST(OrbitContinuation, BadInputIsAClearError) {
   const core::ModelParameters p = horizontal();
   const Branches& b = branches();
@@ -244,11 +286,18 @@ TEST(OrbitContinuation, BadInputIsAClearError) {
   not_pd.orbit = b.start;
   not_pd.speed_rad_per_s = 60.0;
   EXPECT_THROW(core::continue_period_doubled(p, not_pd, range(true)), std::invalid_argument);
-  // The full rub's section lies in a contact.
+  // The full rub never leaves the bore: rotor_rub_stability's continuation traces it.
   core::ModelParameters rub = p;
   rub.gravity_m_per_s2 = 0.0;
-  rub.stator_model = core::StatorModel::kRigid;
-  core::PeriodicOrbit on_bore = b.start;
-  on_bore.starts_in_contact = true;
-  EXPECT_THROW(core::continue_orbit(rub, on_bore, range(true)), core::OrbitError);
+  const auto branches = core::full_rub_stability(rub, 300.0);
+  ASSERT_FALSE(branches.empty());
+  Eigen::VectorXd guess(4);
+  const std::complex<double> z = branches.front().station_m, v = std::complex<double>(0.0, 300.0) * z;
+  guess << z.real(), z.imag(), v.real(), v.imag();
+  const core::PeriodicOrbit full_rub = core::find_periodic_orbit(rub, 300.0, guess);
+  ASSERT_TRUE(full_rub.starts_in_contact && full_rub.events.empty());
+  core::ContinuationSettings around = range(true);
+  around.min_speed_rad_per_s = 250.0;
+  around.max_speed_rad_per_s = 350.0;
+  EXPECT_THROW(core::continue_orbit(rub, full_rub, around), core::OrbitError);
 }

@@ -28,7 +28,7 @@ TEST(OrbitsCli, TheHorizontalRotorsBranchAndItsCsv) {
   for (const char* line :
        {"orbit at 60.000000 rad/s: period 1 T = 0.104719755 s, stable", "impact    at t = 0.073478137 s",
         "branch 0: period_doubling at 53.0920", "branch 0: neimark_sacker at 64.8927",
-        "branch 1: period_doubling at 53.0622", "ended by the orbit's events change near 52.98"}) {
+        "branch 1: period_doubling at 53.0622", "it ends: the orbit's events change at the trial speed 52.98"}) {
     EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
   }
   std::ifstream in(csv);

@@ -261,3 +261,40 @@ TEST(PeriodicOrbit, BadStartsAreClearErrors) {
   EXPECT_THROW(core::find_periodic_orbit(p, -1.0, on_bore), std::invalid_argument);
   EXPECT_THROW(core::find_periodic_orbit(p, 70.0, Eigen::VectorXd::Zero(8)), std::invalid_argument);
 }
+
+// Cascades of rebounds on the bore's bottom (the horizontal rotor at 66.5
+// and 66.875 rad/s from rest): the last rebounds fly for less than a step
+// (at 66.5 rad/s 1.4 microseconds, shorter than the shot's first probe of a
+// step); each is found (a probe at
+// its apex, one past its return), and the shot agrees with the switching
+// method (ReboundCascade's scene) over seven periods through every impact, to
+// kCascade of C and C w (the methods' tolerances, 1e-11 and 1e-10, grown
+// through the cascades' impacts).
+TEST(PeriodicOrbit, ShotsFollowEveryRebound) {
+  constexpr double kCascade = 1e-6;
+  constexpr int kCascadePeriods = 7;
+  for (double w : {66.5, 66.875}) {
+    const core::ModelParameters p = sagging(0.5);
+    const Eigen::VectorXd x = Eigen::VectorXd::Zero(4);  // from rest: the transient's cascades
+    const double period = kCascadePeriods * 2.0 * M_PI / w;
+    const core::OrbitFlow f = core::orbit_flow(p, w, x, 0.0, period);
+    int impacts = 0;
+    double slowest = INFINITY, shortest = INFINITY;
+    for (std::size_t j = 0; j < f.events.size(); ++j) {
+      const core::OrbitEvent& e = f.events[j];
+      impacts += e.kind == core::OrbitEvent::Kind::kImpact;
+      if (e.kind != core::OrbitEvent::Kind::kLiftOff) slowest = std::min(slowest, e.normal_velocity_m_per_s);
+      if (j > 0) shortest = std::min(shortest, e.time_s - f.events[j - 1].time_s);
+    }
+    const Eigen::VectorXd m = test::method_states(core::Method::kSwitching, p, w, x, {period}).front();
+    const double off = test::scaled_norm(m - f.state, p, w);
+    std::printf(
+        "w %g: %zu events (%d impacts, the slowest closing at %.3g m/s, the shortest flight %.3g s); the switching "
+        "method %.2e of C away\n",
+        w, f.events.size(), impacts, slowest, shortest, off);
+    EXPECT_GT(impacts, 20);
+    EXPECT_LT(shortest, 2.0 * M_PI / w / core::OrbitSettings().min_steps_per_period);  // shorter than a step
+    EXPECT_GT(slowest, 0.0);
+    EXPECT_LT(off, kCascade);
+  }
+}

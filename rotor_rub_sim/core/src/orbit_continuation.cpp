@@ -25,8 +25,9 @@ const char* to_string(OrbitBifurcationKind kind) {
 namespace {
 
 // The speed column's difference step, in units of the start's speed: the
-// shot's error is smooth in the speed and cancels in the difference, which
-// leaves the step's square and the integrator's rounding over it.
+// column carries the shot's error over the step (about the tolerance 1e-11
+// over 1e-6: the adaptive steps' sequence moves with the speed), which only
+// the tangent's direction sees.
 constexpr double kSpeedStep = 1e-6;
 // The corrector's iterations before a step is halved, and the smallest step.
 constexpr int kMaxCorrections = 8;
@@ -36,11 +37,14 @@ constexpr double kMinStep = 1e-7;
 constexpr double kMinTurnCosine = 0.95;
 // A bifurcation's regula falsi stops on a bracket of this fraction of the step.
 constexpr double kLocateFraction = 1e-8;
-// A multiplier this far from the real axis is complex.
+// A multiplier this far from the real axis, relative to its modulus, is complex.
 constexpr double kRealAxis = 1e-9;
 // A doubled orbit whose two halves differ by less than this (in C and C w)
 // is the single period's.
 constexpr double kSameHalves = 1e-6;
+// A doubled branch's fold where the orbit of half its period has a
+// multiplier this near -1 is where the two branches meet.
+constexpr double kMeetsHalf = 1e-3;
 // The doubled branch's first step, a fraction of the settings' step.
 constexpr double kFirstDoubledStep = 0.05;
 // An event nearer the section than this fraction of the orbit's period
@@ -79,7 +83,7 @@ class OrbitEquations {
       throw OrbitError("the section lies in a contact near " + std::to_string(w) + " rad/s");
     }
     if (kinds(out.events) != kinds_) {
-      throw OrbitError("the orbit's events change near " + std::to_string(w) +
+      throw OrbitError("the orbit's events change at the trial speed " + std::to_string(w) +
                        " rad/s (a grazing: an impact or a contact phase appears or ends)");
     }
     return out;
@@ -115,11 +119,12 @@ class OrbitEquations {
     const int n = static_cast<int>(Y_pred.size()) - 1;
     Y = Y_pred;
     for (iterations = 0; iterations < kMaxCorrections; ++iterations) {
+      const Vector r0 = residual(Y);  // one shot without the Jacobian: often the last
+      if (!r0.allFinite()) return false;
+      if (r0.lpNorm<Eigen::Infinity>() < s_.newton_tolerance) return true;
       Vector r;
       Eigen::MatrixXd a(n + 1, n + 1);
       a.topRows(n) = jacobian(Y, &r);
-      if (!r.allFinite()) return false;
-      if (r.lpNorm<Eigen::Infinity>() < s_.newton_tolerance) return true;
       a.row(n) = t.transpose();
       Vector rhs(n + 1);
       rhs.head(n) = -r;
@@ -128,7 +133,7 @@ class OrbitEquations {
     }
     return false;
   }
-  PeriodicOrbit orbit(const Vector& Y) const {
+  PeriodicOrbit orbit(const Vector& Y, int iterations = 0) const {
     const double w = speed(Y);
     const RubFlow flow(*p_, w, settle_apex_m(*p_, s_));
     const OrbitShot s = shot(Y, true);
@@ -145,6 +150,7 @@ class OrbitEquations {
     o.tangent_basis = Eigen::MatrixXd::Identity(s.jacobian.rows(), s.jacobian.cols());
     o.multipliers = sorted_eigenvalues(s.jacobian);
     o.residual = (s.end - s.start).lpNorm<Eigen::Infinity>();
+    o.newton_iterations = iterations;
     o.slowest_impact = s.slowest_impact;
     o.closest_miss = s.closest_miss;
     return o;
@@ -169,19 +175,21 @@ class OrbitEquations {
 double doubling_test(const PeriodicOrbit& o) {
   return (o.monodromy + Eigen::MatrixXd::Identity(o.monodromy.rows(), o.monodromy.cols())).determinant();
 }
-int complex_outside(const PeriodicOrbit& o) {
+// The complex multipliers, and those of them outside the unit circle.
+int complex_count(const PeriodicOrbit& o, bool outside_only) {
   int count = 0;
-  for (const auto& mu : o.multipliers) count += std::abs(mu.imag()) > kRealAxis && std::abs(mu) > 1.0;
+  for (const auto& mu : o.multipliers) {
+    count += std::abs(mu.imag()) > kRealAxis * std::abs(mu) && (!outside_only || std::abs(mu) > 1.0);
+  }
   return count;
 }
-double complex_modulus_test(const PeriodicOrbit& o, double near) {
-  // The complex pair's modulus closest to `near` (its value at the step's
-  // start), less 1.
+// The complex pair's modulus nearest the unit circle, less 1 (0 without one).
+double complex_modulus_test(const PeriodicOrbit& o) {
   double best = INFINITY, value = 0.0;
   for (const auto& mu : o.multipliers) {
-    if (std::abs(mu.imag()) <= kRealAxis) continue;
-    if (std::abs(std::abs(mu) - near) < best) {
-      best = std::abs(std::abs(mu) - near);
+    if (std::abs(mu.imag()) <= kRealAxis * std::abs(mu)) continue;
+    if (std::abs(std::abs(mu) - 1.0) < best) {
+      best = std::abs(std::abs(mu) - 1.0);
       value = std::abs(mu) - 1.0;
     }
   }
@@ -235,33 +243,65 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   return true;
 }
 
+// Whether orbit o of an even number of periods is the orbit of half its
+// period traced twice (its two halves agree).
+bool halves_agree(const ModelParameters& p, const OrbitSettings& s, const PeriodicOrbit& o) {
+  if (o.periods % 2 != 0) return false;
+  const RubFlow flow(p, o.speed_rad_per_s, settle_apex_m(p, s));
+  const double t0 = o.section_angle_rad / o.speed_rad_per_s;
+  const OrbitShot half = shoot(flow, flow.scaled(o.state), t0, t0 + 0.5 * o.period_s, s, false);
+  return (half.end - half.start).lpNorm<Eigen::Infinity>() < kSameHalves;
+}
+
+// Whether a fold of the doubled branch at orbit o is where it meets the
+// orbit of half its period: that orbit, found by Newton from o's state at
+// o's speed, has a multiplier at -1 (to kMeetsHalf: the fold's location
+// along a branch whose speed is stationary there).
+bool meets_half(const ModelParameters& p, const OrbitSettings& s, const PeriodicOrbit& o) {
+  if (o.periods % 2 != 0) return false;
+  OrbitSettings half = s;
+  half.periods = o.periods / 2;
+  half.section_angle_rad = o.section_angle_rad;
+  try {
+    const PeriodicOrbit single = find_periodic_orbit(p, o.speed_rad_per_s, o.state, half);
+    double nearest = INFINITY;
+    for (const auto& mu : single.multipliers) nearest = std::min(nearest, std::abs(mu + 1.0));
+    return nearest < kMeetsHalf;
+  } catch (const OrbitError&) {
+    return false;
+  }
+}
+
 // The trace from Y along t (the first point already in the branch).
 void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& settings, double ds, OrbitBranch& branch) {
   resection(g, branch.points.back(), nullptr, Y, t);
   const int n = static_cast<int>(Y.size()) - 1;
+  std::string last_error;  // why the step was last halved
   while (true) {
     if (static_cast<int>(branch.points.size()) >= settings.max_points) {
       branch.end = "max_points (" + std::to_string(settings.max_points) + ")";
+      return;
+    }
+    if (ds < kMinStep) {
+      // A step that meets what the branch cannot pass (a grazing, a section
+      // inside the bore, a sticking phase) was halved down to the smallest:
+      // the trace ends as close to it as that step.
+      branch.end =
+          last_error + " (after the last point, at " + std::to_string(branch.points.back().speed_rad_per_s) + " rad/s)";
       return;
     }
     try {
       Vector Y_new;
       int iterations = 0;
       if (!g.correct(Y + ds * t, t, Y_new, iterations)) {
+        last_error = "the corrector's failure at the smallest step";
         ds *= 0.5;
-        if (ds < kMinStep) {
-          branch.end = "the corrector's failure at the smallest step";
-          return;
-        }
         continue;
       }
       const Vector t_new = g.tangent(Y_new, t);
       if (t.dot(t_new) < kMinTurnCosine) {
+        last_error = "a turn of the tangent at the smallest step";
         ds *= 0.5;
-        if (ds < kMinStep) {
-          branch.end = "a turn of the tangent at the smallest step";
-          return;
-        }
         continue;
       }
       auto point_at = [&](double s) {
@@ -272,16 +312,27 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
         }
         return Ys;
       };
-      const PeriodicOrbit orbit = g.orbit(Y_new);
+      const PeriodicOrbit orbit = g.orbit(Y_new, iterations);
       const PeriodicOrbit& last = branch.points.back();
+      // Located inside this step, kept only once the step is accepted.
+      std::vector<OrbitBifurcation> found;
       auto locate = [&](OrbitBifurcationKind kind, const std::function<double(double)>& test, double f0, double f1) {
         const double s = regula_falsi(test, f0, ds, f1, kLocateFraction);
         const PeriodicOrbit o = g.orbit(point_at(s));
-        branch.bifurcations.push_back({kind, o.speed_rad_per_s, o});
+        found.push_back({kind, o.speed_rad_per_s, o});
       };
       if (t(n) * t_new(n) < 0.0) {
         locate(
             OrbitBifurcationKind::kFold, [&](double s) { return g.tangent(point_at(s), t)(n); }, t(n), t_new(n));
+        if (meets_half(g.parameters(), g.settings(), found.back().orbit)) {
+          // The doubled branch turns back where it meets the orbit of half
+          // its period (a pitchfork of its map): that is the single orbit's
+          // period doubling, not a fold, and past it the trace would follow
+          // the single orbit traced twice.
+          branch.end = "the orbit meets the orbit of half its period at " +
+                       std::to_string(found.back().speed_rad_per_s) + " rad/s (its period doubling)";
+          return;
+        }
       }
       const double d0 = doubling_test(last), d1 = doubling_test(orbit);
       if ((d0 < 0.0) != (d1 < 0.0)) {
@@ -289,17 +340,35 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
             OrbitBifurcationKind::kPeriodDoubling, [&](double s) { return doubling_test(g.orbit(point_at(s))); }, d0,
             d1);
       }
-      if (complex_outside(last) != complex_outside(orbit)) {
-        const double near = 1.0;
+      // A pair crossing the circle: as many complex multipliers on both
+      // sides (none merged into or split from a real pair), a different
+      // count outside, and the pair's modulus through 1.
+      const double m0 = complex_modulus_test(last), m1 = complex_modulus_test(orbit);
+      if (complex_count(last, false) == complex_count(orbit, false) &&
+          complex_count(last, true) != complex_count(orbit, true) && (m0 < 0.0) != (m1 < 0.0)) {
         locate(
-            OrbitBifurcationKind::kNeimarkSacker,
-            [&](double s) { return complex_modulus_test(g.orbit(point_at(s)), near); },
-            complex_modulus_test(last, near), complex_modulus_test(orbit, near));
+            OrbitBifurcationKind::kNeimarkSacker, [&](double s) { return complex_modulus_test(g.orbit(point_at(s))); },
+            m0, m1);
       }
       const double w_new = orbit.speed_rad_per_s;
       if (w_new < settings.min_speed_rad_per_s || w_new > settings.max_speed_rad_per_s) {
+        // The last point at the range's end itself, by Newton at that speed.
+        const double edge =
+            w_new < settings.min_speed_rad_per_s ? settings.min_speed_rad_per_s : settings.max_speed_rad_per_s;
+        try {
+          OrbitSettings at_last = g.settings();
+          at_last.section_angle_rad = last.section_angle_rad;  // (g's may have moved since)
+          const PeriodicOrbit at_edge = find_periodic_orbit(g.parameters(), edge, last.state, at_last);
+          if (kinds(at_edge.events) == kinds(last.events)) branch.points.push_back(at_edge);
+        } catch (const OrbitError&) {
+          // (the last point stands)
+        }
         branch.end = "the speed range's end";
         return;
+      }
+      for (auto& bifurcation : found) {
+        bifurcation.after_point = branch.points.size() - 1;
+        branch.bifurcations.push_back(bifurcation);
       }
       branch.points.push_back(orbit);
       Y = Y_new;
@@ -307,16 +376,33 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
       resection(g, orbit, &branch.points[branch.points.size() - 2], Y, t);
       if (iterations <= 2) ds = std::min(1.5 * ds, settings.max_step);
     } catch (const OrbitError& e) {
-      // A step that meets what the branch cannot pass (a grazing, a section
-      // inside the bore, a sticking phase) is halved until the smallest: the
-      // trace ends as close to it as that step.
+      last_error = e.what();
       ds *= 0.5;
-      if (ds < kMinStep) {
-        branch.end = std::string(e.what()) + " (at the smallest step)";  // the points so far stand
-        return;
-      }
     }
   }
+}
+
+// An orbit whose section lies in a contact phase (a lift-off follows) taken
+// again at a section in free flight: the middle of its longest free
+// stretch. OrbitError for an orbit with no free flight (the full rub).
+PeriodicOrbit free_section(const ModelParameters& p, const PeriodicOrbit& o, const OrbitSettings& s) {
+  const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w;
+  const std::size_t m = o.events.size();
+  double best = -1.0, middle = 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    if (o.events[i].kind == OrbitEvent::Kind::kTouchdown) continue;  // a contact follows it
+    const double next = i + 1 < m ? o.events[i + 1].time_s : o.events.front().time_s + o.period_s;
+    if (next - o.events[i].time_s > best) {
+      best = next - o.events[i].time_s;
+      middle = 0.5 * (o.events[i].time_s + next) - t0;
+    }
+  }
+  if (best < 0.0) throw OrbitError("the orbit never leaves the bore (the full rub: continue_full_rub traces it)");
+  const RubFlow flow(p, w, settle_apex_m(p, s));
+  const Eigen::VectorXd x = flow.physical(shoot(flow, flow.scaled(o.state), t0, t0 + middle, s, false).end);
+  OrbitSettings moved = s;
+  moved.section_angle_rad = std::fmod(o.section_angle_rad + w * middle, 2.0 * M_PI);
+  return find_periodic_orbit(p, w, x, moved);
 }
 
 void check_range(const ContinuationSettings& settings, double w0) {
@@ -332,17 +418,16 @@ void check_range(const ContinuationSettings& settings, double w0) {
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
                            const OrbitSettings& orbit) {
   check_range(settings, start.speed_rad_per_s);
-  if (start.starts_in_contact) {
-    throw OrbitError("the orbit's section lies in a contact (the full rub: continue_full_rub)");
-  }
   OrbitSettings s = orbit;
   s.periods = start.periods;
-  const OrbitEquations g(p, s, start.speed_rad_per_s, start.events);
-  const Vector Y = g.unknowns(start);
+  s.section_angle_rad = start.section_angle_rad;
+  OrbitBranch branch;
+  branch.points.push_back(start.starts_in_contact ? free_section(p, start, s) : start);
+  s.section_angle_rad = branch.points.front().section_angle_rad;
+  const OrbitEquations g(p, s, start.speed_rad_per_s, branch.points.front().events);
+  const Vector Y = g.unknowns(branch.points.front());
   Vector direction = Vector::Zero(Y.size());
   direction(Y.size() - 1) = settings.increasing_speed ? 1.0 : -1.0;
-  OrbitBranch branch;
-  branch.points.push_back(start);
   try {
     trace(g, Y, g.tangent(Y, direction), settings, settings.step, branch);
   } catch (const OrbitError& e) {
@@ -369,6 +454,7 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
   t0.head(n) = es.eigenvectors().col(k).real().normalized();
   OrbitSettings s = orbit;
   s.periods = 2 * single.periods;
+  s.section_angle_rad = single.section_angle_rad;
   // The doubled orbit's events: the single's twice (the shot of its own
   // period at the bifurcation).
   std::vector<OrbitEvent> events = single.events;
@@ -387,11 +473,8 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
       ds *= 0.5;
       if (ds < kMinStep) throw OrbitError("the doubled branch's first point: the corrector fails at the smallest step");
     }
-    const PeriodicOrbit first = g.orbit(Y1);
-    // Its two halves differ: not the single period's orbit.
-    const RubFlow flow(p, first.speed_rad_per_s, settle_apex_m(p, s));
-    const OrbitShot half = shoot(flow, flow.scaled(first.state), 0.0, single.periods * flow.period(), s, false);
-    if ((half.end - half.start).lpNorm<Eigen::Infinity>() < kSameHalves) {
+    const PeriodicOrbit first = g.orbit(Y1, iterations);
+    if (halves_agree(p, s, first)) {
       throw OrbitError("the corrector fell back onto the single period's orbit at the period doubling");
     }
     branch.points.push_back(first);

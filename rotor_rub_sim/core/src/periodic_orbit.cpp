@@ -45,11 +45,14 @@ using Controlled = odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
 // A start this close to the bore (in units of C), this slow across it (of
 // C w) and pressed onto it is in contact: a settled run's full rub lies on
 // the bore to its tolerance.
-constexpr double kOnBore = 1e-6;
+constexpr double kOnBore = 1e-8;
+// A shooting residual this small (of C and C w) needs no Newton step.
+constexpr double kPolished = 1e-13;
 // A slip this small (in units of C w) at a contact's start is a stick.
 constexpr double kStickSlip = 1e-9;
-// Where a flight that starts on the bore is probed for the gap's opening,
-// in fractions of the step (it departs as a power of the time).
+// Where a flight that starts on the bore is probed (return_to_bore), in
+// fractions of the step: near the start, where it departs as a power of the
+// time, and on.
 constexpr double kDepartureProbes[] = {1e-3, 1e-2, 1e-1, 0.5};
 // A free flight's gap above this (of C) at a step's end with no event
 // found is a missed contact.
@@ -164,6 +167,52 @@ class Shooter {
     return out;
   }
 
+  // A flight that starts on the bore (a rebound, a plastic impact's
+  // departure, a lift-off): its return inside the step, or +infinity. The
+  // gap counted from the start's own (a rounding on the far side) over the
+  // time since the start is negative while the flight is away and positive
+  // once it is back inside the bore, however short the flight (the
+  // switching method's deflation); it is probed nearer the start, where a
+  // departure without a rate opens as a power of the time, and at a
+  // rebound's apex and 1.5 times its flight by its parabola (2 |delta'| /
+  // delta''), so that a flight and its return never both fall between two
+  // probes
+  // (ShotsFollowEveryRebound). Throws OrbitError where the flight never
+  // leaves the bore yet ends the step inside it.
+  double return_to_bore(const Shot& shot, const Vector& za, double ta, double ga, double tb, double gb) const {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    RunStats stats;
+    auto deflated = [&](double t) { return (flow_.gap(state_at(shot, za, ta, t)) - ga) / (t - ta); };
+    std::vector<double> probes;
+    for (const double fraction : kDepartureProbes) probes.push_back(ta + fraction * (tb - ta));
+    const Vector ya = za.head(n_);
+    const double rate = flow_.closing_rate(ya) * flow_.speed(), pressing = flow_.normal_force(ta, ya);
+    if (rate < 0.0 && pressing > 0.0) {
+      const double flight = 2.0 * -rate / (pressing * flow_.speed() * flow_.speed());
+      for (const double at : {0.5 * flight, 1.5 * flight}) {  // its apex, and past its return
+        if (ta + at > ta && ta + at < tb) probes.push_back(ta + at);
+      }
+    }
+    probes.push_back(tb);
+    std::sort(probes.begin(), probes.end());
+    double t_away = kNone, d_away = 0.0;
+    for (const double t : probes) {
+      if (!(t > ta)) continue;
+      const double d = t == tb ? (gb - ga) / (tb - ta) : deflated(t);
+      if (d < 0.0) {
+        t_away = t;
+        d_away = d;
+      } else if (t_away < kNone) {
+        return locate_event(deflated, t_away, d_away, t, d, stats);
+      }
+    }
+    if (t_away == kNone && gb > kPenetration) {
+      throw OrbitError("the free flight stays on the bore from t = " + std::to_string(ta) +
+                       " s: neither pressed onto it nor leaving it (a graze the shooting cannot resolve)");
+    }
+    return kNone;
+  }
+
   // The first event in (ta, tb], or +infinity.
   double find_event(Shot& shot, const Vector& za, double ta, const Vector& zb, double tb) const {
     constexpr double kNone = std::numeric_limits<double>::infinity();
@@ -173,32 +222,7 @@ class Shooter {
       auto gap = [&](double t) { return flow_.gap(state_at(shot, za, ta, t)); };
       const double ga = flow_.gap(ya), gb = flow_.gap(yb);
       if (ga < 0.0 && gb >= 0.0) return locate_event(gap, ta, ga, tb, gb, stats);
-      if (ga >= 0.0 && gb >= 0.0) {
-        // A flight that starts on the bore and is back on it at the step's
-        // end. Leaving at a rate (a rebound), the gap over the time since
-        // the start has that rate's sign at the start and the far one at
-        // the end: a bracket however short the flight (the switching
-        // method's deflation). Leaving without one (a plastic impact's
-        // departure, a lift-off: the gap opens as a power of the time),
-        // probed nearer the start (as is a rebound too slow for its rate to
-        // stand above the gap's rounding: one the impact law settles).
-        const double ra = flow_.closing_rate(ya);
-        if (ra < -kGrazingVelocity) {
-          // (Counted from the start's own gap, a rounding on the far side,
-          // which divided by a short time would make a root of its own.)
-          auto deflated = [&](double t) { return (gap(t) - ga) / (t - ta); };
-          return locate_event(deflated, ta, ra * flow_.speed(), tb, (gb - ga) / (tb - ta), stats);
-        }
-        for (const double fraction : kDepartureProbes) {
-          const double t = ta + fraction * (tb - ta), g = gap(t);
-          if (g < 0.0) return locate_event(gap, t, g, tb, gb, stats);
-        }
-        if (gb > kPenetration) {
-          throw OrbitError("the free flight stays on the bore from t = " + std::to_string(ta) +
-                           " s: neither pressed onto it nor leaving it (a graze the shooting cannot resolve)");
-        }
-        return kNone;  // on the bore to the rounding: leaving it
-      }
+      if (ga >= 0.0) return return_to_bore(shot, za, ta, ga, tb, gb);
       // An apex inside the step: where delta' falls through 0.
       const double ra = flow_.closing_rate(ya), rb = flow_.closing_rate(yb);
       if (ga < 0.0 && gb < 0.0 && ra > 0.0 && rb < 0.0) {
@@ -280,8 +304,10 @@ class Shooter {
 
 void check_grazing(double closest_miss) {
   if (closest_miss < kGrazingGap) {
-    throw OrbitError("the orbit passes within " + std::to_string(closest_miss) +
-                     " C of the bore without touching it: a grazing orbit, whose monodromy is not defined");
+    std::ostringstream msg;
+    msg << "the orbit passes within " << closest_miss
+        << " of C of the bore without touching it: a grazing orbit, whose monodromy is not defined";
+    throw OrbitError(msg.str());
   }
 }
 
@@ -317,11 +343,17 @@ OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0, doubl
   const Shooter shooter(flow, s, with_jacobian);
   Shot shot;
   shot.y = y0;
-  shooter.start(shot, t0);
   OrbitShot out;
-  out.start = shot.y;
-  out.starts_in_contact = shot.regime == OrbitRegime::kContact;
-  shooter.advance(shot, t0, t1);
+  try {
+    shooter.start(shot, t0);
+    out.start = shot.y;
+    out.starts_in_contact = shot.regime == OrbitRegime::kContact;
+    shooter.advance(shot, t0, t1);
+  } catch (const OrbitError&) {
+    throw;
+  } catch (const std::exception& e) {  // a root finder's (TOMS 748's) own error
+    throw OrbitError(std::string("the event location failed: ") + e.what());
+  }
   out.end = shot.y;
   out.jacobian = std::move(shot.phi);
   out.events = std::move(shot.events);
@@ -401,7 +433,9 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
     const double residual = r.lpNorm<Eigen::Infinity>();
     const Eigen::MatrixXd basis = in_contact ? flow.tangent_basis(y) : Eigen::MatrixXd::Identity(n, n);
     const Eigen::MatrixXd m = basis.transpose() * shot.jacobian * basis;
-    if (residual < s.newton_tolerance) {
+    // Accepted below the tolerance, after at least one Newton step unless
+    // already at the rounding (a settled start meets the tolerance as it is).
+    if (residual < s.newton_tolerance && (it > 0 || residual < kPolished)) {
       orbit.starts_in_contact = in_contact;
       orbit.section_angle_rad = s.section_angle_rad;
       orbit.state = flow.physical(y);

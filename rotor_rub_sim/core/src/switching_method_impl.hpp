@@ -463,12 +463,14 @@ class SwitchingMethod final : public ContactMethod {
     valid_begin_ = t0;
     double prev_t = t0;
     EventValues prev = values_end_;
-    // A rebound's return inside the first interval: one more point past it
-    // (return_probe_s_), so that the flight and its return never both fall
-    // between two points.
-    const bool probe = t0 == regime_start_s_ && return_probe_s_ < t0 + (t1 - t0) / kScanPoints;
+    // A rebound's return (return_s_) inside the first interval: one more
+    // point past it and before the interval's end, so that the flight and
+    // its return never both fall between two points.
+    const double first_point = t0 + (t1 - t0) / kScanPoints;
+    const double probe_s = return_s_ + 0.5 * std::min(return_s_ - t0, first_point - return_s_);
+    const bool probe = t0 == regime_start_s_ && return_s_ > t0 && return_s_ < first_point && probe_s > t0;
     for (int i = probe ? 0 : 1; i <= kScanPoints; ++i) {
-      const double ti = i == 0 ? return_probe_s_ : i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = i == 0 ? probe_s : i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
       const EventValues cur = event_values(ti);
       double first_t = std::numeric_limits<double>::infinity();
       int first_k = -1;
@@ -672,19 +674,19 @@ class SwitchingMethod final : public ContactMethod {
       start_on_surface_[k] = rate < 0.0 && std::abs(value) <= -rate * kOnSurface_s;
       start_rate_[k] = rate;
     }
-    return_probe_s_ = std::numeric_limits<double>::infinity();
+    return_s_ = std::numeric_limits<double>::infinity();
     if (regime_ == Regime::kFree && start_on_surface_[kGap]) {
       // A rebound at v_n < 0 pressed back at a_press returns after about
-      // 2 |v_n| / a_press (a parabola over so short a flight); the probe
-      // lies kReturnProbe times that after the start, on the bore's far
-      // side if it returned (ReboundCascade.EveryReturnIsFound).
+      // 2 |v_n| / a_press (a parabola over so short a flight): scan() probes
+      // past it, on the bore's far side if it returned
+      // (ReboundCascade.EveryReturnIsFound).
       typename FL::State x;
       free_int_.state_at(t_s, x);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, free_sys_.segment.at(t_s));
       const ContactGeometry g = model_.contact_geometry(k, d);
       const double a_press = pressing_acceleration(model_, k, d, g, loads_at(rotor_, model_, k, d, modal_of<FL>(x)));
-      if (a_press > 0.0) return_probe_s_ = t_s + kReturnProbe * 2.0 * -values_end_.rate[kGap] / a_press;
+      if (a_press > 0.0) return_s_ = t_s + 2.0 * -values_end_.rate[kGap] / a_press;
     }
     valid_begin_ = valid_end_ = t_s;
   }
@@ -706,8 +708,6 @@ class SwitchingMethod final : public ContactMethod {
   // graze there: ShallowGraze.ContactShorterThanAStepIsFelt), four with
   // rkf78 and dop853, whose steps turn the spin by up to about 3 rad.
   static constexpr int kScanPoints = kHighOrder ? 4 : 2;
-  // Where a rebound's return is probed, in its parabola's flight times.
-  static constexpr double kReturnProbe = 1.5;
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
@@ -723,7 +723,7 @@ class SwitchingMethod final : public ContactMethod {
   std::array<bool, kEventFunctions> start_on_surface_{};
   bool slip_from_breakaway_ = false;  // the current regime is a slip begun at a breakaway
   double regime_start_s_ = 0.0;
-  double return_probe_s_ = std::numeric_limits<double>::infinity();  // begin_regime(): a rebound's return
+  double return_s_ = std::numeric_limits<double>::infinity();  // begin_regime(): a rebound's predicted return
   double start_gap_m_ = 0.0;  // the penetration a free flight starts with (<= 0 but at a graze)
   EventValues values_end_{};
   double valid_begin_ = 0.0, valid_end_ = 0.0;

@@ -18,9 +18,13 @@
 /// A branch's orbits keep the events of its start (their kinds in order):
 /// where they change (an impact appears at a grazing, a contact phase
 /// begins), the branch is nonsmooth and the trace ends there, said in `end`,
-/// as it ends at a sticking phase, a chattering sequence or an orbit whose
-/// section (spin angle 0) lies in a contact (the full rub:
-/// full_rub_continuation.hpp). Tests: test_orbit_continuation.cpp.
+/// as it ends at a sticking phase or a chattering sequence. The section
+/// moves away from the events as they move; a start whose section lies in a
+/// contact is taken again at a section in free flight; an orbit that never
+/// leaves the bore is the full rub (full_rub_continuation.hpp). Where a
+/// doubled branch turns back onto the orbit of half its period (its
+/// doubling, seen from the doubled side), the trace ends. Tests:
+/// test_orbit_continuation.cpp.
 #pragma once
 
 #include <string>
@@ -40,6 +44,7 @@ struct OrbitBifurcation {
   OrbitBifurcationKind kind = OrbitBifurcationKind::kFold;
   double speed_rad_per_s = 0.0;
   PeriodicOrbit orbit;
+  std::size_t after_point = 0;  ///< between the branch's points after_point and after_point + 1
 };
 
 struct OrbitBranch {
@@ -50,9 +55,9 @@ struct OrbitBranch {
 
 /// The branch through `start` (find_periodic_orbit's, its section in free
 /// flight), one direction per call (settings.increasing_speed), its speeds
-/// in the settings' range. The orbits' settings are `orbit` (periods: the
-/// start's). Throws std::invalid_argument for an empty range or a start
-/// outside it, OrbitError for a start whose section lies in a contact.
+/// in the settings' range. The orbits' settings are `orbit` (periods and
+/// section: the start's). Throws std::invalid_argument for an empty range
+/// or a start outside it, OrbitError for a start that never leaves the bore.
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
                            const OrbitSettings& orbit = {});
 

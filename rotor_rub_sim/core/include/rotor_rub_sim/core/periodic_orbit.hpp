@@ -67,8 +67,10 @@ struct OrbitSettings {
   double section_angle_rad = 0.0;
 };
 
-/// An event of the flow. kImpact: a rebound (e > 0); kTouchdown: a plastic
-/// impact that starts a contact; kLiftOff: the normal force falls to 0.
+/// An event of the flow. kImpact: an impact after which the flight goes on
+/// (a rebound, or a plastic impact not pressed onto the bore); kTouchdown: a
+/// plastic impact that starts a contact; kLiftOff: the normal force falls
+/// to 0.
 struct OrbitEvent {
   enum class Kind { kImpact, kTouchdown, kLiftOff };
   Kind kind = Kind::kImpact;
