@@ -8,7 +8,9 @@ as dots. A user sees the runs land on the stable parts and the unstable
 parts that no sweep shows. Prints, per bifurcation, its kind and speed.
 
 usage: plot_orbits.py --orbits ORBITS.csv --out FILE.png [--points BIFURCATION.csv.points.csv] [--title TEXT]
-                      [--zoom LO HI]
+                      [--zoom LO HI] [--xlabel TEXT]
+The abscissa is the branches' parameter (rotor_rub_orbits --parameter: the speed unless a key was
+traced; then --xlabel names it, and --points, runs over speed, does not apply).
 With --zoom, a second panel shows the speeds LO..HI (a cascade of doublings).
 """
 import argparse
@@ -59,7 +61,7 @@ def verdict(part):
     return next((r["stable"] for r in part if r["stable"]), "1")
 
 
-def draw(ax, rows, points, legend, report):
+def draw(ax, rows, points, legend, report, xlabel, unit):
     if points:
         ax.scatter([float(p["speed_rad_per_s"]) for p in points], [1e3 * float(p["r_rel_m"]) for p in points], s=3,
                    color="#999999", zorder=1, label="runs' Poincare points (constant speed, settled)")
@@ -69,7 +71,7 @@ def draw(ax, rows, points, legend, report):
         period = part[0]["periods"]
         colour = BRANCH_COLOURS[int(branch) % len(BRANCH_COLOURS)]
         label = "period %s, %s" % (period, "stable" if stable else "unstable")
-        ax.plot([float(r["speed_rad_per_s"]) for r in part], [1e3 * float(r["radius_m"]) for r in part], color=colour,
+        ax.plot([float(r["parameter"]) for r in part], [1e3 * float(r["radius_m"]) for r in part], color=colour,
                 ls="-" if stable else "--", lw=1.4 if stable else 1.0, zorder=2,
                 label=None if (label, colour) in labelled else label)
         labelled.add((label, colour))
@@ -77,12 +79,12 @@ def draw(ax, rows, points, legend, report):
         sel = [r for r in rows if r["bifurcation"] == kind]
         if not sel:
             continue
-        ax.scatter([float(r["speed_rad_per_s"]) for r in sel], [1e3 * float(r["radius_m"]) for r in sel],
+        ax.scatter([float(r["parameter"]) for r in sel], [1e3 * float(r["radius_m"]) for r in sel],
                    marker=marker, s=36, color=colour, zorder=4, label=kind.replace("_", " "))
         if report:
-            for w in sorted({float(r["speed_rad_per_s"]) for r in sel}):
-                print("plot_orbits: %s at %.6f rad/s" % (kind.replace("_", " "), w))
-    ax.set_xlabel("speed [rad/s]")
+            for w in sorted({float(r["parameter"]) for r in sel}):
+                print("plot_orbits: %s at %.6f %s" % (kind.replace("_", " "), w, unit))
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("Poincare radius |rotor - stator| at the keyphasor [mm]")
     if legend:
         ax.legend(fontsize=7, loc="best")
@@ -95,7 +97,8 @@ def main(argv=None):
     ap.add_argument("--out", required=True, help="the PNG to write")
     ap.add_argument("--points", help="rotor_rub_bifurcation's OUT.csv.points.csv (the runs' Poincare points)")
     ap.add_argument("--title", default="periodic orbits: branches and runs")
-    ap.add_argument("--zoom", nargs=2, type=float, metavar=("LO", "HI"), help="a second panel over these speeds")
+    ap.add_argument("--zoom", nargs=2, type=float, metavar=("LO", "HI"), help="a second panel over these values")
+    ap.add_argument("--xlabel", help="the parameter's name with its unit (default: speed [rad/s])")
     a = ap.parse_args(argv)
     try:
         rows = read(a.orbits)
@@ -112,12 +115,13 @@ def main(argv=None):
         fig, axes = plt.subplots(figsize=(10, 5))
         axes = [axes]
     for i, ax in enumerate(axes):
-        draw(ax, rows, points, legend=i == 0, report=i == 0)
-        ax.set_title(a.title if i == 0 else "speeds %g to %g rad/s" % tuple(a.zoom))
+        draw(ax, rows, points, legend=i == 0, report=i == 0, xlabel=a.xlabel or "speed [rad/s]",
+             unit="rad/s" if not a.xlabel else "")
+        ax.set_title(a.title if i == 0 else "%g to %g" % tuple(a.zoom))
     if a.zoom:
         lo, hi = a.zoom
         axes[1].set_xlim(lo, hi)
-        inside = [1e3 * float(r["radius_m"]) for r in rows if lo <= float(r["speed_rad_per_s"]) <= hi]
+        inside = [1e3 * float(r["radius_m"]) for r in rows if lo <= float(r["parameter"]) <= hi]
         inside += [1e3 * float(p["r_rel_m"]) for p in points if lo <= float(p["speed_rad_per_s"]) <= hi]
         if inside:
             pad = 0.05 * (max(inside) - min(inside) or 1.0)

@@ -102,9 +102,9 @@ void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, co
   const std::string verdict = *bifurcation != '\0' ? "" : (o.stable() ? "1" : "0");
   for (std::size_t j = 0; j < n; ++j) {
     const Eigen::Vector2d& r = rel[(first + j) % n];
-    csv << branch << "," << o.periods << "," << o.speed_rad_per_s << "," << j << "," << r.x() << "," << r.y() << ","
-        << r.norm() << "," << std::abs(o.multipliers.front()) << "," << verdict << "," << o.events.size() << ","
-        << bifurcation << "\n";
+    csv << branch << "," << o.periods << "," << o.speed_rad_per_s << "," << o.parameter << "," << j << "," << r.x()
+        << "," << r.y() << "," << r.norm() << "," << std::abs(o.multipliers.front()) << "," << verdict << ","
+        << o.events.size() << "," << bifurcation << "\n";
   }
 }
 
@@ -112,7 +112,7 @@ void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, co
 
 int main(int argc, char** argv) {
   namespace cli = rotor_rub::cli;
-  std::string scene_path, csv_path;
+  std::string scene_path, csv_path, key;
   std::vector<std::string> sets;
   std::vector<double> range;
   double speed = 0.0;
@@ -140,26 +140,33 @@ int main(int argc, char** argv) {
       ->type_name("P")
       ->capture_default_str()
       ->check(cli::integer_in(0, 1000000));
-  app.add_option("--continue", range, "trace the orbit's branch both ways within LO..HI [rad/s]")
+  app.add_option("--continue", range,
+                 "trace the orbit's branch both ways within LO..HI [rad/s, or the --parameter key's unit]")
       ->type_name("LO HI")
       ->expected(2)
-      ->check(cli::number_in(0.0, 1e7, true));
+      ->check(cli::number_in(-1e12, 1e12));
+  app.add_option("--parameter", key,
+                 "with --continue: trace the branch in this scene key of the model (friction_coefficient, "
+                 "restitution, clearance_m, gravity_m_per_s2, ...) at the constant --speed, LO..HI then in its unit; "
+                 "default: the speed")
+      ->type_name("KEY");
   app.add_option("--doublings", doublings, "with --continue: levels of branches born at period doublings traced")
       ->type_name("K")
       ->capture_default_str()
       ->check(cli::integer_in(0, 8));
-  app.add_option("--csv", csv_path,
-                 "write branch, periods, speed_rad_per_s, keyphasor, x_m, y_m, radius_m (rotor minus stator at "
-                 "each keyphasor of each orbit, as rotor_rub_bifurcation's Poincare points), max_multiplier, "
-                 "stable, events, bifurcation")
+  app.add_option(
+         "--csv", csv_path,
+         "write branch, periods, speed_rad_per_s, parameter, keyphasor, x_m, y_m, radius_m (rotor minus stator at "
+         "each keyphasor of each orbit, as rotor_rub_bifurcation's Poincare points), max_multiplier, "
+         "stable, events, bifurcation")
       ->type_name("FILE");
   app.footer("Exit status: 0 ok; 2 bad input (usage, scene, a scene it does not model); 3 no periodic orbit found.");
   cli::parse_or_exit(app, argc, argv);
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
   if (!(speed > 0.0)) cli::usage_error(app, "--speed is required");
-  if (!range.empty() && !(range[0] < speed && speed < range[1])) {
-    cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " " + core::exact_text(range[1]) +
-                              " does not hold --speed " + core::exact_text(speed) + "; accepted: LO < --speed < HI");
+  if (!key.empty() && range.empty()) cli::usage_error(app, "--parameter needs --continue LO HI");
+  if (key.empty() && !range.empty() && !(range[0] > 0.0)) {
+    cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " ...: a speed range; accepted: 0 < LO");
   }
   std::map<std::string, std::string> overrides;
   for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
@@ -176,12 +183,64 @@ int main(int argc, char** argv) {
     bad_input("scene key 'method' is 'penalty': the orbits are the rigid contact's; accepted: switching, iteration");
   }
   const core::ModelParameters& p = scene.model;
+  // The continuation parameter: the speed, or a key of the model.
+  core::ContinuationParameter parameter;
+  double start_value = speed;
+  std::string unit = "rad/s";
+  if (!key.empty()) {
+    const auto values = core::scene_values(scene);
+    const auto at = values.find(key);
+    try {
+      if (at == values.end()) {
+        core::Scene probe = scene;
+        core::set_scene_value(probe, key, "0");  // its refusal names the nearest known key
+        bad_input("--parameter: unknown key '" + key + "'");
+      }
+      start_value = std::stod(at->second);
+    } catch (const std::exception& e) {
+      bad_input("--parameter: " + std::string(e.what()));
+    }
+    parameter.name = key;
+    parameter.unit = "";  // (the key's name says it)
+    unit = key;
+    parameter.model = [scene, key](double v) {
+      core::Scene s = scene;
+      core::set_scene_value(s, key, core::exact_text(v));
+      return s.model;
+    };
+    // A key the model does not hold (a solver's, the drive profile's, the
+    // output's) leaves the model as it is: the scene's texts with the model
+    // at two values of the key differ only where the model does.
+    const double step = std::max(1e-3 * std::abs(start_value), 1e-9);
+    bool changes = false;
+    for (const double v : {start_value + step, start_value - step}) {
+      try {
+        core::Scene a = scene, b = scene;
+        b.model = parameter.model(v);
+        changes = changes || core::scene_values(a) != core::scene_values(b);
+      } catch (const std::exception&) {
+        // (outside the key's range on this side)
+      }
+    }
+    if (!changes) {
+      bad_input("--parameter '" + key +
+                "': not a number of the model the orbits are found in (a solver's, the speed profile's or the "
+                "output's key); accepted: a model key such as friction_coefficient, restitution, clearance_m, "
+                "gravity_m_per_s2, rotor_damping_N_s_per_m");
+    }
+  }
+  if (!range.empty() && !(range[0] < start_value && start_value < range[1])) {
+    cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " " + core::exact_text(range[1]) +
+                              " does not hold the start's " + (key.empty() ? "--speed" : key) + " " +
+                              core::exact_text(start_value) + "; accepted: LO < start < HI");
+  }
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
     if (!csv) bad_input("--csv: cannot write '" + csv_path + "'");
     csv.precision(12);
-    csv << "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation\n";
+    csv << "branch,periods,speed_rad_per_s,parameter,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,"
+           "bifurcation\n";
   }
   core::OrbitSettings settings;
   settings.periods = periods;
@@ -204,6 +263,7 @@ int main(int argc, char** argv) {
       "%.3f s of wall time)\n",
       scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution, p.gravity_m_per_s2,
       settle_periods, orbit_s);
+  orbit.parameter = start_value;
   print_orbit(p, orbit);
   if (range.empty()) {
     if (csv.is_open()) write_rows(csv, 0, orbit, "");
@@ -231,12 +291,12 @@ int main(int argc, char** argv) {
   // backwards; skip: the up trace without its start).
   auto report = [&](int id, const core::OrbitBranch& b, bool reversed, bool skip, int level) {
     if (b.points.empty()) return;
-    std::printf("branch %d (period %d): %zu point%s, %.6f to %.6f rad/s; it ends: %s\n", id, b.points.front().periods,
-                b.points.size(), b.points.size() == 1 ? "" : "s", b.points.front().speed_rad_per_s,
-                b.points.back().speed_rad_per_s, b.end.c_str());
+    std::printf("branch %d (period %d): %zu point%s, %.6f to %.6f %s; it ends: %s\n", id, b.points.front().periods,
+                b.points.size(), b.points.size() == 1 ? "" : "s", b.points.front().parameter, b.points.back().parameter,
+                unit.c_str(), b.end.c_str());
     points += b.points.size();
     for (const core::OrbitBifurcation& bif : b.bifurcations) {
-      std::printf("branch %d: %s at %.9f rad/s\n", id, core::to_string(bif.kind), bif.speed_rad_per_s);
+      std::printf("branch %d: %s at %.9f %s\n", id, core::to_string(bif.kind), bif.parameter, unit.c_str());
       if (bif.kind == core::OrbitBifurcationKind::kPeriodDoubling && level < doublings)
         pending.push_back({level + 1, bif});
     }
@@ -256,7 +316,7 @@ int main(int argc, char** argv) {
   };
   for (const bool up : {false, true}) {
     cs.increasing_speed = up;
-    report(next_branch, core::continue_orbit(p, orbit, cs, settings), !up, up, 0);
+    report(next_branch, core::continue_orbit(p, orbit, cs, settings, parameter, start_value), !up, up, 0);
   }
   ++next_branch;
   for (std::size_t i = 0; i < pending.size(); ++i) {
@@ -264,9 +324,10 @@ int main(int argc, char** argv) {
     try {
       // The doubled branch leaves on the single one's unstable side, which
       // the corrector finds; one call traces it.
-      report(next_branch++, core::continue_period_doubled(p, job.born_at, cs, settings), false, false, job.level);
+      report(next_branch++, core::continue_period_doubled(p, job.born_at, cs, settings, parameter), false, false,
+             job.level);
     } catch (const core::OrbitError& e) {
-      std::printf("the branch born at %.9f rad/s: %s\n", job.born_at.speed_rad_per_s, e.what());
+      std::printf("the branch born at %.9f %s: %s\n", job.born_at.parameter, unit.c_str(), e.what());
     }
   }
   const double branch_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();

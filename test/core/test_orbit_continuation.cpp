@@ -272,6 +272,36 @@ TEST(OrbitContinuation, SectionsInContactAndDoubledBranchesMeetingTheSingle) {
   for (const auto& pt : toward.points) EXPECT_LT(pt.speed_rad_per_s, 53.0921);
 }
 
+// Any number of the model may be the parameter, at a constant speed: in
+// the gravity at 60 rad/s the branch doubles at 8.8466 m/s^2, where the
+// orbit found again at that gravity has a multiplier at -1 (kLocated).
+TEST(OrbitContinuation, ABranchInAKeyOfTheModel) {
+  const core::ModelParameters p = horizontal();
+  const core::PeriodicOrbit start = core::find_periodic_orbit(p, 60.0, core::settled_state(p, 60.0, 100));
+  core::ContinuationParameter gravity;
+  gravity.name = "gravity_m_per_s2";
+  gravity.unit = "";
+  gravity.model = [&p](double g) {
+    core::ModelParameters q = p;
+    q.gravity_m_per_s2 = g;
+    return q;
+  };
+  core::ContinuationSettings down;
+  down.min_speed_rad_per_s = 5.0;  // (the settings' bounds are the parameter's, here m/s^2)
+  down.max_speed_rad_per_s = 15.0;
+  down.increasing_speed = false;
+  const core::OrbitBranch b = core::continue_orbit(p, start, down, {}, gravity, p.gravity_m_per_s2);
+  const core::OrbitBifurcation* pd = first(b, core::OrbitBifurcationKind::kPeriodDoubling);
+  ASSERT_NE(pd, nullptr) << b.end;
+  std::printf("in the gravity: a period doubling at %.9f m/s^2; the trace ends: %s\n", pd->parameter, b.end.c_str());
+  EXPECT_DOUBLE_EQ(pd->speed_rad_per_s, 60.0);
+  for (const auto& pt : b.points) EXPECT_DOUBLE_EQ(pt.speed_rad_per_s, 60.0);
+  const core::PeriodicOrbit again = core::find_periodic_orbit(gravity.model(pd->parameter), 60.0, pd->orbit.state);
+  double nearest = INFINITY;
+  for (const auto& mu : again.multipliers) nearest = std::min(nearest, std::abs(mu + 1.0));
+  EXPECT_LT(nearest, kLocated);
+}
+
 TEST(OrbitContinuation, BadInputIsAClearError) {
   const core::ModelParameters p = horizontal();
   const Branches& b = branches();

@@ -28,13 +28,15 @@ TEST(OrbitsCli, TheHorizontalRotorsBranchAndItsCsv) {
   for (const char* line :
        {"orbit at 60.000000 rad/s: period 1 T = 0.104719755 s, stable", "impact    at t = 0.073478137 s",
         "branch 0: period_doubling at 53.0920", "branch 0: neimark_sacker at 64.8927",
-        "branch 1: period_doubling at 53.0622", "it ends: the orbit's events change at the trial speed 52.98"}) {
+        "branch 1: period_doubling at 53.0622", "it ends: the orbit's events change at the trial 52.98"}) {
     EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
   }
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "branch,periods,speed_rad_per_s,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,bifurcation");
+  EXPECT_EQ(line,
+            "branch,periods,speed_rad_per_s,parameter,keyphasor,x_m,y_m,radius_m,max_multiplier,stable,events,"
+            "bifurcation");
   int period2 = 0, doublings = 0;
   while (std::getline(in, line)) {
     period2 += line.rfind("1,2,", 0) == 0;
@@ -42,6 +44,15 @@ TEST(OrbitsCli, TheHorizontalRotorsBranchAndItsCsv) {
   }
   EXPECT_GT(period2, 10);
   EXPECT_EQ(doublings, 1 + 2);  // the single orbit's (one keyphasor point) and the doubled one's (two)
+}
+
+// A branch in a key of the model (--parameter) at the constant --speed.
+TEST(OrbitsCli, ABranchInAKey) {
+  const Result r = orbits("--scene " + config("horizontal_rub.yaml") +
+                          " --speed 60 --continue 5 15 --parameter gravity_m_per_s2 --doublings 0");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("branch 0: period_doubling at 8.8465"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("9.810000 to 8.30"), std::string::npos) << r.out;
 }
 
 TEST(OrbitsCli, NoOrbitAndBadInput) {
@@ -56,7 +67,11 @@ TEST(OrbitsCli, NoOrbitAndBadInput) {
         {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --set drive_model=motor",
          "scene key 'drive_model' is 'motor'"},
         {"--scene " + config("seal_rub_runup.yaml") + " --speed 100", "the Jeffcott rotor only"},
-        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 61 70", "LO < --speed < HI"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 61 70", "LO < start < HI"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 0 1 --parameter rtol",
+         "--parameter 'rtol': not a number of the model"},
+        {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --continue 0 1 --parameter frction_coefficient",
+         "did you mean 'friction_coefficient'"},
         {"--scene " + config("horizontal_rub.yaml") + " --speed 60 --set restitutoin=0.2",
          "did you mean 'restitution'"}}) {
     const Result r = orbits(args);

@@ -24,11 +24,11 @@ const char* to_string(OrbitBifurcationKind kind) {
 
 namespace {
 
-// The speed column's difference step, in units of the start's speed: the
-// column carries the shot's error over the step (about the tolerance 1e-11
+// The parameter column's difference step, in units of the start's value:
+// the column carries the shot's error over the step (about the tolerance 1e-11
 // over 1e-6: the adaptive steps' sequence moves with the speed), which only
 // the tangent's direction sees.
-constexpr double kSpeedStep = 1e-6;
+constexpr double kParameterStep = 1e-6;
 // The corrector's iterations before a step is halved, and the smallest step.
 constexpr int kMaxCorrections = 8;
 constexpr double kMinStep = 1e-7;
@@ -61,30 +61,52 @@ std::vector<OrbitEvent::Kind> kinds(const std::vector<OrbitEvent>& events) {
   return out;
 }
 
-// The fixed point's equations in Y = (y, w / w0).
+// The fixed point's equations in Y = (y, v / v0), v the parameter (the
+// speed, or a key's value at the constant speed w), v0 its start's value.
 class OrbitEquations {
  public:
-  OrbitEquations(const ModelParameters& p, const OrbitSettings& s, double w0, const std::vector<OrbitEvent>& events)
-      : p_(&p), s_(s), w0_(w0), kinds_(kinds(events)) {}
-  double speed(const Vector& Y) const { return Y(Y.size() - 1) * w0_; }
+  OrbitEquations(const ModelParameters& p, const OrbitSettings& s, const ContinuationParameter& parameter, double v0,
+                 double w, const std::vector<OrbitEvent>& events)
+      : p_(&p), s_(s), parameter_(&parameter), v0_(v0), w_(w), kinds_(kinds(events)) {}
   const OrbitSettings& settings() const { return s_; }
-  const ModelParameters& parameters() const { return *p_; }
-  double start_speed() const { return w0_; }
+  const ContinuationParameter& parameter() const { return *parameter_; }
+  // The same equations at other settings (a section moved) and events.
+  OrbitEquations with(const OrbitSettings& s, const std::vector<OrbitEvent>& events) const {
+    return OrbitEquations(*p_, s, *parameter_, v0_, w_, events);
+  }
+  double start_value() const { return v0_; }
+  double value(const Vector& Y) const { return Y(Y.size() - 1) * v0_; }
+  bool in_speed() const { return !parameter_->model; }
+  double speed_at(double v) const { return in_speed() ? v : w_; }
+  double speed(const Vector& Y) const { return speed_at(value(Y)); }
+  // The model at a value: a value the parameter refuses ends the trace.
+  ModelParameters model_at(double v) const {
+    if (in_speed()) return *p_;
+    try {
+      return parameter_->model(v);
+    } catch (const std::exception& e) {
+      throw OrbitError(parameter_->name + " " + std::to_string(v) + " is refused: " + e.what());
+    }
+  }
+  // "52.98 rad/s", "friction_coefficient 0.31": a value in messages.
+  std::string describe(double v) const {
+    if (in_speed()) return std::to_string(v) + " rad/s";
+    return parameter_->name + " " + std::to_string(v) + (parameter_->unit.empty() ? "" : " " + parameter_->unit);
+  }
 
   // One shot from Y's section over the orbit's periods; OrbitError where the
   // events differ from the branch's or the section is in contact.
   OrbitShot shot(const Vector& Y, bool with_jacobian) const {
     const double w = speed(Y);
-    check_scene(*p_, w, s_);
-    const RubFlow flow(*p_, w, settle_apex_m(*p_, s_));
+    const ModelParameters p = model_at(value(Y));
+    check_scene(p, w, s_);
+    const RubFlow flow(p, w, settle_apex_m(p, s_));
     const double t0 = s_.section_angle_rad / w;
     OrbitShot out = shoot(flow, Y.head(Y.size() - 1), t0, t0 + s_.periods * flow.period(), s_, with_jacobian);
-    if (out.starts_in_contact) {
-      throw OrbitError("the section lies in a contact near " + std::to_string(w) + " rad/s");
-    }
+    if (out.starts_in_contact) throw OrbitError("the section lies in a contact near " + describe(value(Y)));
     if (kinds(out.events) != kinds_) {
-      throw OrbitError("the orbit's events change at the trial speed " + std::to_string(w) +
-                       " rad/s (a grazing: an impact or a contact phase appears or ends)");
+      throw OrbitError("the orbit's events change at the trial " + describe(value(Y)) +
+                       " (a grazing: an impact or a contact phase appears or ends)");
     }
     return out;
   }
@@ -100,9 +122,9 @@ class OrbitEquations {
     Eigen::MatrixXd j(n, n + 1);
     j.leftCols(n) = s.jacobian - Eigen::MatrixXd::Identity(n, n);
     Vector up = Y, down = Y;
-    up(n) += kSpeedStep;
-    down(n) -= kSpeedStep;
-    j.col(n) = (residual(up) - residual(down)) / (2.0 * kSpeedStep);
+    up(n) += kParameterStep;
+    down(n) -= kParameterStep;
+    j.col(n) = (residual(up) - residual(down)) / (2.0 * kParameterStep);
     return j;
   }
   Vector tangent(const Vector& Y, const Vector& previous) const {
@@ -135,11 +157,13 @@ class OrbitEquations {
   }
   PeriodicOrbit orbit(const Vector& Y, int iterations = 0) const {
     const double w = speed(Y);
-    const RubFlow flow(*p_, w, settle_apex_m(*p_, s_));
+    const ModelParameters p = model_at(value(Y));
+    const RubFlow flow(p, w, settle_apex_m(p, s_));
     const OrbitShot s = shot(Y, true);
     check_grazing(s.closest_miss);
     PeriodicOrbit o;
     o.speed_rad_per_s = w;
+    o.parameter = value(Y);
     o.periods = s_.periods;
     o.period_s = s_.periods * flow.period();
     o.section_angle_rad = s_.section_angle_rad;
@@ -155,18 +179,21 @@ class OrbitEquations {
     o.closest_miss = s.closest_miss;
     return o;
   }
+  // The unknowns of an orbit (o.parameter its value).
   Vector unknowns(const PeriodicOrbit& o) const {
-    const RubFlow flow(*p_, o.speed_rad_per_s, settle_apex_m(*p_, s_));
+    const ModelParameters p = model_at(o.parameter);
+    const RubFlow flow(p, o.speed_rad_per_s, settle_apex_m(p, s_));
     Vector Y(o.state.size() + 1);
     Y.head(o.state.size()) = flow.scaled(o.state);
-    Y(o.state.size()) = o.speed_rad_per_s / w0_;
+    Y(o.state.size()) = o.parameter / v0_;
     return Y;
   }
 
  private:
   const ModelParameters* p_;
   OrbitSettings s_;
-  double w0_;
+  const ContinuationParameter* parameter_;
+  double v0_, w_;
   std::vector<OrbitEvent::Kind> kinds_;
 };
 
@@ -221,7 +248,8 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   }
   if (best < 2.0 * kSectionMargin * span) return false;  // no better place
   OrbitSettings s = g.settings();
-  const RubFlow flow(g.parameters(), w, settle_apex_m(g.parameters(), s));
+  const ModelParameters p = g.model_at(o.parameter);
+  const RubFlow flow(p, w, settle_apex_m(p, s));
   const int n = static_cast<int>(o.state.size());
   const OrbitShot to_new = shoot(flow, Y.head(n), t0, t0 + middle, s, true);
   Vector direction(n + 1);
@@ -230,14 +258,15 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   if (previous != nullptr) {
     // The same spin angle on: the previous orbit's own time to it.
     const double wp = previous->speed_rad_per_s, tp = previous->section_angle_rad / wp;
-    const RubFlow flow_p(g.parameters(), wp, settle_apex_m(g.parameters(), s));
+    const ModelParameters pp = g.model_at(previous->parameter);
+    const RubFlow flow_p(pp, wp, settle_apex_m(pp, s));
     const Vector moved = shoot(flow_p, flow_p.scaled(previous->state), tp, tp + middle * w / wp, s, false).end;
     direction.head(n) = to_new.end - moved;
-    direction(n) = Y(n) - wp / g.start_speed();
+    direction(n) = Y(n) - previous->parameter / g.start_value();
   }
   s.section_angle_rad = std::fmod(s.section_angle_rad + w * middle, 2.0 * M_PI);
   const OrbitShot round = shoot(flow, to_new.end, t0 + middle, t0 + middle + span, s, false);
-  g = OrbitEquations(g.parameters(), s, g.start_speed(), round.events);
+  g = g.with(s, round.events);
   Y.head(n) = to_new.end;
   t = g.tangent(Y, direction);
   return true;
@@ -286,8 +315,7 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
       // A step that meets what the branch cannot pass (a grazing, a section
       // inside the bore, a sticking phase) was halved down to the smallest:
       // the trace ends as close to it as that step.
-      branch.end =
-          last_error + " (after the last point, at " + std::to_string(branch.points.back().speed_rad_per_s) + " rad/s)";
+      branch.end = last_error + " (after the last point, at " + g.describe(branch.points.back().parameter) + ")";
       return;
     }
     try {
@@ -319,18 +347,18 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
       auto locate = [&](OrbitBifurcationKind kind, const std::function<double(double)>& test, double f0, double f1) {
         const double s = regula_falsi(test, f0, ds, f1, kLocateFraction);
         const PeriodicOrbit o = g.orbit(point_at(s));
-        found.push_back({kind, o.speed_rad_per_s, o});
+        found.push_back({kind, o.speed_rad_per_s, o.parameter, o});
       };
       if (t(n) * t_new(n) < 0.0) {
         locate(
             OrbitBifurcationKind::kFold, [&](double s) { return g.tangent(point_at(s), t)(n); }, t(n), t_new(n));
-        if (meets_half(g.parameters(), g.settings(), found.back().orbit)) {
+        if (meets_half(g.model_at(found.back().parameter), g.settings(), found.back().orbit)) {
           // The doubled branch turns back where it meets the orbit of half
           // its period (a pitchfork of its map): that is the single orbit's
           // period doubling, not a fold, and past it the trace would follow
           // the single orbit traced twice.
-          branch.end = "the orbit meets the orbit of half its period at " +
-                       std::to_string(found.back().speed_rad_per_s) + " rad/s (its period doubling)";
+          branch.end = "the orbit meets the orbit of half its period at " + g.describe(found.back().parameter) +
+                       " (its period doubling)";
           return;
         }
       }
@@ -350,20 +378,21 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
             OrbitBifurcationKind::kNeimarkSacker, [&](double s) { return complex_modulus_test(g.orbit(point_at(s))); },
             m0, m1);
       }
-      const double w_new = orbit.speed_rad_per_s;
-      if (w_new < settings.min_speed_rad_per_s || w_new > settings.max_speed_rad_per_s) {
-        // The last point at the range's end itself, by Newton at that speed.
+      const double v_new = orbit.parameter;
+      if (v_new < settings.min_speed_rad_per_s || v_new > settings.max_speed_rad_per_s) {
+        // The last point at the range's end itself, by Newton at that value.
         const double edge =
-            w_new < settings.min_speed_rad_per_s ? settings.min_speed_rad_per_s : settings.max_speed_rad_per_s;
+            v_new < settings.min_speed_rad_per_s ? settings.min_speed_rad_per_s : settings.max_speed_rad_per_s;
         try {
           OrbitSettings at_last = g.settings();
           at_last.section_angle_rad = last.section_angle_rad;  // (g's may have moved since)
-          const PeriodicOrbit at_edge = find_periodic_orbit(g.parameters(), edge, last.state, at_last);
+          PeriodicOrbit at_edge = find_periodic_orbit(g.model_at(edge), g.speed_at(edge), last.state, at_last);
+          at_edge.parameter = edge;
           if (kinds(at_edge.events) == kinds(last.events)) branch.points.push_back(at_edge);
         } catch (const OrbitError&) {
           // (the last point stands)
         }
-        branch.end = "the speed range's end";
+        branch.end = "the range's end";
         return;
       }
       for (auto& bifurcation : found) {
@@ -405,26 +434,29 @@ PeriodicOrbit free_section(const ModelParameters& p, const PeriodicOrbit& o, con
   return find_periodic_orbit(p, w, x, moved);
 }
 
-void check_range(const ContinuationSettings& settings, double w0) {
-  if (!(settings.min_speed_rad_per_s < settings.max_speed_rad_per_s) || !(w0 > 0.0) ||
-      !(w0 >= settings.min_speed_rad_per_s) || !(w0 <= settings.max_speed_rad_per_s)) {
-    throw std::invalid_argument(
-        "orbit continuation: the start's speed must be above 0 and lie in a speed range of some width");
+void check_range(const ContinuationSettings& settings, const ContinuationParameter& parameter, double v0) {
+  const bool speed = !parameter.model;
+  if (!(settings.min_speed_rad_per_s < settings.max_speed_rad_per_s) || (speed && !(v0 > 0.0)) ||
+      !(v0 >= settings.min_speed_rad_per_s) || !(v0 <= settings.max_speed_rad_per_s)) {
+    throw std::invalid_argument("orbit continuation: the start's " + parameter.name + " " + std::to_string(v0) +
+                                " must lie in a range of some width" + (speed ? " and be above 0" : ""));
   }
 }
 
 }  // namespace
 
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
-                           const OrbitSettings& orbit) {
-  check_range(settings, start.speed_rad_per_s);
+                           const OrbitSettings& orbit, const ContinuationParameter& parameter, double start_value) {
+  const double v0 = parameter.model ? start_value : start.speed_rad_per_s;
+  check_range(settings, parameter, v0);
   OrbitSettings s = orbit;
   s.periods = start.periods;
   s.section_angle_rad = start.section_angle_rad;
   OrbitBranch branch;
   branch.points.push_back(start.starts_in_contact ? free_section(p, start, s) : start);
+  branch.points.front().parameter = v0;
   s.section_angle_rad = branch.points.front().section_angle_rad;
-  const OrbitEquations g(p, s, start.speed_rad_per_s, branch.points.front().events);
+  const OrbitEquations g(p, s, parameter, v0, start.speed_rad_per_s, branch.points.front().events);
   const Vector Y = g.unknowns(branch.points.front());
   Vector direction = Vector::Zero(Y.size());
   direction(Y.size() - 1) = settings.increasing_speed ? 1.0 : -1.0;
@@ -437,11 +469,12 @@ OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start,
 }
 
 OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurcation& pd,
-                                    const ContinuationSettings& settings, const OrbitSettings& orbit) {
+                                    const ContinuationSettings& settings, const OrbitSettings& orbit,
+                                    const ContinuationParameter& parameter) {
   if (pd.kind != OrbitBifurcationKind::kPeriodDoubling) {
     throw std::invalid_argument("continue_period_doubled: the bifurcation is a " + std::string(to_string(pd.kind)));
   }
-  check_range(settings, pd.speed_rad_per_s);
+  check_range(settings, parameter, pd.parameter);
   const PeriodicOrbit& single = pd.orbit;
   // The multiplier's eigenvector at -1: the doubled branch leaves along it.
   const Eigen::EigenSolver<Eigen::MatrixXd> es(single.monodromy);
@@ -459,7 +492,7 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
   // period at the bifurcation).
   std::vector<OrbitEvent> events = single.events;
   events.insert(events.end(), single.events.begin(), single.events.end());
-  const OrbitEquations g(p, s, single.speed_rad_per_s, events);
+  const OrbitEquations g(p, s, parameter, pd.parameter, single.speed_rad_per_s, events);
   Vector Y0 = g.unknowns(single);
   OrbitBranch branch;
   try {
@@ -474,7 +507,7 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
       if (ds < kMinStep) throw OrbitError("the doubled branch's first point: the corrector fails at the smallest step");
     }
     const PeriodicOrbit first = g.orbit(Y1, iterations);
-    if (halves_agree(p, s, first)) {
+    if (halves_agree(g.model_at(pd.parameter), s, first)) {
       throw OrbitError("the corrector fell back onto the single period's orbit at the period doubling");
     }
     branch.points.push_back(first);

@@ -409,6 +409,7 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
   bool in_contact = false;
   PeriodicOrbit orbit;
   orbit.speed_rad_per_s = w;
+  orbit.parameter = w;
   orbit.period_s = period;
   orbit.periods = s.periods;
   for (int it = 0;; ++it) {

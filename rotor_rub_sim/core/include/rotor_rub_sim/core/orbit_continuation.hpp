@@ -27,6 +27,7 @@
 /// test_orbit_continuation.cpp.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,17 @@
 #include "rotor_rub_sim/core/periodic_orbit.hpp"
 
 namespace rotor_rub::core {
+
+/// What a branch is traced in: the speed (the default: `model` empty), or a
+/// number the scene's model depends on at a constant speed, `model` giving
+/// the model at a value (rotor_rub_orbits builds it from a scene key; a
+/// value it refuses ends the trace). The settings' min_speed_rad_per_s and
+/// max_speed_rad_per_s bound the parameter's values, in its own unit.
+struct ContinuationParameter {
+  std::string name = "speed";  ///< in messages: "speed", or the key
+  std::string unit = "rad/s";  ///< see name ("" where the name says it, as the keys do)
+  std::function<ModelParameters(double)> model;
+};
 
 enum class OrbitBifurcationKind { kFold, kPeriodDoubling, kNeimarkSacker };
 /// "fold", "period_doubling", "neimark_sacker".
@@ -43,6 +55,7 @@ const char* to_string(OrbitBifurcationKind kind);
 struct OrbitBifurcation {
   OrbitBifurcationKind kind = OrbitBifurcationKind::kFold;
   double speed_rad_per_s = 0.0;
+  double parameter = 0.0;  ///< the continuation parameter's value (the speed's by default)
   PeriodicOrbit orbit;
   std::size_t after_point = 0;  ///< between the branch's points after_point and after_point + 1
 };
@@ -53,13 +66,15 @@ struct OrbitBranch {
   std::string end;  ///< what stopped the trace
 };
 
-/// The branch through `start` (find_periodic_orbit's, its section in free
-/// flight), one direction per call (settings.increasing_speed), its speeds
-/// in the settings' range. The orbits' settings are `orbit` (periods and
+/// The branch through `start` (find_periodic_orbit's), one direction per
+/// call (settings.increasing_speed: the parameter's), in `parameter` (the
+/// speed by default; a key's: p is the model at start_value, the key's value
+/// at the start), its values in the settings' range. The orbits' settings are `orbit` (periods and
 /// section: the start's). Throws std::invalid_argument for an empty range
 /// or a start outside it, OrbitError for a start that never leaves the bore.
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
-                           const OrbitSettings& orbit = {});
+                           const OrbitSettings& orbit = {}, const ContinuationParameter& parameter = {},
+                           double start_value = 0.0);
 
 /// The branch of twice the period born at a period doubling `pd` (a
 /// bifurcation of kind kPeriodDoubling), traced from it away from the
@@ -67,6 +82,7 @@ OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start,
 /// nearest to pd. Throws OrbitError when the corrector falls back onto the
 /// single period's orbit.
 OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurcation& pd,
-                                    const ContinuationSettings& settings, const OrbitSettings& orbit = {});
+                                    const ContinuationSettings& settings, const OrbitSettings& orbit = {},
+                                    const ContinuationParameter& parameter = {});
 
 }  // namespace rotor_rub::core

@@ -93,6 +93,9 @@ struct OrbitFlow {
 /// A periodic orbit and its stability.
 struct PeriodicOrbit {
   double speed_rad_per_s = 0.0;
+  /// The continuation parameter's value here (orbit_continuation.hpp: the
+  /// speed, or a scene key's value); find_periodic_orbit leaves the speed.
+  double parameter = 0.0;
   double period_s = 0.0;  ///< n T
   int periods = 1;
   double section_angle_rad = 0.0;  ///< OrbitSettings'
