@@ -255,7 +255,7 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   Vector direction(n + 1);
   direction.head(n) = to_new.jacobian * t.head(n);
   direction(n) = t(n);
-  if (previous != nullptr) {
+  if (previous != nullptr && previous->section_angle_rad == o.section_angle_rad) {
     // The same spin angle on: the previous orbit's own time to it.
     const double wp = previous->speed_rad_per_s, tp = previous->section_angle_rad / wp;
     const ModelParameters pp = g.model_at(previous->parameter);
