@@ -46,13 +46,6 @@ constexpr double kNearFold_rad_per_s = 1.0;
 // Just inside a discriminant's zero, where both roots are still real.
 constexpr double kInside_rad_per_s = 1e-6;
 
-core::ModelParameters paper(core::StatorModel stator, double f) {
-  core::ModelParameters p = test::paper_scene().model;
-  p.stator_model = stator;
-  p.friction_coefficient = f;
-  return p;
-}
-
 // The folds of p's full rub in [lo, hi]: the zeros of the discriminant where
 // the two roots are positive (the branch's two full rubs meet), to the
 // double's resolution (TOMS 748 on a grid's sign changes).
@@ -108,7 +101,7 @@ TEST(FullRubContinuation, FoldsAreWhereTheDiscriminantVanishes) {
                             FoldCase{"rigid stator, f = 0.5", core::StatorModel::kRigid, 0.5},
                             FoldCase{"elastic stator, f = 0.3", core::StatorModel::kElastic, 0.3}}) {
     SCOPED_TRACE(c.name);
-    const core::ModelParameters p = paper(c.stator, c.friction);
+    const core::ModelParameters p = test::paper_model(c.stator, c.friction);
     const std::vector<double> folds = discriminant_folds(p, 20.0, 2000.0);
     ASSERT_FALSE(folds.empty());
     const double fold = folds.front();
@@ -147,7 +140,7 @@ TEST(FullRubContinuation, FoldsAreWhereTheDiscriminantVanishes) {
 // full_rub_stability finds by Newton from the rigid closed form with the
 // bore moved out by N / k_c, and the fold lies near the rigid contact's.
 TEST(FullRubContinuation, ThePenaltyContactsBranch) {
-  const core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+  const core::ModelParameters p = test::paper_model(core::StatorModel::kElastic, 0.1);
   const auto rubs = core::full_rub_stability(p, 150.0, true);
   ASSERT_FALSE(rubs.empty());
   const core::PenaltyContact penalty{p.contact_stiffness_N_per_m,
@@ -179,7 +172,7 @@ TEST(FullRubContinuation, ThePenaltyContactsBranch) {
 // The trace ends where it should: at the speed range's end, or where the
 // lower branch's normal force falls to 0 (it meets the free orbit).
 TEST(FullRubContinuation, TheTraceSaysWhyItEnded) {
-  const core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+  const core::ModelParameters p = test::paper_model(core::StatorModel::kElastic, 0.1);
   const core::FullRubBranch up = trace(p, 150.0, 140.0, 160.0);
   EXPECT_TRUE(up.folds_rad_per_s.empty());
   EXPECT_EQ(up.end, "the speed range's end");

@@ -23,13 +23,6 @@ using cd = std::complex<double>;
 
 namespace {
 
-core::ModelParameters paper(core::StatorModel stator, double f) {
-  core::ModelParameters p = test::paper_scene().model;
-  p.stator_model = stator;
-  p.friction_coefficient = f;
-  return p;
-}
-
 // theta(t) - theta* of the linearisation, from theta - theta* = d at t = 0
 // (the rest at equilibrium): V e^{Lambda t} V^-1 x0.
 double linear_dtheta(const core::FullRubStability& s, double d, double t_s) {
@@ -105,7 +98,7 @@ TEST(FullRubStability, TheFullRubIsARestPointOfTheTurningFrame) {
   };
   for (const Case& c : {Case{core::StatorModel::kRigid, 0.1, 300.0}, Case{core::StatorModel::kRigid, 0.3, 100.0},
                         Case{core::StatorModel::kElastic, 0.1, 120.0}, Case{core::StatorModel::kElastic, 0.1, 400.0}}) {
-    const core::ModelParameters p = paper(c.stator, c.f);
+    const core::ModelParameters p = test::paper_model(c.stator, c.f);
     const auto branches = core::full_rub_stability(p, c.w);
     const auto closed = core::synchronous_full_rub(p, c.w);
     ASSERT_EQ(branches.size(), 2u) << c.w;
@@ -129,7 +122,7 @@ TEST(FullRubStability, TheFullRubIsARestPointOfTheTurningFrame) {
 TEST(FullRubStability, RigidStatorIsTheClosedForm) {
   for (double f : {0.1, 0.3}) {
     for (double w : {100.0, 120.0, 300.0, 600.0}) {
-      const core::ModelParameters p = paper(core::StatorModel::kRigid, f);
+      const core::ModelParameters p = test::paper_model(core::StatorModel::kRigid, f);
       const auto branches = core::full_rub_stability(p, w);
       if (f == 0.3 && w > 120.0) {
         EXPECT_TRUE(branches.empty()) << w;  // no full rub (docs/steady_response.md)
@@ -171,7 +164,7 @@ TEST(FullRubStability, RunsGrowAndDecayAtThePredictedRates) {
          {Case{core::StatorModel::kRigid, 300.0, 0, 1e-4, 0.1}, Case{core::StatorModel::kRigid, 300.0, 1, 1e-6, 0.03},
           Case{core::StatorModel::kElastic, 120.0, 0, 1e-4, 1.0},
           Case{core::StatorModel::kElastic, 300.0, 0, 1e-6, 0.1}}) {
-      const core::ModelParameters p = paper(c.stator, 0.1);
+      const core::ModelParameters p = test::paper_model(c.stator, 0.1);
       const auto branches = core::full_rub_stability(p, c.w);
       ASSERT_GT(branches.size(), c.branch);
       const core::FullRubStability& b = branches[c.branch];
@@ -203,7 +196,7 @@ TEST(FullRubStability, RunsGrowAndDecayAtThePredictedRates) {
 // (the growth 28.6 /s takes 1e-6 to 1 in 0.48 s); the stable branch at 120
 // rad/s holds through the same second.
 TEST(FullRubStability, AnUnstableFullRubIsLeft) {
-  const core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+  const core::ModelParameters p = test::paper_model(core::StatorModel::kElastic, 0.1);
   const Track unstable =
       perturbed_run(core::Method::kSwitching, p, 300.0, core::full_rub_stability(p, 300.0)[0], 1e-6, 1e-3, 1.0);
   EXPECT_FALSE(unstable.stayed_in_contact);
@@ -281,7 +274,7 @@ TEST(FullRubStability, TheSealRotorFluttersWithTwelveModesAndMore) {
 // The penalty method on dopri5 started on it with the rotor turned by 1e-4
 // rad follows its linearisation as the rigid methods follow theirs.
 TEST(FullRubStability, ThePenaltyContactTendsToTheRigidOne) {
-  core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  core::ModelParameters p = test::paper_model(core::StatorModel::kRigid, 0.1);
   const double w = 300.0;
   const auto rigid = core::full_rub_stability(p, w);
   double previous = 1.0;
@@ -311,7 +304,7 @@ TEST(FullRubStability, ThePenaltyContactTendsToTheRigidOne) {
 // (the station's coordinates free, the contact mode among the eigenvalues)
 // to kLinear of d, as the rigid methods do.
 TEST(FullRubStability, ThePenaltyMethodFollowsItsLinearisation) {
-  const core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  const core::ModelParameters p = test::paper_model(core::StatorModel::kRigid, 0.1);
   const double w = 300.0, d = 1e-4;
   const core::FullRubStability b = core::full_rub_stability(p, w, true).front();
   const Track run = perturbed_run(core::Method::kPenalty, p, w, b, d, 1e-3, 0.1);

@@ -23,19 +23,12 @@ using cd = std::complex<double>;
 
 namespace {
 
-core::ModelParameters paper(core::StatorModel stator, double f) {
-  core::ModelParameters p = test::paper_scene().model;
-  p.stator_model = stator;
-  p.friction_coefficient = f;
-  return p;
-}
-
 // The paper's rotor on a rigid stator under gravity (its sag 1.64 mm of the
 // 2 mm clearance), where the unbalance's orbit reaches the bore's bottom
 // once a revolution: at 60 rad/s with e = 0.5 one impact per period; at 70
 // rad/s, plastic, an impact, then a touchdown, a contact and a lift-off.
 core::ModelParameters sagging(double restitution) {
-  core::ModelParameters p = paper(core::StatorModel::kRigid, 0.1);
+  core::ModelParameters p = test::paper_model(core::StatorModel::kRigid, 0.1);
   p.gravity_m_per_s2 = 9.81;
   p.restitution = restitution;
   return p;
@@ -70,7 +63,7 @@ constexpr double kFixedPoint = 1e-8;
 TEST(PeriodicOrbit, WithoutContactTheMultipliersAreTheFreeRotorsExponentials) {
   constexpr double kExponentials = 1e-10;
   for (double w : {50.0, 300.0}) {
-    core::ModelParameters p = paper(core::StatorModel::kElastic, 0.1);
+    core::ModelParameters p = test::paper_model(core::StatorModel::kElastic, 0.1);
     p.clearance_m = 1.0;
     p.gravity_m_per_s2 = 9.81;
     const core::PeriodicOrbit o = core::find_periodic_orbit(p, w, Eigen::VectorXd::Zero(8));
@@ -116,7 +109,7 @@ TEST(PeriodicOrbit, TheFullRubsMultipliersAreItsEigenvaluesExponentials) {
   };
   for (const Case& c : {Case{core::StatorModel::kRigid, 300.0}, Case{core::StatorModel::kElastic, 120.0},
                         Case{core::StatorModel::kElastic, 300.0}}) {
-    const core::ModelParameters p = paper(c.stator, 0.1);
+    const core::ModelParameters p = test::paper_model(c.stator, 0.1);
     const auto branches = core::full_rub_stability(p, c.w);
     ASSERT_EQ(branches.size(), 2u);
     for (const core::FullRubStability& b : branches) {
@@ -203,7 +196,7 @@ TEST(PeriodicOrbit, TheRigidMethodsComeBackToTheOrbit) {
     core::ModelParameters p;
     double w;
   };
-  core::ModelParameters full_rub = paper(core::StatorModel::kElastic, 0.1);
+  core::ModelParameters full_rub = test::paper_model(core::StatorModel::kElastic, 0.1);
   for (const Case& c : {Case{sagging(0.5), 60.0}, Case{sagging(0.0), 70.0}, Case{full_rub, 120.0}}) {
     const Eigen::VectorXd start = core::settled_state(c.p, c.w, 200);
     const core::PeriodicOrbit o = core::find_periodic_orbit(c.p, c.w, start);

@@ -22,6 +22,14 @@ inline std::string source_path(const std::string& rel) { return std::string(ROTO
 
 inline core::Scene paper_scene() { return core::load_scene(source_path("config/paper_runup.yaml")); }
 
+// The paper scene's model with another stator and friction coefficient.
+inline core::ModelParameters paper_model(core::StatorModel stator, double friction_coefficient) {
+  core::ModelParameters p = paper_scene().model;
+  p.stator_model = stator;
+  p.friction_coefficient = friction_coefficient;
+  return p;
+}
+
 struct Collect : core::SimulationObserver {
   std::vector<core::Sample> samples;
   std::vector<core::ContactEvent> events;
