@@ -12,7 +12,8 @@
 //
 // Exit status: 0 ok (a branch's end is reported, not an error); 2 bad input
 // (usage, scene, a scene it does not model); 3 no periodic orbit at the
-// speed (Newton does not converge, the orbit grazes, sticks or chatters).
+// speed (Newton does not converge, the orbit grazes or chatters).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -71,7 +72,7 @@ void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
   for (const core::OrbitEvent& e : o.events) {
     std::printf("  %-9s at t = %.9f s (spin angle %.4f rad)", core::to_string(e.kind), e.time_s,
                 std::fmod(e.time_s * o.speed_rad_per_s, 2.0 * M_PI));
-    if (e.kind != core::OrbitEvent::Kind::kLiftOff) std::printf(", closing at %.6g m/s", e.normal_velocity_m_per_s);
+    if (core::is_impact(e.kind)) std::printf(", closing at %.6g m/s", e.normal_velocity_m_per_s);
     std::printf("\n");
   }
   if (o.events.empty()) std::printf("  no contact\n");
@@ -269,9 +270,16 @@ int main(int argc, char** argv) {
     if (csv.is_open()) write_rows(csv, 0, orbit, "");
     return 0;
   }
+  const bool flies = std::any_of(orbit.events.begin(), orbit.events.end(),
+                                 [](const core::OrbitEvent& e) { return core::starts_flight(e.kind); });
   if (orbit.starts_in_contact && orbit.events.empty()) {
     bad_input("the orbit at " + core::exact_text(speed) +
               " rad/s never leaves the bore (the full rub): rotor_rub_stability --branch-csv traces its branch");
+  }
+  if (orbit.starts_in_contact && !flies) {
+    bad_input("the orbit at " + core::exact_text(speed) +
+              " rad/s never leaves the bore (it sticks and slips on it): --continue traces branches from a section "
+              "in free flight");
   }
   core::ContinuationSettings cs;
   cs.min_speed_rad_per_s = range[0];

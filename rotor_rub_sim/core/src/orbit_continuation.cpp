@@ -235,11 +235,11 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   std::vector<double> tau;  // the events' times after the section, in (0, span], in order
   for (const OrbitEvent& e : o.events) tau.push_back(e.time_s - t0);
   if (std::min(tau.front(), span - tau.back()) >= kSectionMargin * span) return false;
-  // The longest stretch in free flight: not after a touchdown (a contact).
+  // The longest stretch in free flight: after an impact or a lift-off.
   const std::size_t m = tau.size();
   double best = -1.0, middle = 0.0;
   for (std::size_t i = 0; i < m; ++i) {
-    if (o.events[i].kind == OrbitEvent::Kind::kTouchdown) continue;
+    if (!starts_flight(o.events[i].kind)) continue;
     const double next = i + 1 < m ? tau[i + 1] : tau.front() + span;
     if (next - tau[i] > best) {
       best = next - tau[i];
@@ -419,14 +419,18 @@ PeriodicOrbit free_section(const ModelParameters& p, const PeriodicOrbit& o, con
   const std::size_t m = o.events.size();
   double best = -1.0, middle = 0.0;
   for (std::size_t i = 0; i < m; ++i) {
-    if (o.events[i].kind == OrbitEvent::Kind::kTouchdown) continue;  // a contact follows it
+    if (!starts_flight(o.events[i].kind)) continue;  // a contact follows it
     const double next = i + 1 < m ? o.events[i + 1].time_s : o.events.front().time_s + o.period_s;
     if (next - o.events[i].time_s > best) {
       best = next - o.events[i].time_s;
       middle = 0.5 * (o.events[i].time_s + next) - t0;
     }
   }
-  if (best < 0.0) throw OrbitError("the orbit never leaves the bore (the full rub: continue_full_rub traces it)");
+  if (best < 0.0) {
+    throw OrbitError(
+        "the orbit never leaves the bore: a branch is traced from a section in free flight (the full rub's by "
+        "continue_full_rub)");
+  }
   const RubFlow flow(p, w, settle_apex_m(p, s));
   const Eigen::VectorXd x = flow.physical(shoot(flow, flow.scaled(o.state), t0, t0 + middle, s, false).end);
   OrbitSettings moved = s;

@@ -17,12 +17,14 @@ struct OrbitShot {
   Eigen::VectorXd end;       // y(t1)
   Eigen::MatrixXd jacobian;  // d y(t1) / d y(t0) (empty without)
   std::vector<OrbitEvent> events;
-  bool starts_in_contact = false, ends_in_contact = false;
+  bool starts_in_contact = false, ends_in_contact = false;  // sliding or sticking
+  bool starts_in_stick = false, ends_in_stick = false;
   double slowest_impact = 0.0, closest_miss = 0.0;  // OrbitFlow's
 };
 
 // The flow from y0 (RubFlow's units) at t0 to t1: in contact when y0 lies
-// within 1e-6 C of the bore and is pressed onto it. Throws OrbitError.
+// within 1e-8 C of the bore and is pressed onto it, sticking when its slip
+// is below kStickSlip and the cone holds it. Throws OrbitError.
 OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0_s, double t1_s, const OrbitSettings& s,
                 bool with_jacobian);
 

@@ -21,17 +21,25 @@ const char* to_string(OrbitEvent::Kind kind) {
       return "touchdown";
     case OrbitEvent::Kind::kLiftOff:
       return "lift-off";
+    case OrbitEvent::Kind::kStick:
+      return "stick";
+    case OrbitEvent::Kind::kReversal:
+      return "reversal";
+    case OrbitEvent::Kind::kSlip:
+      return "slip";
   }
   return "?";
 }
 
-Eigen::MatrixXd RubFlow::tangent_basis(const Eigen::VectorXd& y) const {
-  Eigen::MatrixXd normals(n_, 2);
+Eigen::MatrixXd RubFlow::tangent_basis(double t, const Eigen::VectorXd& y, bool stick) const {
+  const int m = stick ? 3 : 2;
+  Eigen::MatrixXd normals(n_, m);
   normals.col(0) = gap_gradient(y).transpose();
   normals.col(1) = closing_rate_gradient(y).transpose();
+  if (stick) normals.col(2) = slip_gradient(t, y).transpose();
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normals);
   const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n_, n_);
-  return q.rightCols(n_ - 2);
+  return q.rightCols(n_ - m);
 }
 
 namespace {
@@ -48,8 +56,6 @@ using Controlled = odeint::controlled_runge_kutta<Stepper, ErrorChecker>;
 constexpr double kOnBore = 1e-8;
 // A shooting residual this small (of C and C w) needs no Newton step.
 constexpr double kPolished = 1e-13;
-// A slip this small (in units of C w) at a contact's start is a stick.
-constexpr double kStickSlip = 1e-9;
 // Where a flight that starts on the bore is probed (return_to_bore), in
 // fractions of the step: near the start, where it departs as a power of the
 // time, and on.
@@ -66,6 +72,9 @@ struct Shot {
   Eigen::MatrixXd phi;
   OrbitRegime regime = OrbitRegime::kFree;
   double slip_sign = 1.0;
+  // In contact, the event find_event located: kLiftOff, kStick (the slip
+  // stops: jump() decides stick or reversal) or kSlip (a breakaway).
+  OrbitEvent::Kind pending = OrbitEvent::Kind::kLiftOff;
   std::vector<OrbitEvent> events;
   double slowest_impact = std::numeric_limits<double>::infinity();
   double closest_miss = std::numeric_limits<double>::infinity();
@@ -100,7 +109,13 @@ class Shooter {
     Vector z = pack(shot), z_new;
     auto system = [this, &shot](const Vector& zz, Vector& dzdt, double tt) { augmented(shot, zz, dzdt, tt); };
     while (t < t1) {
-      dt = std::min({dt, dt_max, t1 - t});
+      // A held contact's events carry the unbalance at its angle in the
+      // contact frame, phi - psi: a step turns it by at most
+      // kMaxScanAngle_rad (event_location.hpp), as in the methods.
+      const double dt_held = shot.regime == OrbitRegime::kFree
+                                 ? dt_max
+                                 : kMaxScanAngle_rad / (flow_.speed() + std::abs(flow_.angle_rate(shot.y)));
+      dt = std::min({dt, dt_max, dt_held, t1 - t});
       double t_new = t, dt_try = dt;
       z_new = z;
       if (controlled.try_step(system, z_new, t_new, dt_try) != odeint::success) {
@@ -120,6 +135,17 @@ class Shooter {
       dt = dt_try;
       if (!z.allFinite()) throw OrbitError("the state is not finite at t = " + std::to_string(t) + " s");
       unpack(z, shot);
+      if (shot.regime != OrbitRegime::kFree && t_event != t_new) {
+        // A held phase is integrated in the plane, which keeps its
+        // constraints (delta = C, delta' = 0; v_slide = 0 in a stick) only
+        // to the tolerance: each step ends projected back onto them (a move
+        // of the step's error), so that a long rolling stays on the bore;
+        // but for a step to an event, whose departure the event's own
+        // rates decide (a lift-off's flight opens as a power of the time).
+        flow_.project_to_bore(shot.y);
+        if (shot.regime == OrbitRegime::kStick) flow_.project_to_stick(t, shot.y);
+        z.head(n_) = shot.y;
+      }
       if (t_event == t_new) {
         jump(shot, t);
         z = pack(shot);
@@ -167,37 +193,27 @@ class Shooter {
     return out;
   }
 
-  // A flight that starts on the bore (a rebound, a plastic impact's
-  // departure, a lift-off): its return inside the step, or +infinity. The
-  // gap counted from the start's own (a rounding on the far side) over the
-  // time since the start is negative while the flight is away and positive
-  // once it is back inside the bore, however short the flight (the
-  // switching method's deflation); it is probed nearer the start, where a
-  // departure without a rate opens as a power of the time, and at a
-  // rebound's apex and 1.5 times its flight by its parabola (2 |delta'| /
-  // delta''), so that a flight and its return never both fall between two
-  // probes
-  // (ShotsFollowEveryRebound). Throws OrbitError where the flight never
-  // leaves the bore yet ends the step inside it.
-  double return_to_bore(const Shot& shot, const Vector& za, double ta, double ga, double tb, double gb) const {
+  // The first time in (ta, tb] where g, at ga at a boundary at ta (a flight
+  // that starts on the bore, a slip that starts from rest), comes back
+  // through it, or +infinity: g counted from ga over the time since ta is
+  // negative while g is away and positive once it is back, however short
+  // the excursion (the switching method's deflation). Probed at the
+  // fractions kDepartureProbes of the step, where a departure without a
+  // rate opens as a power of the time, at `extra` and at tb (g(tb) = gb);
+  // *away: whether a probe found g away.
+  template <class G>
+  double first_return(G&& g, double ta, double ga, double tb, double gb, const std::vector<double>& extra,
+                      bool* away) const {
     constexpr double kNone = std::numeric_limits<double>::infinity();
     RunStats stats;
-    auto deflated = [&](double t) { return (flow_.gap(state_at(shot, za, ta, t)) - ga) / (t - ta); };
-    std::vector<double> probes;
+    auto deflated = [&](double t) { return (g(t) - ga) / (t - ta); };
+    std::vector<double> probes = extra;
     for (const double fraction : kDepartureProbes) probes.push_back(ta + fraction * (tb - ta));
-    const Vector ya = za.head(n_);
-    const double rate = flow_.closing_rate(ya) * flow_.speed(), pressing = flow_.normal_force(ta, ya);
-    if (rate < 0.0 && pressing > 0.0) {
-      const double flight = 2.0 * -rate / (pressing * flow_.speed() * flow_.speed());
-      for (const double at : {0.5 * flight, 1.5 * flight}) {  // its apex, and past its return
-        if (ta + at > ta && ta + at < tb) probes.push_back(ta + at);
-      }
-    }
     probes.push_back(tb);
     std::sort(probes.begin(), probes.end());
     double t_away = kNone, d_away = 0.0;
     for (const double t : probes) {
-      if (!(t > ta)) continue;
+      if (!(t > ta) || t > tb) continue;
       const double d = t == tb ? (gb - ga) / (tb - ta) : deflated(t);
       if (d < 0.0) {
         t_away = t;
@@ -206,11 +222,45 @@ class Shooter {
         return locate_event(deflated, t_away, d_away, t, d, stats);
       }
     }
-    if (t_away == kNone && gb > kPenetration) {
+    if (away != nullptr) *away = t_away < kNone;
+    return kNone;
+  }
+
+  // A flight that starts on the bore (a rebound, a plastic impact's
+  // departure, a lift-off): its return inside the step, or +infinity, by
+  // first_return on the gap, probed too at a rebound's apex and 1.5 times
+  // its flight by its parabola (2 |delta'| / delta''), so that a flight and
+  // its return never both fall between two probes
+  // (ShotsFollowEveryRebound). Throws OrbitError where the flight never
+  // leaves the bore yet ends the step inside it.
+  double return_to_bore(const Shot& shot, const Vector& za, double ta, double ga, double tb, double gb) const {
+    std::vector<double> probes;
+    const Vector ya = za.head(n_);
+    const double rate = flow_.closing_rate(ya) * flow_.speed(), pressing = flow_.normal_force(ta, ya);
+    if (rate < 0.0 && pressing > 0.0) {
+      const double flight = 2.0 * -rate / (pressing * flow_.speed() * flow_.speed());
+      for (const double at : {0.5 * flight, 1.5 * flight}) {  // its apex, and past its return
+        if (ta + at > ta && ta + at < tb) probes.push_back(ta + at);
+      }
+    }
+    bool away = false;
+    const double t =
+        first_return([&](double tt) { return flow_.gap(state_at(shot, za, ta, tt)); }, ta, ga, tb, gb, probes, &away);
+    if (t == std::numeric_limits<double>::infinity() && !away && gb > kPenetration) {
       throw OrbitError("the free flight stays on the bore from t = " + std::to_string(ta) +
                        " s: neither pressed onto it nor leaving it (a graze the shooting cannot resolve)");
     }
-    return kNone;
+    return t;
+  }
+
+  // g's first root in (ta, tb] from below: a crossing at the step's end, or
+  // within it and back (an interior maximum); +infinity without.
+  template <class G>
+  static double crossing(G&& g, double ta, double ga, double tb, double gb) {
+    RunStats stats;
+    if (ga < 0.0 && gb >= 0.0) return locate_event(g, ta, ga, tb, gb, stats);
+    if (ga < 0.0 && gb < 0.0) return locate_interior_crossing(g, ta, ga, tb, gb, kInteriorRateStep * (tb - ta), stats);
+    return std::numeric_limits<double>::infinity();
   }
 
   // The first event in (ta, tb], or +infinity.
@@ -222,7 +272,11 @@ class Shooter {
       auto gap = [&](double t) { return flow_.gap(state_at(shot, za, ta, t)); };
       const double ga = flow_.gap(ya), gb = flow_.gap(yb);
       if (ga < 0.0 && gb >= 0.0) return locate_event(gap, ta, ga, tb, gb, stats);
-      if (ga >= 0.0) return return_to_bore(shot, za, ta, ga, tb, gb);
+      // A flight that starts on the bore (to kOnBore, not closing faster than
+      // a rounding: a departure, whose closing rate at ta is no apex).
+      if (ga >= 0.0 || (ga > -kOnBore && flow_.closing_rate(ya) < kOnBore)) {
+        return return_to_bore(shot, za, ta, ga, tb, gb);
+      }
       // An apex inside the step: where delta' falls through 0.
       const double ra = flow_.closing_rate(ya), rb = flow_.closing_rate(yb);
       if (ga < 0.0 && gb < 0.0 && ra > 0.0 && rb < 0.0) {
@@ -234,49 +288,113 @@ class Shooter {
       }
       return kNone;
     }
+    if (shot.regime == OrbitRegime::kStick) {
+      // A breakaway: the stick force leaves the cone (before any lift-off:
+      // the cone f N closes as N falls).
+      auto leaving = [&](double t) { return -flow_.cone_margin(t, state_at(shot, za, ta, t)); };
+      shot.pending = OrbitEvent::Kind::kSlip;
+      return crossing(leaving, ta, -flow_.cone_margin(ta, ya), tb, -flow_.cone_margin(tb, yb));
+    }
     auto pull = [&](double t) { return -flow_.normal_force(t, state_at(shot, za, ta, t)); };
-    const double pa = -flow_.normal_force(ta, ya), pb = -flow_.normal_force(tb, yb);
-    double t_lift = kNone;
-    if (pa < 0.0 && pb >= 0.0) {
-      t_lift = locate_event(pull, ta, pa, tb, pb, stats);
-    } else if (pa < 0.0 && pb < 0.0) {
-      t_lift = locate_interior_crossing(pull, ta, pa, tb, pb, kInteriorRateStep * (tb - ta), stats);
-    }
-    // The slip up to the lift-off (past it the contact's field is not the flow's).
-    const double t_slip = std::min(t_lift, tb);
-    if (flow_.slip(t_slip, t_slip == tb ? yb : state_at(shot, za, ta, t_slip)) * shot.slip_sign <= 0.0) {
-      throw OrbitError("the slip stops before t = " + std::to_string(t_slip) +
-                       " s: a sticking phase (rolling), which the shooting does not follow");
-    }
-    return t_lift;
+    const double t_lift = crossing(pull, ta, -flow_.normal_force(ta, ya), tb, -flow_.normal_force(tb, yb));
+    // The slip's stop: v_slide s falling through 0; from a slip that starts
+    // at rest (a breakaway, a stick's cone refused at a contact's start) its
+    // first return.
+    auto stopping = [&](double t) { return -shot.slip_sign * flow_.slip(t, state_at(shot, za, ta, t)); };
+    const double sa = -shot.slip_sign * flow_.slip(ta, ya), sb = -shot.slip_sign * flow_.slip(tb, yb);
+    const double t_stop =
+        sa > -kStickSlip ? first_return(stopping, ta, sa, tb, sb, {}, nullptr) : crossing(stopping, ta, sa, tb, sb);
+    shot.pending = t_stop < t_lift ? OrbitEvent::Kind::kStick : OrbitEvent::Kind::kLiftOff;
+    return std::min(t_stop, t_lift);
   }
 
+  // The contact's friction regime at its start (a touchdown, a state on the
+  // bore): sliding the slip's way, or from rest sticking where the cone
+  // holds the stick force (the slip then set to exactly 0), else sliding
+  // against it (contact_law.hpp's select_friction_mode).
   void enter_contact(Shot& shot, double t) const {
     const double slip = flow_.slip(t, shot.y);
-    if (std::abs(slip) < kStickSlip) {
-      throw OrbitError("a contact starts without slip at t = " + std::to_string(t) +
-                       " s: a sticking phase (rolling), which the shooting does not follow");
-    }
     shot.regime = OrbitRegime::kContact;
-    shot.slip_sign = slip > 0.0 ? 1.0 : -1.0;
+    if (std::abs(slip) >= kStickSlip) {
+      shot.slip_sign = slip > 0.0 ? 1.0 : -1.0;
+      return;
+    }
+    const FrictionMode mode = rest_mode(shot, t);
+    shot.slip_sign = mode.slip_sign;
+    if (mode.stick) {
+      shot.regime = OrbitRegime::kStick;
+      flow_.project_to_stick(t, shot.y);
+    }
+  }
+  // The friction mode of a contact at rest (v_slide = 0) at t; OrbitError
+  // at the cone's edge.
+  FrictionMode rest_mode(const Shot& shot, double t) const {
+    const double cone = flow_.model().parameters().friction_coefficient * flow_.normal_force(t, shot.y);
+    const double stick = flow_.stick_force(t, shot.y);
+    if (cone > 0.0 && std::abs(cone - std::abs(stick)) < kConeEdge * cone) {
+      std::ostringstream msg;
+      msg << "the slip stops at t = " << t << " s at the edge of the friction cone (stick force " << stick
+          << " against the cone " << cone << " of m C w^2): whether the contact sticks parts by a rounding";
+      throw OrbitError(msg.str());
+    }
+    return select_friction_mode(0.0, true, stick, cone);
+  }
+
+  // The slip stopping at t: a stick where the cone holds the stick force,
+  // else the slip reversed. No jump; the friction's switch has the
+  // saltation S = I + (f+ - f-) h_x / (h_x f-), h = v_slide (Filippov's
+  // crossing, and entering his sliding mode for a stick).
+  void slip_stops(Shot& shot, double t) const {
+    const Eigen::RowVectorXd h = flow_.slip_gradient(t, shot.y);
+    Vector f_minus, f_plus;
+    flow_.field(t, shot.y, shot.regime, shot.slip_sign, f_minus);
+    const double rate = h.dot(f_minus);  // v_slide' / (C w)
+    if (!(std::abs(rate) > kGrazingVelocity * flow_.speed())) {
+      std::ostringstream msg;
+      msg << "the slip comes to rest tangentially at t = " << t << " s (v_slide' " << rate / flow_.speed()
+          << " of C w^2): its monodromy is not defined there";
+      throw OrbitError(msg.str());
+    }
+    const FrictionMode mode = rest_mode(shot, t);
+    shot.events.push_back({mode.stick ? OrbitEvent::Kind::kStick : OrbitEvent::Kind::kReversal, t, 0.0});
+    shot.slip_sign = mode.slip_sign;
+    if (mode.stick) {
+      shot.regime = OrbitRegime::kStick;
+      flow_.project_to_stick(t, shot.y);
+    }
+    if (!jac_) return;
+    flow_.field(t, shot.y, shot.regime, shot.slip_sign, f_plus);
+    shot.phi = (Eigen::MatrixXd::Identity(n_, n_) + (f_plus - f_minus) * h / rate) * shot.phi;
   }
 
   // The event at t: its jump, and the saltation matrix on the Jacobian.
   void jump(Shot& shot, double t) const {
-    if (shot.regime == OrbitRegime::kContact) {
-      // A lift-off: N = 0, the two fields agree; the saltation matrix is I.
-      shot.regime = OrbitRegime::kFree;
-      shot.events.push_back({OrbitEvent::Kind::kLiftOff, t, 0.0});
+    if (shot.regime != OrbitRegime::kFree) {
+      if (shot.pending == OrbitEvent::Kind::kStick) return slip_stops(shot, t);
+      // A lift-off (N = 0) or a breakaway (the stick force at f N): the two
+      // fields agree; the saltation matrix is I.
+      if (shot.pending == OrbitEvent::Kind::kSlip) {
+        shot.regime = OrbitRegime::kContact;
+        shot.slip_sign = flow_.stick_force(t, shot.y) > 0.0 ? -1.0 : 1.0;
+      } else {
+        shot.regime = OrbitRegime::kFree;
+      }
+      shot.events.push_back({shot.pending, t, 0.0});
       return;
     }
     const Vector y = shot.y;
     const double vn = flow_.closing_rate(y);
-    if (!(vn > kGrazingVelocity)) {
+    // A graze has no saltation matrix (it divides by vn); a shot without
+    // the Jacobian (a settling run, the keyphasor's states) goes on through
+    // it as the switching method does: a touch that does not close is no
+    // impact.
+    if (!(vn > kGrazingVelocity) && jac_) {
       std::ostringstream msg;
       msg << "the orbit grazes the bore at t = " << t << " s (closing velocity " << vn
           << " of C w): its monodromy is not defined there";
       throw OrbitError(msg.str());
     }
+    if (!(vn > 0.0)) return;
     shot.slowest_impact = std::min(shot.slowest_impact, vn);
     bool settles = false;
     shot.y = flow_.impact(t, y, &settles);
@@ -347,7 +465,8 @@ OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0, doubl
   try {
     shooter.start(shot, t0);
     out.start = shot.y;
-    out.starts_in_contact = shot.regime == OrbitRegime::kContact;
+    out.starts_in_contact = shot.regime != OrbitRegime::kFree;
+    out.starts_in_stick = shot.regime == OrbitRegime::kStick;
     shooter.advance(shot, t0, t1);
   } catch (const OrbitError&) {
     throw;
@@ -357,7 +476,8 @@ OrbitShot shoot(const RubFlow& flow, const Eigen::VectorXd& y0, double t0, doubl
   out.end = shot.y;
   out.jacobian = std::move(shot.phi);
   out.events = std::move(shot.events);
-  out.ends_in_contact = shot.regime == OrbitRegime::kContact;
+  out.ends_in_contact = shot.regime != OrbitRegime::kFree;
+  out.ends_in_stick = shot.regime == OrbitRegime::kStick;
   out.slowest_impact = shot.slowest_impact;
   out.closest_miss = shot.closest_miss;
   return out;
@@ -406,7 +526,10 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
   }
   const double period = s.periods * flow.period(), t0 = s.section_angle_rad / w;
   Vector y = flow.scaled(guess);
-  bool in_contact = false;
+  // The start's regime: free (0), in contact sliding (1), sticking (2).
+  const auto regime = [](bool contact, bool stick) { return stick ? 2 : contact ? 1 : 0; };
+  const char* const kRegimes[] = {"in free flight", "in contact sliding", "in contact sticking"};
+  int start_regime = 0;
   PeriodicOrbit orbit;
   orbit.speed_rad_per_s = w;
   orbit.parameter = w;
@@ -420,24 +543,27 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
       if (it == 0) throw;
       throw OrbitError("no periodic orbit near the guess: Newton's iterate " + std::to_string(it) + ": " + e.what());
     }
-    if (it == 0) in_contact = shot.starts_in_contact;
-    if (shot.starts_in_contact != in_contact) {
+    const int starts = regime(shot.starts_in_contact, shot.starts_in_stick);
+    if (it == 0) start_regime = starts;
+    if (starts != start_regime) {
       throw OrbitError("Newton's iterate left the start's regime: no orbit near the guess");
     }
     y = shot.start;  // projected onto the bore in contact
-    if (shot.ends_in_contact != in_contact) {
-      throw OrbitError(std::string("the shot ends ") + (in_contact ? "in free flight" : "in contact") +
-                       " where it started " + (in_contact ? "in contact" : "in free flight") +
+    const int ends = regime(shot.ends_in_contact, shot.ends_in_stick);
+    if (ends != start_regime) {
+      throw OrbitError(std::string("the shot ends ") + kRegimes[ends] + " where it started " + kRegimes[start_regime] +
                        ": no orbit near the guess");
     }
+    const bool in_contact = start_regime > 0, in_stick = start_regime == 2;
     const Vector r = shot.end - y;
     const double residual = r.lpNorm<Eigen::Infinity>();
-    const Eigen::MatrixXd basis = in_contact ? flow.tangent_basis(y) : Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd basis = in_contact ? flow.tangent_basis(t0, y, in_stick) : Eigen::MatrixXd::Identity(n, n);
     const Eigen::MatrixXd m = basis.transpose() * shot.jacobian * basis;
     // Accepted below the tolerance, after at least one Newton step unless
     // already at the rounding (a settled start meets the tolerance as it is).
     if (residual < s.newton_tolerance && (it > 0 || residual < kPolished)) {
       orbit.starts_in_contact = in_contact;
+      orbit.starts_in_stick = in_stick;
       orbit.section_angle_rad = s.section_angle_rad;
       orbit.state = flow.physical(y);
       orbit.keyphasor_states = keyphasor_states(flow, y, t0, s);
@@ -461,6 +587,7 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
     const Eigen::MatrixXd a = m - Eigen::MatrixXd::Identity(m.rows(), m.cols());
     y += basis * a.fullPivLu().solve(-(basis.transpose() * r));
     if (in_contact) flow.project_to_bore(y);
+    if (in_stick) flow.project_to_stick(t0, y);
   }
 }
 

@@ -4,6 +4,9 @@
 // held on the bore, sliding), the events' functions, the impact's jump, and
 // their Jacobians. The physics is the model's own (station_model.hpp,
 // model.hpp, contact_law.hpp): this file only evaluates it on a vector.
+// Its three fields: free flight; the rotor held on the bore sliding, the
+// friction -f F_n s; held on the bore sticking (rolling), the friction the
+// stick force that holds v_slide' = 0 (contact_law.hpp's stick regime).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,7 +22,13 @@
 
 namespace rotor_rub::core {
 
-enum class OrbitRegime { kFree, kContact };
+enum class OrbitRegime { kFree, kContact, kStick };  // kContact: sliding
+
+// A slip this small (in units of C w) at a contact's start or after an
+// impact is a stick: the impact law ends a stick at 0 but for the rounding
+// of the velocities it adds (of order 1e-16 of them, which are of order 1
+// and R_r / C here).
+inline constexpr double kStickSlip = 1e-9;
 
 // RubFlow's order is the free layout's, with the indices at run time.
 static_assert(FreeLayout<0>::kRotorVel == 2 && FreeLayout<0>::kSize == 4, "a rigid stator's layout");
@@ -100,23 +109,48 @@ class RubFlow {
     const Eigen::Vector2d rel = y.head<2>() - stator_pos(y);
     return rel.normalized().dot(y.segment<2>(vel_) - stator_vel(y));
   }
+  double angle_rate(const Eigen::VectorXd& y) const {  // psi' [rad/s], the contact angle's
+    const Eigen::Vector2d rel = y.head<2>() - stator_pos(y), v = y.segment<2>(vel_) - stator_vel(y);
+    return w_ * (rel.x() * v.y() - rel.y() * v.x()) / rel.squaredNorm();
+  }
   double slip(double t, const Eigen::VectorXd& y) const {  // v_slide / (C w)
     return model_.contact_geometry(kinematics(y), drive(t)).sliding_velocity_m_per_s / (C_ * w_);
   }
 
+  // The stick force F_t that holds v_slide' = 0, over m_eff C w^2 (the
+  // normal_force()'s units): -m_eff v_slide'(F_t = 0), v_slide' affine in
+  // F_t with the slope 1 / m_eff (station_model.hpp's sliding_acceleration).
+  double stick_force(double t, const Eigen::VectorXd& y) const {
+    const Kinematics k = kinematics(y);
+    const DriveState d = drive(t);
+    const ContactGeometry g = model_.contact_geometry(k, d);
+    const double fn = normal_force(t, y) * model_.effective_mass_kg() * C_ * w_ * w_;
+    return -model_.sliding_acceleration(k, g, model_.accelerations(d, g, model_.free_loads(k, d), fn, 0.0)) /
+           (C_ * w_ * w_);
+  }
+  // The friction cone's margin f F_n - |F_t,stick| (the same units): a stick
+  // holds while it is >= 0.
+  double cone_margin(double t, const Eigen::VectorXd& y) const {
+    return model_.parameters().friction_coefficient * normal_force(t, y) - std::abs(stick_force(t, y));
+  }
+
   // dy/dt: in contact the normal force normal_force() and the friction
-  // -f F_n slip_sign.
+  // -f F_n slip_sign (sliding) or the stick force (sticking).
   void field(double t, const Eigen::VectorXd& y, OrbitRegime regime, double slip_sign, Eigen::VectorXd& dydt) const {
     const Kinematics k = kinematics(y);
     const DriveState d = drive(t);
     const ContactGeometry g = model_.contact_geometry(k, d);
     const FreeLoads loads = model_.free_loads(k, d);
-    double fn = 0.0;
-    if (regime == OrbitRegime::kContact) {
+    double fn = 0.0, ft = 0.0;
+    if (regime != OrbitRegime::kFree) {
       fn = model_.effective_mass_kg() *
            StationModel::distance_acceleration(k, g, model_.accelerations(d, g, loads, 0.0, 0.0));
     }
-    const double ft = -model_.parameters().friction_coefficient * slip_sign * fn;
+    if (regime == OrbitRegime::kContact) {
+      ft = -model_.parameters().friction_coefficient * slip_sign * fn;
+    } else if (regime == OrbitRegime::kStick) {
+      ft = -model_.effective_mass_kg() * model_.sliding_acceleration(k, g, model_.accelerations(d, g, loads, fn, 0.0));
+    }
     const Accelerations a = model_.accelerations(d, g, loads, fn, ft);
     dydt.resize(n_);
     dydt.head(vel_) = w_ * y.tail(n_ - vel_);
@@ -146,7 +180,7 @@ class RubFlow {
 
   // The impact law's jump (contact_law.hpp's apply_impact, the switching
   // method's) at a located touchdown; settles: the rebound settled (plastic).
-  Eigen::VectorXd impact(double t, const Eigen::VectorXd& y, bool* settles = nullptr) const {
+  Eigen::VectorXd impact(double t, const Eigen::VectorXd& y, bool* settles = nullptr, bool* stuck = nullptr) const {
     Kinematics k = kinematics(y);
     const DriveState d = drive(t);
     const ContactGeometry g = model_.contact_geometry(k, d);
@@ -154,28 +188,35 @@ class RubFlow {
     if (settles != nullptr) *settles = r.settles;
     Eigen::VectorXd out = y;
     store(k, out);
+    if (stuck != nullptr) *stuck = std::abs(slip(t, out)) < kStickSlip;
     return out;
   }
   // Its Jacobian by central differences, of a step below a hundredth of the
   // closing velocity (every neighbour closes too). The jump is smooth while
   // the impact slides throughout and every neighbour settles or rebounds as
   // the impact itself does: where the settling rule (contact_law.hpp) parts
-  // them, the jump has no derivative and OrbitError says so.
+  // them, or a stick within the impulse (its slide ending before the
+  // impulse does), the jump has no derivative and OrbitError says so.
   Eigen::MatrixXd impact_jacobian(double t, const Eigen::VectorXd& y) const {
     const double h = std::min(kContactStep, 1e-2 * closing_rate(y));
-    bool settles = false;
-    impact(t, y, &settles);
+    bool settles = false, stuck = false;
+    impact(t, y, &settles, &stuck);
     Eigen::MatrixXd j(n_, n_);
     Eigen::VectorXd yp = y, ym = y;
     for (int i = 0; i < n_; ++i) {
       yp(i) = y(i) + h;
       ym(i) = y(i) - h;
-      bool sp = false, sm = false;
-      const Eigen::VectorXd fp = impact(t, yp, &sp), fm = impact(t, ym, &sm);
+      bool sp = false, sm = false, kp = false, km = false;
+      const Eigen::VectorXd fp = impact(t, yp, &sp, &kp), fm = impact(t, ym, &sm, &km);
       if (sp != settles || sm != settles) {
         throw OrbitError("an impact at t = " + std::to_string(t) +
                          " s lies at the edge of the settling rule (its rebound settles or not as the state moves "
                          "by a rounding): its jump has no derivative there");
+      }
+      if (kp != stuck || km != stuck) {
+        throw OrbitError("an impact at t = " + std::to_string(t) +
+                         " s lies at the edge of a stick (its friction stops the slip or not as the state moves by "
+                         "a rounding): its jump has no derivative there");
       }
       j.col(i) = (fp - fm) / (2.0 * h);
       yp(i) = ym(i) = y(i);
@@ -198,6 +239,20 @@ class RubFlow {
     };
     return central_jacobian(fn, y);
   }
+  Eigen::RowVectorXd slip_gradient(double t, const Eigen::VectorXd& y) const {
+    const auto fn = [this, t](const Eigen::VectorXd& v) {
+      Eigen::VectorXd out(1);
+      out(0) = slip(t, v);
+      return out;
+    };
+    return central_jacobian(fn, y);
+  }
+  // y on the bore moved onto the stick's manifold (v_slide = 0) by the
+  // rotor's tangential velocity.
+  void project_to_stick(double t, Eigen::VectorXd& y) const {
+    const Eigen::Vector2d n = (y.head<2>() - stator_pos(y)).normalized();
+    y.segment<2>(vel_) -= slip(t, y) * Eigen::Vector2d(-n.y(), n.x());
+  }
   // y moved onto the bore (delta = C, delta' = 0) along the normal.
   void project_to_bore(Eigen::VectorXd& y) const {
     const Eigen::Vector2d s = stator_pos(y), rel = y.head<2>() - s;
@@ -207,8 +262,9 @@ class RubFlow {
     y.segment<2>(vel_) -= vn * n;
   }
   // An orthonormal basis of the bore's tangent space at y (n - 2 columns):
-  // the perturbations that keep the rotor on the bore to first order.
-  Eigen::MatrixXd tangent_basis(const Eigen::VectorXd& y) const;
+  // the perturbations that keep the rotor on the bore to first order; with
+  // stick, also v_slide = 0 (n - 3 columns).
+  Eigen::MatrixXd tangent_basis(double t, const Eigen::VectorXd& y, bool stick) const;
 
  private:
   Eigen::Vector2d stator_pos(const Eigen::VectorXd& y) const {

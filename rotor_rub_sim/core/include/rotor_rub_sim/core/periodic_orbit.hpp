@@ -3,17 +3,23 @@
 /// a constant speed w, and their Floquet multipliers: shooting on the
 /// event-driven flow of the rigid contact (the switching method's physics:
 /// free flight, impacts by contact_law.hpp's law, the rotor held on the bore
-/// sliding with the friction f N against the slip, lift-off where N falls
-/// to 0), with the monodromy matrix built exactly from the variational
-/// equations of each phase and the saltation matrix of each event:
+/// sliding with the friction f N against the slip or sticking (rolling,
+/// v_slide = 0 held by the stick force while it lies in the cone f N),
+/// lift-off where N falls to 0), with the monodromy matrix built exactly
+/// from the variational equations of each phase and the saltation matrix of
+/// each event:
 ///   S = G_x + (f+ - G_x f-) h_x / (h_x f-)
 /// (h the event's function, G the jump it applies, f-/f+ the fields before
-/// and after). A lift-off's is the identity (N = 0 there: the two fields
-/// agree); a plastic impact's has rank n - 1 (the normal velocity dies: a
-/// multiplier 0), and n - 2 when a contact follows it (the gap dies too). The forcing is periodic in T = 2 pi / w, so
-/// an orbit of n periods is a fixed point of the flow over n T from a spin
-/// angle psi (the section, 0 unless chosen): Newton on the state there, on
-/// the bore's tangent space when the orbit starts in contact (the full rub).
+/// and after). A lift-off's and a breakaway's (the stick force reaching the
+/// cone) are the identity (the two fields agree there); a plastic impact's
+/// has rank n - 1 (the normal velocity dies: a multiplier 0), and n - 2 when
+/// a contact follows it (the gap dies too); a slip's stop (h = v_slide, no
+/// jump) switches the friction, and into a stick it has rank n - 1 (the
+/// slip dies: Filippov's sliding mode). The forcing is periodic in
+/// T = 2 pi / w, so an orbit of n periods is a fixed point of the flow over
+/// n T from a spin angle psi (the section, 0 unless chosen): Newton on the
+/// state there, on the bore's tangent space when the orbit starts in
+/// contact (the full rub), and on the stick's when it starts sticking.
 ///
 /// The state is the free layout's (state_layout.hpp): the rotor's position
 /// and, with an elastic stator, the stator's, then their velocities [m,
@@ -24,10 +30,12 @@
 /// difference of unit steps, exact to rounding).
 ///
 /// Limits, each reported by OrbitError: the Jeffcott rotor only, the
-/// prescribed drive, the rigid contact (not the penalty's spring); a
-/// sticking phase (rolling) is not followed; an orbit that grazes the bore
-/// (an impact slower than kGrazingVelocity of C w, or a free-flight apex
-/// within kGrazingGap of C of the bore) has no monodromy there; more than
+/// prescribed drive, the rigid contact (not the penalty's spring); an orbit
+/// that grazes the bore (an impact slower than kGrazingVelocity of C w, or a
+/// free-flight apex within kGrazingGap of C of the bore) has no monodromy
+/// there, nor one whose slip comes to rest slower than kGrazingVelocity of
+/// C w^2 or at the cone's edge (the stick force within kConeEdge of f N:
+/// a neighbour would stick where it slips on); more than
 /// OrbitSettings::max_events events in a forcing period (a chattering
 /// sequence of impacts) end the shot. Tests: test_periodic_orbit.cpp.
 #pragma once
@@ -54,6 +62,10 @@ inline constexpr double kGrazingVelocity = 1e-6;
 /// A free flight's closest approach within this fraction of C short of the
 /// bore grazes it: a neighbouring orbit's impact would be missed.
 inline constexpr double kGrazingGap = 1e-9;
+/// A slip that stops with a stick force within this fraction of the cone
+/// f N of its edge: whether a neighbour sticks or slips on parts by a
+/// rounding of the Newton step, and the flow has no derivative there.
+inline constexpr double kConeEdge = 1e-6;
 
 struct OrbitSettings {
   int periods = 1;                 ///< the forcing periods T of the orbit (period-n)
@@ -70,14 +82,24 @@ struct OrbitSettings {
 /// An event of the flow. kImpact: an impact after which the flight goes on
 /// (a rebound, or a plastic impact not pressed onto the bore); kTouchdown: a
 /// plastic impact that starts a contact; kLiftOff: the normal force falls
-/// to 0.
+/// to 0; kStick: the slip stops and the contact sticks; kReversal: the slip
+/// stops and goes on the other way; kSlip: a stick's force reaches the
+/// cone and the contact slides.
 struct OrbitEvent {
-  enum class Kind { kImpact, kTouchdown, kLiftOff };
+  enum class Kind { kImpact, kTouchdown, kLiftOff, kStick, kReversal, kSlip };
   Kind kind = Kind::kImpact;
   double time_s = 0.0;
   double normal_velocity_m_per_s = 0.0;  ///< the closing velocity of an impact
 };
 const char* to_string(OrbitEvent::Kind kind);
+/// An impact or a touchdown (its normal_velocity_m_per_s is the closing one).
+inline bool is_impact(OrbitEvent::Kind kind) {
+  return kind == OrbitEvent::Kind::kImpact || kind == OrbitEvent::Kind::kTouchdown;
+}
+/// The event starts a free flight (an impact that rebounds, a lift-off).
+inline bool starts_flight(OrbitEvent::Kind kind) {
+  return kind == OrbitEvent::Kind::kImpact || kind == OrbitEvent::Kind::kLiftOff;
+}
 
 /// The flow from t0 to t1 with its Jacobian.
 struct OrbitFlow {
@@ -105,10 +127,11 @@ struct PeriodicOrbit {
   /// points (rotor_rub_bifurcation) see of it, n of them.
   std::vector<Eigen::VectorXd> keyphasor_states;
   bool starts_in_contact = false;
+  bool starts_in_stick = false;    ///< in contact, sticking
   std::vector<OrbitEvent> events;  ///< over one orbit, t in (psi / w, psi / w + n T]
   /// d y(nT) / d y(0) of y = (positions / C, velocities / (C w)); starting
   /// in contact, its part on the bore's tangent space in y (n - 2 columns of
-  /// an orthonormal basis of it, tangent_basis).
+  /// an orthonormal basis of it, tangent_basis; sticking, the stick's, n - 3).
   Eigen::MatrixXd monodromy;
   Eigen::MatrixXd tangent_basis;
   /// The monodromy's eigenvalues, the largest modulus first.
@@ -131,7 +154,7 @@ OrbitFlow orbit_flow(const ModelParameters& p, double w_rad_per_s, const Eigen::
 /// state at the section's spin angle), found by Newton on the shooting
 /// residual.
 /// Throws OrbitError when Newton does not converge (no orbit near the
-/// guess), the orbit grazes, sticks or chatters.
+/// guess), the orbit grazes (the bore or the cone's edge) or chatters.
 PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w_rad_per_s, const Eigen::VectorXd& guess,
                                   const OrbitSettings& settings = {});
 
