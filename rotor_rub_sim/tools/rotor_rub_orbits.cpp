@@ -56,15 +56,31 @@ int least_period(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
   return o.periods;
 }
 
+// A largest multiplier this close to 1 is neutral to the monodromy's
+// accuracy (1e-10 on the examples, 2e-8 on a fast rolling whose field's
+// Jacobian is a difference): a family of orbits (a rolling whose R_r / C
+// is an integer) or a fold.
+constexpr double kNeutral = 1e-6;
+
 void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
+  const bool neutral = std::abs(std::abs(o.multipliers.front()) - 1.0) < kNeutral;
   std::printf("orbit at %.6f rad/s: period %d T = %.9g s, %s, Newton %d iterations (residual %.2g of C)\n",
-              o.speed_rad_per_s, o.periods, o.period_s, o.stable() ? "stable" : "unstable", o.newton_iterations,
-              o.residual);
+              o.speed_rad_per_s, o.periods, o.period_s,
+              neutral      ? "neutral"
+              : o.stable() ? "stable"
+                           : "unstable",
+              o.newton_iterations, o.residual);
+  if (neutral) {
+    std::printf(
+        "  note: its largest multiplier is 1 to %g: neutral (a family of orbits, as a rolling whose R_r / C is an "
+        "integer, or a fold)\n",
+        kNeutral);
+  }
   if (const int least = least_period(p, o); least < o.periods) {
     std::printf("  note: its least period is %d T: it is the orbit of --periods %d traced %d times\n", least, least,
                 o.periods / least);
   }
-  if (!o.stable()) {
+  if (!o.stable() && !neutral) {
     std::printf(
         "  note: unstable, so no run stays on it: the run from rest settled elsewhere (a periodic orbit of "
         "more periods, --periods 2, 4, ...; or a motion that is not periodic)\n");
@@ -75,10 +91,14 @@ void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
     if (core::is_impact(e.kind)) std::printf(", closing at %.6g m/s", e.normal_velocity_m_per_s);
     std::printf("\n");
   }
-  if (o.events.empty()) std::printf("  no contact\n");
+  if (o.events.empty()) {
+    std::printf("  %s\n", !o.starts_in_contact ? "no contact"
+                          : o.starts_in_stick  ? "on the bore throughout, sticking (rolling on it: dry whip)"
+                                               : "on the bore throughout, sliding (the full rub)");
+  }
   if (o.starts_in_contact) {
-    std::printf("  (the section lies in a contact: the multipliers on the bore's tangent space, %zu of them)\n",
-                o.multipliers.size());
+    std::printf("  (the section lies in a contact%s: the multipliers on the %s tangent space, %zu of them)\n",
+                o.starts_in_stick ? ", sticking" : "", o.starts_in_stick ? "stick's" : "bore's", o.multipliers.size());
   }
   for (const std::complex<double>& mu : o.multipliers) {
     std::printf("  multiplier %+.9f %+.9fi  |mu| %.9f\n", mu.real(), mu.imag(), std::abs(mu));

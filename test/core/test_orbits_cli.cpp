@@ -1,7 +1,7 @@
 // rotor_rub_orbits' command line: the horizontal rotor's orbit at 60 rad/s,
 // its branch with the bifurcations the core's tests hold
-// (test_orbit_continuation.cpp), its CSV, no orbit as exit status 3, and bad
-// input as one line with exit status 2.
+// (test_orbit_continuation.cpp), its CSV, orbits that stick, no orbit as exit
+// status 3, and bad input as one line with exit status 2.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -53,6 +53,30 @@ TEST(OrbitsCli, ABranchInAKey) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("branch 0: period_doubling at 8.8465"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("9.810000 to 8.30"), std::string::npos) << r.out;
+}
+
+// The thin shaft (R_r = C, f = 1, plastic: test_periodic_orbit.cpp's) sticks
+// and slips on the bore's bottom: its events and multipliers on the bore's
+// tangent space; its branch is not traced (no section in free flight), said
+// as bad input. The paper's rotor (R_r = 5 C) rolls throughout at f = 1: a
+// neutral multiplier (every phase of the rolling is an orbit).
+TEST(OrbitsCli, StickingOrbits) {
+  const std::string thin = "--scene " + config("horizontal_rub.yaml") +
+                           " --set rotor_radius_m=0.002 --set friction_coefficient=1 --set restitution=0 --speed 110";
+  const Result r = orbits(thin);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* line : {"stick     at t = 0.01211569", "slip      at t = 0.02635748", "stable",
+                           "multipliers on the bore's tangent space, 2 of them", "|mu| 0.43264225"}) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+  const Result branch = orbits(thin + " --continue 100 120");
+  EXPECT_EQ(branch.status, 2);
+  EXPECT_NE(branch.err.find("never leaves the bore (it sticks and slips on it)"), std::string::npos) << branch.err;
+  const Result whip = orbits("--scene " + config("horizontal_rub.yaml") +
+                             " --set friction_coefficient=1 --set restitution=0 --speed 100");
+  ASSERT_EQ(whip.status, 0) << whip.err;
+  EXPECT_NE(whip.out.find("neutral"), std::string::npos) << whip.out;
+  EXPECT_NE(whip.out.find("sticking (rolling on it: dry whip)"), std::string::npos) << whip.out;
 }
 
 TEST(OrbitsCli, NoOrbitAndBadInput) {
