@@ -290,17 +290,6 @@ int main(int argc, char** argv) {
     if (csv.is_open()) write_rows(csv, 0, orbit, "");
     return 0;
   }
-  const bool flies = std::any_of(orbit.events.begin(), orbit.events.end(),
-                                 [](const core::OrbitEvent& e) { return core::starts_flight(e.kind); });
-  if (orbit.starts_in_contact && orbit.events.empty()) {
-    bad_input("the orbit at " + core::exact_text(speed) +
-              " rad/s never leaves the bore (the full rub): rotor_rub_stability --branch-csv traces its branch");
-  }
-  if (orbit.starts_in_contact && !flies) {
-    bad_input("the orbit at " + core::exact_text(speed) +
-              " rad/s never leaves the bore (it sticks and slips on it): --continue traces branches from a section "
-              "in free flight");
-  }
   core::ContinuationSettings cs;
   cs.min_speed_rad_per_s = range[0];
   cs.max_speed_rad_per_s = range[1];

@@ -316,8 +316,16 @@ TEST(OrbitContinuation, BadInputIsAClearError) {
   not_pd.orbit = b.start;
   not_pd.speed_rad_per_s = 60.0;
   EXPECT_THROW(core::continue_period_doubled(p, not_pd, range(true)), std::invalid_argument);
-  // The full rub never leaves the bore: rotor_rub_stability's continuation traces it.
-  core::ModelParameters rub = p;
+}
+
+// The full rub never leaves the bore (no events): traced on the bore's
+// tangent space, each point is full_rub_stability's steady state at its
+// speed (the turning frame's equilibrium at spin angle 0) to kFixedPoint of
+// C (the Newton tolerance 1e-9 over 1 - |mu|, here at least 0.4), and as
+// stable.
+TEST(OrbitContinuation, TheFullRubsBranchIsTheTurningFramesEquilibria) {
+  constexpr double kFixedPoint = 1e-8;
+  core::ModelParameters rub = horizontal();
   rub.gravity_m_per_s2 = 0.0;
   const auto branches = core::full_rub_stability(rub, 300.0);
   ASSERT_FALSE(branches.empty());
@@ -329,5 +337,73 @@ TEST(OrbitContinuation, BadInputIsAClearError) {
   core::ContinuationSettings around = range(true);
   around.min_speed_rad_per_s = 250.0;
   around.max_speed_rad_per_s = 350.0;
-  EXPECT_THROW(core::continue_orbit(rub, full_rub, around), core::OrbitError);
+  const core::OrbitBranch up = core::continue_orbit(rub, full_rub, around);
+  std::printf("the full rub's branch up from 300 rad/s: %zu points, it ends: %s\n", up.points.size(), up.end.c_str());
+  ASSERT_GT(up.points.size(), 3u);
+  for (const core::PeriodicOrbit& o : up.points) {
+    double nearest = INFINITY;
+    bool stable = false;
+    for (const core::FullRubStability& f : core::full_rub_stability(rub, o.speed_rad_per_s)) {
+      const double off = std::abs(std::complex<double>(o.state(0), o.state(1)) - f.station_m) / rub.clearance_m;
+      if (off < nearest) {
+        nearest = off;
+        stable = f.stable();
+      }
+    }
+    EXPECT_LT(nearest, kFixedPoint) << o.speed_rad_per_s;
+    EXPECT_EQ(o.stable(), stable) << o.speed_rad_per_s;
+  }
+}
+
+// An orbit on the bore throughout, sticking and slipping twice a revolution
+// (test_periodic_orbit.cpp's thin shaft: R_r = C, f = 1, plastic, 110
+// rad/s), traced on the bore's tangent space: down in speed it doubles its
+// period at 107.505 rad/s (the orbit found again there has a multiplier at
+// -1 to kLocated), and a switching-method run between that doubling and the
+// doubled orbit's own settles on an orbit of two periods, to kSettled of C
+// (the run's rtol 1e-10 over 400 periods); up in speed the trace ends where
+// a slip comes to rest tangentially (a stick phase is born or dies there).
+TEST(OrbitContinuation, AStickSlipBranchOnTheBore) {
+  constexpr double kSettled = 1e-8;
+  core::ModelParameters p = horizontal();
+  p.restitution = 0.0;
+  p.rotor_radius_m = p.clearance_m;
+  p.friction_coefficient = 1.0;
+  const core::PeriodicOrbit start = core::find_periodic_orbit(p, 110.0, core::settled_state(p, 110.0, 300));
+  ASSERT_TRUE(start.starts_in_contact);
+  core::ContinuationSettings settings = range(false);
+  settings.min_speed_rad_per_s = 100.0;
+  settings.max_speed_rad_per_s = 120.0;
+  const core::OrbitBranch down = core::continue_orbit(p, start, settings);
+  settings.increasing_speed = true;
+  const core::OrbitBranch up = core::continue_orbit(p, start, settings);
+  for (const core::OrbitBranch* b : {&down, &up}) {
+    for (const auto& pt : b->points) {
+      EXPECT_TRUE(pt.starts_in_contact);
+      EXPECT_EQ(pt.events.size(), start.events.size());
+    }
+  }
+  const core::OrbitBifurcation* pd = first(down, core::OrbitBifurcationKind::kPeriodDoubling);
+  ASSERT_NE(pd, nullptr) << down.end;
+  std::printf("the stick-slip orbit doubles at %.9f rad/s; down it ends: %s; up: %s\n", pd->speed_rad_per_s,
+              down.end.c_str(), up.end.c_str());
+  EXPECT_GT(pd->speed_rad_per_s, 107.4);
+  EXPECT_LT(pd->speed_rad_per_s, 107.6);
+  core::OrbitSettings at_section;
+  at_section.section_angle_rad = pd->orbit.section_angle_rad;
+  const core::PeriodicOrbit again = core::find_periodic_orbit(p, pd->speed_rad_per_s, pd->orbit.state, at_section);
+  double nearest = INFINITY;
+  for (const auto& mu : again.multipliers) nearest = std::min(nearest, std::abs(mu + 1.0));
+  EXPECT_LT(nearest, kLocated);
+  EXPECT_NE(up.end.find("comes to rest tangentially"), std::string::npos) << up.end;
+  // Between the doubling and the doubled orbit's own (107.43 rad/s).
+  const double w = 107.47, period = 2.0 * M_PI / w;
+  std::vector<double> times;
+  for (int k = 397; k <= 400; ++k) times.push_back(k * period);
+  const std::vector<Eigen::VectorXd> run =
+      test::method_states(core::Method::kSwitching, p, w, core::settled_state(p, w, 0), times);
+  const double every2 = test::scaled_norm(run[3] - run[1], p, w), every1 = test::scaled_norm(run[3] - run[2], p, w);
+  std::printf("at %.2f rad/s the run repeats every 2 periods to %.2e of C, every period to %.2e\n", w, every2, every1);
+  EXPECT_LT(every2, kSettled);
+  EXPECT_GT(every1, 100.0 * kSettled);
 }

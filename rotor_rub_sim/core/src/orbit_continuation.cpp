@@ -61,8 +61,15 @@ std::vector<OrbitEvent::Kind> kinds(const std::vector<OrbitEvent>& events) {
   return out;
 }
 
-// The fixed point's equations in Y = (y, v / v0), v the parameter (the
-// speed, or a key's value at the constant speed w), v0 its start's value.
+// The fixed point's equations in Y = (z, v / v0), v the parameter (the
+// speed, or a key's value at the constant speed w), v0 its start's value,
+// z the section's state in a chart: in free flight the scaled state y
+// itself; in contact (an orbit that never leaves the bore) coordinates on
+// the bore's tangent space (the stick's, sticking) at a point of the branch,
+// the state that point plus chart z projected back onto the bore (and the
+// stick), the residual the end's difference from it in the chart. The
+// projection's derivative along the tangent space is the identity, so the
+// Jacobian's state block is B^T M B - I (B the chart) at the chart's point.
 class OrbitEquations {
  public:
   OrbitEquations(const ModelParameters& p, const OrbitSettings& s, const ContinuationParameter& parameter, double v0,
@@ -70,10 +77,33 @@ class OrbitEquations {
       : p_(&p), s_(s), parameter_(&parameter), v0_(v0), w_(w), kinds_(kinds(events)) {}
   const OrbitSettings& settings() const { return s_; }
   const ContinuationParameter& parameter() const { return *parameter_; }
-  // The same equations at other settings (a section moved) and events.
+  // The same equations at other settings (a section moved) and events, in
+  // free flight's chart.
   OrbitEquations with(const OrbitSettings& s, const std::vector<OrbitEvent>& events) const {
     return OrbitEquations(*p_, s, *parameter_, v0_, w_, events);
   }
+  // The same equations charted at the scaled state y at the section, in
+  // its regime (0 free, 1 sliding, 2 sticking).
+  OrbitEquations charted(const RubFlow& flow, const Vector& y, int regime) const {
+    OrbitEquations g = *this;
+    g.regime_ = regime;
+    g.origin_ = y;
+    g.chart_ =
+        regime == 0 ? Eigen::MatrixXd() : flow.tangent_basis(s_.section_angle_rad / flow.speed(), y, regime == 2);
+    return g;
+  }
+  // Charted at orbit o (its tangent basis: the coordinates of its monodromy).
+  OrbitEquations at(const PeriodicOrbit& o) const {
+    const RubFlow flow = flow_at(o.parameter);
+    OrbitEquations g = charted(flow, flow.scaled(o.state), o.starts_in_stick ? 2 : o.starts_in_contact ? 1 : 0);
+    if (g.regime_ != 0) g.chart_ = o.tangent_basis;
+    return g;
+  }
+  bool in_contact() const { return regime_ != 0; }
+  // A state-space vector in the chart's coordinates, and back.
+  Vector coordinates(const Vector& dy) const { return regime_ == 0 ? dy : Vector(chart_.transpose() * dy); }
+  Vector state_direction(const Vector& dz) const { return regime_ == 0 ? dz : Vector(chart_ * dz); }
+
   double start_value() const { return v0_; }
   double value(const Vector& Y) const { return Y(Y.size() - 1) * v0_; }
   bool in_speed() const { return !parameter_->model; }
@@ -88,22 +118,39 @@ class OrbitEquations {
       throw OrbitError(parameter_->name + " " + std::to_string(v) + " is refused: " + e.what());
     }
   }
+  RubFlow flow_at(double v) const {
+    const ModelParameters p = model_at(v);
+    return RubFlow(p, speed_at(v), settle_apex_m(p, s_));
+  }
   // "52.98 rad/s", "friction_coefficient 0.31": a value in messages.
   std::string describe(double v) const {
     if (in_speed()) return std::to_string(v) + " rad/s";
     return parameter_->name + " " + std::to_string(v) + (parameter_->unit.empty() ? "" : " " + parameter_->unit);
   }
 
+  // The scaled state at the section of Y.
+  Vector state(const RubFlow& flow, const Vector& Y) const {
+    const Vector z = Y.head(Y.size() - 1);
+    if (regime_ == 0) return z;
+    Vector y = origin_ + chart_ * z;
+    flow.project_to_bore(y);
+    if (regime_ == 2) flow.project_to_stick(s_.section_angle_rad / flow.speed(), y);
+    return y;
+  }
   // One shot from Y's section over the orbit's periods; OrbitError where the
-  // events differ from the branch's or the section is in contact.
+  // events or the section's regime differ from the branch's.
   OrbitShot shot(const Vector& Y, bool with_jacobian) const {
     const double w = speed(Y);
     const ModelParameters p = model_at(value(Y));
     check_scene(p, w, s_);
     const RubFlow flow(p, w, settle_apex_m(p, s_));
     const double t0 = s_.section_angle_rad / w;
-    OrbitShot out = shoot(flow, Y.head(Y.size() - 1), t0, t0 + s_.periods * flow.period(), s_, with_jacobian);
-    if (out.starts_in_contact) throw OrbitError("the section lies in a contact near " + describe(value(Y)));
+    OrbitShot out = shoot(flow, state(flow, Y), t0, t0 + s_.periods * flow.period(), s_, with_jacobian);
+    const int regime = out.starts_in_stick ? 2 : out.starts_in_contact ? 1 : 0;
+    if (regime != regime_ || out.ends_in_contact != out.starts_in_contact || out.ends_in_stick != out.starts_in_stick) {
+      throw OrbitError("the section's regime (free flight, sliding or sticking on the bore) changes near " +
+                       describe(value(Y)));
+    }
     if (kinds(out.events) != kinds_) {
       throw OrbitError("the orbit's events change at the trial " + describe(value(Y)) +
                        " (a grazing: an impact or a contact phase appears or ends)");
@@ -112,19 +159,20 @@ class OrbitEquations {
   }
   Vector residual(const Vector& Y) const {
     const OrbitShot s = shot(Y, false);
-    return s.end - s.start;
+    return coordinates(s.end - s.start);
   }
-  // [R, d R / d Y] at Y (n x (n + 1)).
+  // [R, d R / d Y] at Y (m x (m + 1)).
   Eigen::MatrixXd jacobian(const Vector& Y, Vector* r = nullptr) const {
-    const int n = static_cast<int>(Y.size()) - 1;
+    const int m = static_cast<int>(Y.size()) - 1;
     const OrbitShot s = shot(Y, true);
-    if (r != nullptr) *r = s.end - s.start;
-    Eigen::MatrixXd j(n, n + 1);
-    j.leftCols(n) = s.jacobian - Eigen::MatrixXd::Identity(n, n);
+    if (r != nullptr) *r = coordinates(s.end - s.start);
+    Eigen::MatrixXd j(m, m + 1);
+    j.leftCols(m) = (regime_ == 0 ? s.jacobian : Eigen::MatrixXd(chart_.transpose() * s.jacobian * chart_)) -
+                    Eigen::MatrixXd::Identity(m, m);
     Vector up = Y, down = Y;
-    up(n) += kParameterStep;
-    down(n) -= kParameterStep;
-    j.col(n) = (residual(up) - residual(down)) / (2.0 * kParameterStep);
+    up(m) += kParameterStep;
+    down(m) -= kParameterStep;
+    j.col(m) = (residual(up) - residual(down)) / (2.0 * kParameterStep);
     return j;
   }
   Vector tangent(const Vector& Y, const Vector& previous) const {
@@ -170,22 +218,28 @@ class OrbitEquations {
     o.state = flow.physical(s.start);
     o.keyphasor_states = keyphasor_states(flow, s.start, s_.section_angle_rad / w, s_);
     o.events = s.events;
-    o.monodromy = s.jacobian;
-    o.tangent_basis = Eigen::MatrixXd::Identity(s.jacobian.rows(), s.jacobian.cols());
-    o.multipliers = sorted_eigenvalues(s.jacobian);
+    // In contact, on the tangent space at the point itself (the chart's is
+    // a neighbour's).
+    o.starts_in_contact = s.starts_in_contact;
+    o.starts_in_stick = s.starts_in_stick;
+    o.tangent_basis = regime_ == 0 ? Eigen::MatrixXd::Identity(s.jacobian.rows(), s.jacobian.cols())
+                                   : flow.tangent_basis(s_.section_angle_rad / w, s.start, regime_ == 2);
+    o.monodromy = o.tangent_basis.transpose() * s.jacobian * o.tangent_basis;
+    o.multipliers = sorted_eigenvalues(o.monodromy);
     o.residual = (s.end - s.start).lpNorm<Eigen::Infinity>();
     o.newton_iterations = iterations;
     o.slowest_impact = s.slowest_impact;
     o.closest_miss = s.closest_miss;
     return o;
   }
-  // The unknowns of an orbit (o.parameter its value).
+  // The unknowns of an orbit (o.parameter its value) in this chart.
   Vector unknowns(const PeriodicOrbit& o) const {
-    const ModelParameters p = model_at(o.parameter);
-    const RubFlow flow(p, o.speed_rad_per_s, settle_apex_m(p, s_));
-    Vector Y(o.state.size() + 1);
-    Y.head(o.state.size()) = flow.scaled(o.state);
-    Y(o.state.size()) = o.parameter / v0_;
+    const RubFlow flow = flow_at(o.parameter);
+    const Vector y = flow.scaled(o.state);
+    const Vector z = coordinates(regime_ == 0 ? y : Vector(y - origin_));
+    Vector Y(z.size() + 1);
+    Y.head(z.size()) = z;
+    Y(z.size()) = o.parameter / v0_;
     return Y;
   }
 
@@ -195,6 +249,9 @@ class OrbitEquations {
   const ContinuationParameter* parameter_;
   double v0_, w_;
   std::vector<OrbitEvent::Kind> kinds_;
+  int regime_ = 0;         // the section's: 0 free, 1 sliding, 2 sticking
+  Vector origin_;          // the chart's point (scaled), in contact
+  Eigen::MatrixXd chart_;  // its orthonormal tangent basis, in contact
 };
 
 // The test functions of the bifurcations: det(M + I) (a real multiplier at
@@ -224,22 +281,24 @@ double complex_modulus_test(const PeriodicOrbit& o) {
 }
 
 // Where an event lies within kSectionMargin of the orbit's section, the
-// section moves to the middle of its longest stretch without events: the
-// equations, the unknowns and the tangent there, its orientation from the
-// previous point carried to the new section as well (else the flow's
-// Jacobian on t, which leaves out the speed's share). Returns false where
-// it stays.
+// section moves to the middle of its longest stretch in free flight (of an
+// orbit that never leaves the bore, between any two events): the
+// equations, their chart, the unknowns and the tangent there, its
+// orientation from the previous point carried to the new section as well
+// (else the flow's Jacobian on t, which leaves out the speed's share).
+// Returns false where it stays.
 bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* previous, Vector& Y, Vector& t) {
   if (o.events.empty()) return false;
   const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w, span = o.period_s;
   std::vector<double> tau;  // the events' times after the section, in (0, span], in order
   for (const OrbitEvent& e : o.events) tau.push_back(e.time_s - t0);
   if (std::min(tau.front(), span - tau.back()) >= kSectionMargin * span) return false;
-  // The longest stretch in free flight: after an impact or a lift-off.
+  const bool flies =
+      std::any_of(o.events.begin(), o.events.end(), [](const OrbitEvent& e) { return starts_flight(e.kind); });
   const std::size_t m = tau.size();
   double best = -1.0, middle = 0.0;
   for (std::size_t i = 0; i < m; ++i) {
-    if (!starts_flight(o.events[i].kind)) continue;
+    if (flies && !starts_flight(o.events[i].kind)) continue;
     const double next = i + 1 < m ? tau[i + 1] : tau.front() + span;
     if (next - tau[i] > best) {
       best = next - tau[i];
@@ -248,28 +307,46 @@ bool resection(OrbitEquations& g, const PeriodicOrbit& o, const PeriodicOrbit* p
   }
   if (best < 2.0 * kSectionMargin * span) return false;  // no better place
   OrbitSettings s = g.settings();
-  const ModelParameters p = g.model_at(o.parameter);
-  const RubFlow flow(p, w, settle_apex_m(p, s));
-  const int n = static_cast<int>(o.state.size());
-  const OrbitShot to_new = shoot(flow, Y.head(n), t0, t0 + middle, s, true);
-  Vector direction(n + 1);
-  direction.head(n) = to_new.jacobian * t.head(n);
-  direction(n) = t(n);
+  const RubFlow flow = g.flow_at(o.parameter);
+  const int n = static_cast<int>(o.state.size()), last = static_cast<int>(Y.size()) - 1;
+  const OrbitShot to_new = shoot(flow, flow.scaled(o.state), t0, t0 + middle, s, true);
+  Vector direction(n + 1);  // in the state space
+  direction.head(n) = to_new.jacobian * g.state_direction(t.head(last));
+  direction(n) = t(last);
   if (previous != nullptr && previous->section_angle_rad == o.section_angle_rad) {
     // The same spin angle on: the previous orbit's own time to it.
     const double wp = previous->speed_rad_per_s, tp = previous->section_angle_rad / wp;
-    const ModelParameters pp = g.model_at(previous->parameter);
-    const RubFlow flow_p(pp, wp, settle_apex_m(pp, s));
+    const RubFlow flow_p = g.flow_at(previous->parameter);
     const Vector moved = shoot(flow_p, flow_p.scaled(previous->state), tp, tp + middle * w / wp, s, false).end;
     direction.head(n) = to_new.end - moved;
-    direction(n) = Y(n) - previous->parameter / g.start_value();
+    direction(n) = Y(last) - previous->parameter / g.start_value();
   }
   s.section_angle_rad = std::fmod(s.section_angle_rad + w * middle, 2.0 * M_PI);
   const OrbitShot round = shoot(flow, to_new.end, t0 + middle, t0 + middle + span, s, false);
-  g = g.with(s, round.events);
-  Y.head(n) = to_new.end;
-  t = g.tangent(Y, direction);
+  g = g.with(s, round.events).charted(flow, to_new.end, to_new.ends_in_stick ? 2 : to_new.ends_in_contact ? 1 : 0);
+  const Vector z = g.in_contact() ? Vector::Zero(g.coordinates(to_new.end).size()) : to_new.end;
+  Y.resize(z.size() + 1);
+  Y.head(z.size()) = z;
+  Y(z.size()) = o.parameter / g.start_value();
+  Vector chart_direction(z.size() + 1);
+  chart_direction.head(z.size()) = g.coordinates(direction.head(n));
+  chart_direction(z.size()) = direction(n);
+  t = g.tangent(Y, chart_direction);
   return true;
+}
+
+// In contact the chart moves with the branch to each new point (its
+// tangent space there), the tangent carried over through the state space.
+void rechart(OrbitEquations& g, const PeriodicOrbit& o, Vector& Y, Vector& t) {
+  if (!g.in_contact()) return;
+  const int last = static_cast<int>(Y.size()) - 1;
+  const Vector direction = g.state_direction(t.head(last));
+  g = g.at(o);
+  Vector chart_direction(last + 1);
+  chart_direction.head(last) = g.coordinates(direction);
+  chart_direction(last) = t(last);
+  Y = g.unknowns(o);
+  t = g.tangent(Y, chart_direction);
 }
 
 // Whether orbit o of an even number of periods is the orbit of half its
@@ -304,9 +381,9 @@ bool meets_half(const ModelParameters& p, const OrbitSettings& s, const Periodic
 // The trace from Y along t (the first point already in the branch).
 void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& settings, double ds, OrbitBranch& branch) {
   resection(g, branch.points.back(), nullptr, Y, t);
-  const int n = static_cast<int>(Y.size()) - 1;
   std::string last_error;  // why the step was last halved
   while (true) {
+    const int n = static_cast<int>(Y.size()) - 1;  // the parameter's index (a section's move can change it)
     if (static_cast<int>(branch.points.size()) >= settings.max_points) {
       branch.end = "max_points (" + std::to_string(settings.max_points) + ")";
       return;
@@ -402,7 +479,7 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
       branch.points.push_back(orbit);
       Y = Y_new;
       t = t_new;
-      resection(g, orbit, &branch.points[branch.points.size() - 2], Y, t);
+      if (!resection(g, orbit, &branch.points[branch.points.size() - 2], Y, t)) rechart(g, orbit, Y, t);
       if (iterations <= 2) ds = std::min(1.5 * ds, settings.max_step);
     } catch (const OrbitError& e) {
       last_error = e.what();
@@ -413,7 +490,7 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
 
 // An orbit whose section lies in a contact phase (a lift-off follows) taken
 // again at a section in free flight: the middle of its longest free
-// stretch. OrbitError for an orbit with no free flight (the full rub).
+// stretch. OrbitError for an orbit with no free flight.
 PeriodicOrbit free_section(const ModelParameters& p, const PeriodicOrbit& o, const OrbitSettings& s) {
   const double w = o.speed_rad_per_s, t0 = o.section_angle_rad / w;
   const std::size_t m = o.events.size();
@@ -426,11 +503,7 @@ PeriodicOrbit free_section(const ModelParameters& p, const PeriodicOrbit& o, con
       middle = 0.5 * (o.events[i].time_s + next) - t0;
     }
   }
-  if (best < 0.0) {
-    throw OrbitError(
-        "the orbit never leaves the bore: a branch is traced from a section in free flight (the full rub's by "
-        "continue_full_rub)");
-  }
+  if (best < 0.0) throw OrbitError("the orbit never leaves the bore: it has no section in free flight");
   const RubFlow flow(p, w, settle_apex_m(p, s));
   const Eigen::VectorXd x = flow.physical(shoot(flow, flow.scaled(o.state), t0, t0 + middle, s, false).end);
   OrbitSettings moved = s;
@@ -457,10 +530,14 @@ OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start,
   s.periods = start.periods;
   s.section_angle_rad = start.section_angle_rad;
   OrbitBranch branch;
-  branch.points.push_back(start.starts_in_contact ? free_section(p, start, s) : start);
+  // A section in contact moves into free flight where the orbit has one.
+  const bool flies =
+      std::any_of(start.events.begin(), start.events.end(), [](const OrbitEvent& e) { return starts_flight(e.kind); });
+  branch.points.push_back(start.starts_in_contact && flies ? free_section(p, start, s) : start);
   branch.points.front().parameter = v0;
   s.section_angle_rad = branch.points.front().section_angle_rad;
-  const OrbitEquations g(p, s, parameter, v0, start.speed_rad_per_s, branch.points.front().events);
+  const OrbitEquations g = OrbitEquations(p, s, parameter, v0, start.speed_rad_per_s, branch.points.front().events)
+                               .at(branch.points.front());
   const Vector Y = g.unknowns(branch.points.front());
   Vector direction = Vector::Zero(Y.size());
   direction(Y.size() - 1) = settings.increasing_speed ? 1.0 : -1.0;
@@ -486,7 +563,8 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
   for (int i = 1; i < es.eigenvalues().size(); ++i) {
     if (std::abs(es.eigenvalues()(i) + 1.0) < std::abs(es.eigenvalues()(k) + 1.0)) k = i;
   }
-  const int n = static_cast<int>(single.state.size());
+  // (in the coordinates of its monodromy: the tangent basis's in contact)
+  const int n = static_cast<int>(single.monodromy.rows());
   Vector t0 = Vector::Zero(n + 1);
   t0.head(n) = es.eigenvectors().col(k).real().normalized();
   OrbitSettings s = orbit;
@@ -496,7 +574,7 @@ OrbitBranch continue_period_doubled(const ModelParameters& p, const OrbitBifurca
   // period at the bifurcation).
   std::vector<OrbitEvent> events = single.events;
   events.insert(events.end(), single.events.begin(), single.events.end());
-  const OrbitEquations g(p, s, parameter, pd.parameter, single.speed_rad_per_s, events);
+  const OrbitEquations g = OrbitEquations(p, s, parameter, pd.parameter, single.speed_rad_per_s, events).at(single);
   Vector Y0 = g.unknowns(single);
   OrbitBranch branch;
   try {

@@ -2,7 +2,9 @@
 /// A periodic orbit's branch in the speed (periodic_orbit.hpp's orbits of
 /// the Jeffcott's rub) by pseudo-arclength continuation of the shooting's
 /// fixed point: the unknowns (y, w / w0), y the section's state in units of
-/// C and C w; the residual y(nT) - y; its Jacobian [M - I, dR/dw], M the
+/// C and C w (in contact, its coordinates on the bore's tangent space, or
+/// the stick's, at the branch's last point, projected back onto the bore);
+/// the residual y(nT) - y; its Jacobian [M - I, dR/dw], M the
 /// exact monodromy, the speed's column by central differences of two shots;
 /// a tangent predictor and a Newton corrector on the hyperplane normal to
 /// the tangent. Along the branch:
@@ -18,10 +20,12 @@
 /// A branch's orbits keep the events of its start (their kinds in order):
 /// where they change (an impact appears at a grazing, a contact phase
 /// begins), the branch is nonsmooth and the trace ends there, said in `end`,
-/// as it ends at a sticking phase or a chattering sequence. The section
-/// moves away from the events as they move; a start whose section lies in a
-/// contact is taken again at a section in free flight; an orbit that never
-/// leaves the bore is the full rub (full_rub_continuation.hpp). Where a
+/// as it ends where a slip comes to rest tangentially or a chattering
+/// sequence. The section moves away from the events as they move; a start
+/// whose section lies in a contact is taken again at a section in free
+/// flight where the orbit has one; an orbit that never leaves the bore (the
+/// full rub, a stick-slip on the bore) is traced on the bore's tangent space
+/// (the full rub's branch is full_rub_continuation.hpp's too). Where a
 /// doubled branch turns back onto the orbit of half its period (its
 /// doubling, seen from the doubled side), the trace ends. Tests:
 /// test_orbit_continuation.cpp.
@@ -71,7 +75,7 @@ struct OrbitBranch {
 /// speed by default; a key's: p is the model at start_value, the key's value
 /// at the start), its values in the settings' range. The orbits' settings are `orbit` (periods and
 /// section: the start's). Throws std::invalid_argument for an empty range
-/// or a start outside it, OrbitError for a start that never leaves the bore.
+/// or a start outside it.
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
                            const OrbitSettings& orbit = {}, const ContinuationParameter& parameter = {},
                            double start_value = 0.0);
