@@ -299,7 +299,11 @@ class Shooter {
     const double t_lift = crossing(pull, ta, -flow_.normal_force(ta, ya), tb, -flow_.normal_force(tb, yb));
     // The slip's stop: v_slide s falling through 0; from a slip that starts
     // at rest (a breakaway, a stick's cone refused at a contact's start) its
-    // first return.
+    // first return. Without friction the slip's sign is no event.
+    if (!(flow_.model().parameters().friction_coefficient > 0.0)) {
+      shot.pending = OrbitEvent::Kind::kLiftOff;
+      return t_lift;
+    }
     auto stopping = [&](double t) { return -shot.slip_sign * flow_.slip(t, state_at(shot, za, ta, t)); };
     const double sa = -shot.slip_sign * flow_.slip(ta, ya), sb = -shot.slip_sign * flow_.slip(tb, yb);
     const double t_stop =
