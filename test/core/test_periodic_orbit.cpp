@@ -208,64 +208,78 @@ TEST(PeriodicOrbit, TheMonodromyIsTheFlowsDerivative) {
 }
 
 // Through sticking phases: the thin shaft's orbit in contact throughout,
-// stick, slip, stick, slip. On the bore's tangent space (a section in the
-// middle of a slip, n - 2 = 2 dimensions) and on the stick's (in the middle
-// of a stick, n - 3 = 1) the monodromy is the flow's derivative to
-// kDifference: central differences along the tangent basis of step 1e-5 of
-// shots at the tolerance 1e-13 (the contact's flow is not affine, so the
-// differences carry the integrator's error over the step, which at the
-// default 1e-11 is 1e-7; measured 2.2e-9 and 3.4e-9). Entering a stick
-// leaves a multiplier 0 on the bore's tangent space (the slip dies), and
-// both sections' Poincare maps share the other (conjugate maps).
+// stick, slip, stick, slip, on the rigid stator at 110 rad/s (stable) and on
+// the paper's elastic stator at 105 rad/s (unstable: a multiplier -1.34).
+// On the bore's tangent space (a section in the middle of a slip, n - 2
+// dimensions) and on the stick's (in the middle of a stick, n - 3) the
+// monodromy is the flow's derivative to kDifference: central differences
+// along the tangent basis of step 3e-6 of shots at the tolerance 1e-13 (the
+// contact's flow is not affine: the differences carry the integrator's
+// error over the step, 1e-7 at the default 1e-11, and the step's square
+// times the flow's curvature, 4e-7 at a step of 3e-5 on the elastic
+// stator; measured 1.0e-9 to 6.3e-9). Entering a stick leaves a multiplier 0 on the bore's tangent
+// space (the slip dies), and both sections' Poincare maps share the others
+// (conjugate maps).
 TEST(PeriodicOrbit, ThroughStickPhasesTheMonodromyIsTheFlowsDerivative) {
   constexpr double kDifference = 1e-8;
   constexpr double kZero = 1e-8;
-  constexpr double kStep = 1e-5;
+  constexpr double kStep = 3e-6;
   using K = core::OrbitEvent::Kind;
-  const core::ModelParameters p = thin_shaft();
-  const double w = kThinShaftSpeed;
-  const core::PeriodicOrbit o = core::find_periodic_orbit(p, w, core::settled_state(p, w, 300));
-  ASSERT_EQ(o.events.size(), 4u);
-  for (std::size_t j = 0; j < 4; ++j) EXPECT_EQ(o.events[j].kind, j % 2 == 0 ? K::kStick : K::kSlip);
-  // Sections in the middle of the first stick and of the slip after it.
-  std::vector<core::PeriodicOrbit> orbits;
-  for (const std::size_t j : {0, 1}) {
-    core::OrbitSettings s;
-    const double t0 = 0.5 * (o.events[j].time_s + o.events[j + 1].time_s);
-    s.section_angle_rad = w * t0;
-    orbits.push_back(core::find_periodic_orbit(p, w, core::orbit_flow(p, w, o.state, 0.0, t0).state, s));
-    EXPECT_TRUE(orbits.back().starts_in_contact);
-    EXPECT_EQ(orbits.back().starts_in_stick, j == 0);
-  }
-  core::OrbitSettings fine;
-  fine.tolerance = 1e-13;
-  for (const core::PeriodicOrbit& c : orbits) {
-    const Eigen::MatrixXd& basis = c.tangent_basis;
-    const int m = static_cast<int>(basis.cols());
-    ASSERT_EQ(m, c.starts_in_stick ? 1 : 2);
-    const double t0 = c.section_angle_rad / w;
-    Eigen::VectorXd scale(4);  // from y (in C and C w) to x
-    scale << p.clearance_m, p.clearance_m, p.clearance_m * w, p.clearance_m * w;
-    Eigen::MatrixXd diff(m, m);
-    for (int i = 0; i < m; ++i) {
-      const Eigen::VectorXd step = kStep * basis.col(i).cwiseProduct(scale);
-      const Eigen::VectorXd up = core::orbit_flow(p, w, c.state + step, t0, t0 + c.period_s, fine).state;
-      const Eigen::VectorXd down = core::orbit_flow(p, w, c.state - step, t0, t0 + c.period_s, fine).state;
-      diff.col(i) = basis.transpose() * (up - down).cwiseQuotient(scale) / (2.0 * kStep);
+  core::ModelParameters elastic = thin_shaft();
+  elastic.stator_model = core::StatorModel::kElastic;
+  struct Case {
+    core::ModelParameters p;
+    double w;
+    bool stable;
+  };
+  for (const Case& k : {Case{thin_shaft(), kThinShaftSpeed, true}, Case{elastic, 105.0, false}}) {
+    const core::ModelParameters& p = k.p;
+    const double w = k.w;
+    const int n = p.stator_model == core::StatorModel::kElastic ? 8 : 4;
+    const core::PeriodicOrbit o = core::find_periodic_orbit(p, w, core::settled_state(p, w, 400));
+    ASSERT_EQ(o.events.size(), 4u) << w;
+    for (std::size_t j = 0; j < 4; ++j) EXPECT_EQ(o.events[j].kind, j % 2 == 0 ? K::kStick : K::kSlip);
+    // Sections in the middle of the first stick and of the slip after it.
+    std::vector<core::PeriodicOrbit> orbits;
+    for (const std::size_t j : {0, 1}) {
+      core::OrbitSettings s;
+      const double t0 = 0.5 * (o.events[j].time_s + o.events[j + 1].time_s);
+      s.section_angle_rad = w * t0;
+      orbits.push_back(core::find_periodic_orbit(p, w, core::orbit_flow(p, w, o.state, 0.0, t0).state, s));
+      EXPECT_TRUE(orbits.back().starts_in_contact);
+      EXPECT_EQ(orbits.back().starts_in_stick, j == 0);
     }
-    const double off = (diff - c.monodromy).cwiseAbs().maxCoeff();
-    std::printf("thin shaft, section %.3f rad (%s): the monodromy against the flow's differences: %.2e\n",
-                c.section_angle_rad, c.starts_in_stick ? "stick" : "slip", off);
-    EXPECT_LT(off, kDifference);
-    EXPECT_LT(worst_match(eigenvalues(diff), c.multipliers), kDifference);
-    EXPECT_TRUE(c.stable());
+    core::OrbitSettings fine;
+    fine.tolerance = 1e-13;
+    Eigen::VectorXd scale(n);  // from y (in C and C w) to x
+    scale.head(n / 2).setConstant(p.clearance_m);
+    scale.tail(n / 2).setConstant(p.clearance_m * w);
+    for (const core::PeriodicOrbit& c : orbits) {
+      const Eigen::MatrixXd& basis = c.tangent_basis;
+      const int m = static_cast<int>(basis.cols());
+      ASSERT_EQ(m, n - (c.starts_in_stick ? 3 : 2));
+      const double t0 = c.section_angle_rad / w;
+      Eigen::MatrixXd diff(m, m);
+      for (int i = 0; i < m; ++i) {
+        const Eigen::VectorXd step = kStep * basis.col(i).cwiseProduct(scale);
+        const Eigen::VectorXd up = core::orbit_flow(p, w, c.state + step, t0, t0 + c.period_s, fine).state;
+        const Eigen::VectorXd down = core::orbit_flow(p, w, c.state - step, t0, t0 + c.period_s, fine).state;
+        diff.col(i) = basis.transpose() * (up - down).cwiseQuotient(scale) / (2.0 * kStep);
+      }
+      const double off = (diff - c.monodromy).cwiseAbs().maxCoeff();
+      std::printf("thin shaft, %s stator, section %.3f rad (%s): the monodromy against the flow's differences: %.2e\n",
+                  core::to_string(p.stator_model), c.section_angle_rad, c.starts_in_stick ? "stick" : "slip", off);
+      EXPECT_LT(off, kDifference);
+      EXPECT_LT(worst_match(eigenvalues(diff), c.multipliers), kDifference);
+      EXPECT_EQ(c.stable(), k.stable);
+    }
+    const core::PeriodicOrbit& slipping = orbits[1];
+    EXPECT_LT(std::abs(slipping.multipliers.back()), kZero);
+    EXPECT_LT(std::abs(slipping.multipliers.front() - orbits[0].multipliers.front()), kDifference);
+    std::printf("thin shaft, %s stator, at %g rad/s: the largest multiplier %.9f, the smallest %.1e\n",
+                core::to_string(p.stator_model), w, std::abs(slipping.multipliers.front()),
+                std::abs(slipping.multipliers.back()));
   }
-  const core::PeriodicOrbit& slipping = orbits[1];
-  ASSERT_EQ(slipping.multipliers.size(), 2u);
-  EXPECT_LT(std::abs(slipping.multipliers[1]), kZero);
-  EXPECT_LT(std::abs(slipping.multipliers[0] - orbits[0].multipliers[0]), kDifference);
-  std::printf("thin shaft at %g rad/s: multipliers %.9f and %.1e\n", w, slipping.multipliers[0].real(),
-              std::abs(slipping.multipliers[1]));
 }
 
 // A partial rub with a sticking phase: the bouncing shaft's orbit (impacts,
