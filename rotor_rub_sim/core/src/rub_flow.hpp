@@ -1,12 +1,12 @@
 // The Jeffcott rotor's event-driven flow at a constant speed w in the units
 // periodic_orbit.hpp integrates it in: y = (positions / C, velocities /
-// (C w)), the free layout's order. Its two fields (free flight; the rotor
-// held on the bore, sliding), the events' functions, the impact's jump, and
-// their Jacobians. The physics is the model's own (station_model.hpp,
-// model.hpp, contact_law.hpp): this file only evaluates it on a vector.
-// Its three fields: free flight; the rotor held on the bore sliding, the
-// friction -f F_n s; held on the bore sticking (rolling), the friction the
-// stick force that holds v_slide' = 0 (contact_law.hpp's stick regime).
+// (C w)), the free layout's order. Its three fields (free flight; the rotor
+// held on the bore sliding, the friction -f F_n s; held on the bore
+// sticking, rolling, the friction the stick force that holds v_slide' = 0:
+// contact_law.hpp's stick regime), the events' functions, the impact's
+// jump, and their Jacobians. The physics is the model's own
+// (station_model.hpp, model.hpp, contact_law.hpp): this file only evaluates
+// it on a vector.
 #pragma once
 
 #include <Eigen/Core>
