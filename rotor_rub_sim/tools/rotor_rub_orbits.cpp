@@ -56,10 +56,10 @@ int least_period(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
   return o.periods;
 }
 
-// A largest multiplier this close to 1 is neutral to the monodromy's
-// accuracy (1e-10 on the examples, 2e-8 on a fast rolling whose field's
-// Jacobian is a difference): a family of orbits (a rolling whose R_r / C
-// is an integer) or a fold.
+// A largest multiplier whose modulus is this close to 1 is neutral to the
+// monodromy's accuracy (1e-10 on the examples, 2e-8 on a fast rolling whose
+// field's Jacobian is a difference): a family of orbits (a rolling whose
+// R_r / C is an integer: OrbitsCli.StickingOrbits) or a bifurcation.
 constexpr double kNeutral = 1e-6;
 
 void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
@@ -72,8 +72,8 @@ void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
               o.newton_iterations, o.residual);
   if (neutral) {
     std::printf(
-        "  note: its largest multiplier is 1 to %g: neutral (a family of orbits, as a rolling whose R_r / C is an "
-        "integer, or a fold)\n",
+        "  note: its largest multiplier lies on the unit circle to %g: neutral (a family of orbits, as a rolling "
+        "whose R_r / C is an integer, or a bifurcation)\n",
         kNeutral);
   }
   if (const int least = least_period(p, o); least < o.periods) {
@@ -333,7 +333,11 @@ int main(int argc, char** argv) {
   };
   for (const bool up : {false, true}) {
     cs.increasing_speed = up;
-    report(next_branch, core::continue_orbit(p, orbit, cs, settings, parameter, start_value), !up, up, 0);
+    try {
+      report(next_branch, core::continue_orbit(p, orbit, cs, settings, parameter, start_value), !up, up, 0);
+    } catch (const core::OrbitError& e) {  // the start taken again at a section in free flight failed
+      std::printf("branch %d (%s): %s\n", next_branch, up ? "up" : "down", e.what());
+    }
   }
   ++next_branch;
   for (std::size_t i = 0; i < pending.size(); ++i) {

@@ -222,7 +222,7 @@ TEST(PeriodicOrbit, TheMonodromyIsTheFlowsDerivative) {
 // (conjugate maps).
 TEST(PeriodicOrbit, ThroughStickPhasesTheMonodromyIsTheFlowsDerivative) {
   constexpr double kDifference = 1e-8;
-  constexpr double kZero = 1e-8;
+  constexpr double kZero = 1e-8;  // a saltation's rank: 0 to the contact field's differences (measured 1e-12 to 1e-10)
   constexpr double kStep = 3e-6;
   using K = core::OrbitEvent::Kind;
   core::ModelParameters elastic = thin_shaft();
@@ -292,7 +292,7 @@ TEST(PeriodicOrbit, ThroughStickPhasesTheMonodromyIsTheFlowsDerivative) {
 // multipliers 0 come from the touchdown, one more from the stick's entry.
 TEST(PeriodicOrbit, APartialRubThatSticks) {
   constexpr double kDifference = 2e-8;
-  constexpr double kZero = 1e-8;
+  constexpr double kZero = 1e-8;  // as in ThroughStickPhasesTheMonodromyIsTheFlowsDerivative
   constexpr double kStep = 3e-6;
   using K = core::OrbitEvent::Kind;
   const core::ModelParameters p = bouncing_shaft();

@@ -29,6 +29,9 @@ namespace {
 // over 1e-6: the adaptive steps' sequence moves with the speed), which only
 // the tangent's direction sees.
 constexpr double kParameterStep = 1e-6;
+// The chart's difference step (in C and C w): the projection onto the bore
+// is smooth, so its truncation (1e-12) and rounding (1e-10) are both small.
+constexpr double kChartStep = 1e-6;
 // The corrector's iterations before a step is halved, and the smallest step.
 constexpr int kMaxCorrections = 8;
 constexpr double kMinStep = 1e-7;
@@ -67,9 +70,9 @@ std::vector<OrbitEvent::Kind> kinds(const std::vector<OrbitEvent>& events) {
 // itself; in contact (an orbit that never leaves the bore) coordinates on
 // the bore's tangent space (the stick's, sticking) at a point of the branch,
 // the state that point plus chart z projected back onto the bore (and the
-// stick), the residual the end's difference from it in the chart. The
-// projection's derivative along the tangent space is the identity, so the
-// Jacobian's state block is B^T M B - I (B the chart) at the chart's point.
+// the stick), the residual the end's difference from it in the chart: the
+// Jacobian's state block is B^T (M - I) P (B the chart, P the projected
+// state's derivative in z, B itself at the chart's point).
 class OrbitEquations {
  public:
   OrbitEquations(const ModelParameters& p, const OrbitSettings& s, const ContinuationParameter& parameter, double v0,
@@ -95,8 +98,13 @@ class OrbitEquations {
   // Charted at orbit o (its tangent basis: the coordinates of its monodromy).
   OrbitEquations at(const PeriodicOrbit& o) const {
     const RubFlow flow = flow_at(o.parameter);
-    OrbitEquations g = charted(flow, flow.scaled(o.state), o.starts_in_stick ? 2 : o.starts_in_contact ? 1 : 0);
-    if (g.regime_ != 0) g.chart_ = o.tangent_basis;
+    OrbitEquations g = with(s_, {});
+    g.kinds_ = kinds_;
+    g.regime_ = o.starts_in_stick ? 2 : o.starts_in_contact ? 1 : 0;
+    if (g.regime_ != 0) {
+      g.origin_ = flow.scaled(o.state);
+      g.chart_ = o.tangent_basis;
+    }
     return g;
   }
   bool in_contact() const { return regime_ != 0; }
@@ -167,8 +175,23 @@ class OrbitEquations {
     const OrbitShot s = shot(Y, true);
     if (r != nullptr) *r = coordinates(s.end - s.start);
     Eigen::MatrixXd j(m, m + 1);
-    j.leftCols(m) = (regime_ == 0 ? s.jacobian : Eigen::MatrixXd(chart_.transpose() * s.jacobian * chart_)) -
-                    Eigen::MatrixXd::Identity(m, m);
+    if (regime_ == 0) {
+      j.leftCols(m) = s.jacobian - Eigen::MatrixXd::Identity(m, m);
+    } else {
+      // B^T (M - I) d state / d z: the chart B at its own point, the
+      // projection's derivative (central differences, smooth) elsewhere.
+      const RubFlow flow = flow_at(value(Y));
+      const int n = static_cast<int>(s.start.size());
+      Eigen::MatrixXd dz(n, m);
+      Vector zp = Y, zm = Y;
+      for (int i = 0; i < m; ++i) {
+        zp(i) += kChartStep;
+        zm(i) -= kChartStep;
+        dz.col(i) = (state(flow, zp) - state(flow, zm)) / (2.0 * kChartStep);
+        zp(i) = zm(i) = Y(i);
+      }
+      j.leftCols(m) = chart_.transpose() * (s.jacobian - Eigen::MatrixXd::Identity(n, n)) * dz;
+    }
     Vector up = Y, down = Y;
     up(m) += kParameterStep;
     down(m) -= kParameterStep;
@@ -390,7 +413,7 @@ void trace(OrbitEquations g, Vector Y, Vector t, const ContinuationSettings& set
     }
     if (ds < kMinStep) {
       // A step that meets what the branch cannot pass (a grazing, a section
-      // inside the bore, a sticking phase) was halved down to the smallest:
+      // inside the bore, a slip at rest tangentially) was halved down to the smallest:
       // the trace ends as close to it as that step.
       branch.end = last_error + " (after the last point, at " + g.describe(branch.points.back().parameter) + ")";
       return;

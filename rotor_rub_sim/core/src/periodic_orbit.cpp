@@ -75,6 +75,10 @@ struct Shot {
   // In contact, the event find_event located: kLiftOff, kStick (the slip
   // stops: jump() decides stick or reversal) or kSlip (a breakaway).
   OrbitEvent::Kind pending = OrbitEvent::Kind::kLiftOff;
+  // The step after an event that starts a flight from the bore (departing)
+  // or a slip from rest (slip_from_rest): its function starts at a
+  // rounding, so its first return is sought, not a crossing.
+  bool departing = false, slip_from_rest = false;
   std::vector<OrbitEvent> events;
   double slowest_impact = std::numeric_limits<double>::infinity();
   double closest_miss = std::numeric_limits<double>::infinity();
@@ -139,13 +143,15 @@ class Shooter {
         // A held phase is integrated in the plane, which keeps its
         // constraints (delta = C, delta' = 0; v_slide = 0 in a stick) only
         // to the tolerance: each step ends projected back onto them (a move
-        // of the step's error), so that a long rolling stays on the bore;
-        // but for a step to an event, whose departure the event's own
-        // rates decide (a lift-off's flight opens as a power of the time).
+        // of the step's error), so that a long rolling stays on the bore
+        // (OrbitsCli.StickingOrbits' dry whip); but for a step to an event,
+        // whose departure the event's own rates decide (a lift-off's flight
+        // opens as a power of the time).
         flow_.project_to_bore(shot.y);
         if (shot.regime == OrbitRegime::kStick) flow_.project_to_stick(t, shot.y);
         z.head(n_) = shot.y;
       }
+      shot.departing = shot.slip_from_rest = false;
       if (t_event == t_new) {
         jump(shot, t);
         z = pack(shot);
@@ -194,7 +200,8 @@ class Shooter {
   }
 
   // The first time in (ta, tb] where g, at ga at a boundary at ta (a flight
-  // that starts on the bore, a slip that starts from rest), comes back
+  // that starts on the bore; a slip that starts from rest: a breakaway, a
+  // reversal, a contact that starts at rest), comes back
   // through it, or +infinity: g counted from ga over the time since ta is
   // negative while g is away and positive once it is back, however short
   // the excursion (the switching method's deflation). Probed at the
@@ -272,9 +279,9 @@ class Shooter {
       auto gap = [&](double t) { return flow_.gap(state_at(shot, za, ta, t)); };
       const double ga = flow_.gap(ya), gb = flow_.gap(yb);
       if (ga < 0.0 && gb >= 0.0) return locate_event(gap, ta, ga, tb, gb, stats);
-      // A flight that starts on the bore (to kOnBore, not closing faster than
-      // a rounding: a departure, whose closing rate at ta is no apex).
-      if (ga >= 0.0 || (ga > -kOnBore && flow_.closing_rate(ya) < kOnBore)) {
+      // A flight that starts on the bore (a departure, whose closing rate
+      // at ta is a rounding, no apex).
+      if (ga >= 0.0 || shot.departing) {
         return return_to_bore(shot, za, ta, ga, tb, gb);
       }
       // An apex inside the step: where delta' falls through 0.
@@ -288,15 +295,17 @@ class Shooter {
       }
       return kNone;
     }
-    if (shot.regime == OrbitRegime::kStick) {
-      // A breakaway: the stick force leaves the cone (before any lift-off:
-      // the cone f N closes as N falls).
-      auto leaving = [&](double t) { return -flow_.cone_margin(t, state_at(shot, za, ta, t)); };
-      shot.pending = OrbitEvent::Kind::kSlip;
-      return crossing(leaving, ta, -flow_.cone_margin(ta, ya), tb, -flow_.cone_margin(tb, yb));
-    }
     auto pull = [&](double t) { return -flow_.normal_force(t, state_at(shot, za, ta, t)); };
     const double t_lift = crossing(pull, ta, -flow_.normal_force(ta, ya), tb, -flow_.normal_force(tb, yb));
+    if (shot.regime == OrbitRegime::kStick) {
+      // A breakaway: the stick force leaves the cone, which closes as N
+      // falls (a lift-off from a stick needs the stick force to vanish
+      // with N: then the two fields agree too).
+      auto leaving = [&](double t) { return -flow_.cone_margin(t, state_at(shot, za, ta, t)); };
+      const double t_break = crossing(leaving, ta, -flow_.cone_margin(ta, ya), tb, -flow_.cone_margin(tb, yb));
+      shot.pending = t_break <= t_lift ? OrbitEvent::Kind::kSlip : OrbitEvent::Kind::kLiftOff;
+      return std::min(t_break, t_lift);
+    }
     // The slip's stop: v_slide s falling through 0; from a slip that starts
     // at rest (a breakaway, a stick's cone refused at a contact's start) its
     // first return. Without friction the slip's sign is no event.
@@ -306,8 +315,12 @@ class Shooter {
     }
     auto stopping = [&](double t) { return -shot.slip_sign * flow_.slip(t, state_at(shot, za, ta, t)); };
     const double sa = -shot.slip_sign * flow_.slip(ta, ya), sb = -shot.slip_sign * flow_.slip(tb, yb);
+    if (!shot.slip_from_rest && !(sa < 0.0)) {
+      throw OrbitError("the slip at t = " + std::to_string(ta) +
+                       " s runs against its friction's sign: a stop the shooting missed");
+    }
     const double t_stop =
-        sa > -kStickSlip ? first_return(stopping, ta, sa, tb, sb, {}, nullptr) : crossing(stopping, ta, sa, tb, sb);
+        shot.slip_from_rest ? first_return(stopping, ta, sa, tb, sb, {}, nullptr) : crossing(stopping, ta, sa, tb, sb);
     shot.pending = t_stop < t_lift ? OrbitEvent::Kind::kStick : OrbitEvent::Kind::kLiftOff;
     return std::min(t_stop, t_lift);
   }
@@ -325,6 +338,7 @@ class Shooter {
     }
     const FrictionMode mode = rest_mode(shot, t);
     shot.slip_sign = mode.slip_sign;
+    shot.slip_from_rest = !mode.stick;
     if (mode.stick) {
       shot.regime = OrbitRegime::kStick;
       flow_.project_to_stick(t, shot.y);
@@ -347,7 +361,9 @@ class Shooter {
   // The slip stopping at t: a stick where the cone holds the stick force,
   // else the slip reversed. No jump; the friction's switch has the
   // saltation S = I + (f+ - f-) h_x / (h_x f-), h = v_slide (Filippov's
-  // crossing, and entering his sliding mode for a stick).
+  // crossing, and entering his sliding mode for a stick). v_slide has no
+  // time of its own at a constant speed (h_t = 0), as the gap; N and the
+  // cone's margin have, but at their events f+ = f-.
   void slip_stops(Shot& shot, double t) const {
     const Eigen::RowVectorXd h = flow_.slip_gradient(t, shot.y);
     Vector f_minus, f_plus;
@@ -362,6 +378,7 @@ class Shooter {
     const FrictionMode mode = rest_mode(shot, t);
     shot.events.push_back({mode.stick ? OrbitEvent::Kind::kStick : OrbitEvent::Kind::kReversal, t, 0.0});
     shot.slip_sign = mode.slip_sign;
+    shot.slip_from_rest = !mode.stick;
     if (mode.stick) {
       shot.regime = OrbitRegime::kStick;
       flow_.project_to_stick(t, shot.y);
@@ -380,8 +397,10 @@ class Shooter {
       if (shot.pending == OrbitEvent::Kind::kSlip) {
         shot.regime = OrbitRegime::kContact;
         shot.slip_sign = flow_.stick_force(t, shot.y) > 0.0 ? -1.0 : 1.0;
+        shot.slip_from_rest = true;
       } else {
         shot.regime = OrbitRegime::kFree;
+        shot.departing = true;
       }
       shot.events.push_back({shot.pending, t, 0.0});
       return;
@@ -404,6 +423,7 @@ class Shooter {
     shot.y = flow_.impact(t, y, &settles);
     const bool pressed = settles && flow_.normal_force(t, shot.y) > 0.0;
     if (pressed) enter_contact(shot, t);
+    shot.departing = !pressed;
     shot.events.push_back({pressed ? OrbitEvent::Kind::kTouchdown : OrbitEvent::Kind::kImpact, t,
                            vn * flow_.model().parameters().clearance_m * flow_.speed()});
     if (!jac_) return;

@@ -4,7 +4,9 @@
 /// fixed point: the unknowns (y, w / w0), y the section's state in units of
 /// C and C w (in contact, its coordinates on the bore's tangent space, or
 /// the stick's, at the branch's last point, projected back onto the bore);
-/// the residual y(nT) - y; its Jacobian [M - I, dR/dw], M the
+/// the residual y(nT) - y (in contact, in those coordinates); its Jacobian
+/// [M - I, dR/dw] (in contact B^T (M - I) P, B the chart, P the projected
+/// state's derivative), M the
 /// exact monodromy, the speed's column by central differences of two shots;
 /// a tangent predictor and a Newton corrector on the hyperplane normal to
 /// the tangent. Along the branch:
@@ -75,7 +77,8 @@ struct OrbitBranch {
 /// speed by default; a key's: p is the model at start_value, the key's value
 /// at the start), its values in the settings' range. The orbits' settings are `orbit` (periods and
 /// section: the start's). Throws std::invalid_argument for an empty range
-/// or a start outside it.
+/// or a start outside it, OrbitError where a start in contact that flies
+/// is not found again at a section in free flight.
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
                            const OrbitSettings& orbit = {}, const ContinuationParameter& parameter = {},
                            double start_value = 0.0);

@@ -19,7 +19,7 @@
 /// T = 2 pi / w, so an orbit of n periods is a fixed point of the flow over
 /// n T from a spin angle psi (the section, 0 unless chosen): Newton on the
 /// state there, on the bore's tangent space when the orbit starts in
-/// contact (the full rub), and on the stick's when it starts sticking.
+/// contact, and on the stick's when it starts sticking.
 ///
 /// The state is the free layout's (state_layout.hpp): the rotor's position
 /// and, with an elastic stator, the stator's, then their velocities [m,
@@ -103,8 +103,11 @@ inline bool starts_flight(OrbitEvent::Kind kind) {
 
 /// The flow from t0 to t1 with its Jacobian.
 struct OrbitFlow {
-  Eigen::VectorXd state;     ///< x(t1)
-  Eigen::MatrixXd jacobian;  ///< d x(t1) / d x(t0)
+  Eigen::VectorXd state;  ///< x(t1)
+  /// d x(t1) / d x(t0); from a start on the bore (or sticking) along its
+  /// tangent space only (the start's projection onto it is not in it:
+  /// ThroughStickPhasesTheMonodromyIsTheFlowsDerivative)
+  Eigen::MatrixXd jacobian;
   std::vector<OrbitEvent> events;
   bool ends_in_contact = false;
   /// The slowest impact's closing velocity over C w and the free flights'
