@@ -15,6 +15,7 @@ With --zoom, a second panel shows the speeds LO..HI (a cascade of doublings).
 """
 import argparse
 import csv
+import math
 import sys
 
 import matplotlib
@@ -61,9 +62,20 @@ def verdict(part):
     return next((r["stable"] for r in part if r["stable"]), "1")
 
 
-def draw(ax, rows, points, legend, report, xlabel, unit):
+def ordinate(angle):
+    """The plotted value of a row (an orbit's or a run's point): the radius
+    |rotor - stator| [mm], or with angle its direction [deg] (an orbit on the
+    bore throughout has the radius C at every point)."""
+    def of(row):
+        x, y, r = (float(row[k]) if k in row else float(row[k.replace("_m", "_rel_m").replace("radius", "r")])
+                   for k in ("x_m", "y_m", "radius_m"))
+        return math.degrees(math.atan2(y, x)) if angle else 1e3 * r
+    return of
+
+
+def draw(ax, rows, points, legend, report, xlabel, unit, value):
     if points:
-        ax.scatter([float(p["speed_rad_per_s"]) for p in points], [1e3 * float(p["r_rel_m"]) for p in points], s=3,
+        ax.scatter([float(p["speed_rad_per_s"]) for p in points], [value(p) for p in points], s=3,
                    color="#999999", zorder=1, label="runs' Poincare points (constant speed, settled)")
     labelled = set()
     for (branch, _), part in curves(rows):
@@ -71,7 +83,7 @@ def draw(ax, rows, points, legend, report, xlabel, unit):
         period = part[0]["periods"]
         colour = BRANCH_COLOURS[int(branch) % len(BRANCH_COLOURS)]
         label = "period %s, %s" % (period, "stable" if stable else "unstable")
-        ax.plot([float(r["parameter"]) for r in part], [1e3 * float(r["radius_m"]) for r in part], color=colour,
+        ax.plot([float(r["parameter"]) for r in part], [value(r) for r in part], color=colour,
                 ls="-" if stable else "--", lw=1.4 if stable else 1.0, zorder=2,
                 label=None if (label, colour) in labelled else label)
         labelled.add((label, colour))
@@ -79,13 +91,14 @@ def draw(ax, rows, points, legend, report, xlabel, unit):
         sel = [r for r in rows if r["bifurcation"] == kind]
         if not sel:
             continue
-        ax.scatter([float(r["parameter"]) for r in sel], [1e3 * float(r["radius_m"]) for r in sel],
+        ax.scatter([float(r["parameter"]) for r in sel], [value(r) for r in sel],
                    marker=marker, s=36, color=colour, zorder=4, label=kind.replace("_", " "))
         if report:
             for w in sorted({float(r["parameter"]) for r in sel}):
                 print("plot_orbits: %s at %.6f %s" % (kind.replace("_", " "), w, unit))
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("Poincare radius |rotor - stator| at the keyphasor [mm]")
+    ax.set_ylabel("direction of rotor - stator at the keyphasor [deg]" if value.angle else
+                  "Poincare radius |rotor - stator| at the keyphasor [mm]")
     if legend:
         ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
@@ -99,6 +112,8 @@ def main(argv=None):
     ap.add_argument("--title", default="periodic orbits: branches and runs")
     ap.add_argument("--zoom", nargs=2, type=float, metavar=("LO", "HI"), help="a second panel over these values")
     ap.add_argument("--xlabel", help="the parameter's name with its unit (default: speed [rad/s])")
+    ap.add_argument("--angle", action="store_true",
+                    help="plot the direction of rotor - stator at the keyphasor, not its radius (orbits on the bore)")
     a = ap.parse_args(argv)
     try:
         rows = read(a.orbits)
@@ -114,15 +129,17 @@ def main(argv=None):
     else:
         fig, axes = plt.subplots(figsize=(10, 5))
         axes = [axes]
+    value = ordinate(a.angle)
+    value.angle = a.angle
     for i, ax in enumerate(axes):
         draw(ax, rows, points, legend=i == 0, report=i == 0, xlabel=a.xlabel or "speed [rad/s]",
-             unit="rad/s" if not a.xlabel else "")
+             unit="rad/s" if not a.xlabel else "", value=value)
         ax.set_title(a.title if i == 0 else "%g to %g" % tuple(a.zoom))
     if a.zoom:
         lo, hi = a.zoom
         axes[1].set_xlim(lo, hi)
-        inside = [1e3 * float(r["radius_m"]) for r in rows if lo <= float(r["parameter"]) <= hi]
-        inside += [1e3 * float(p["r_rel_m"]) for p in points if lo <= float(p["speed_rad_per_s"]) <= hi]
+        inside = [value(r) for r in rows if lo <= float(r["parameter"]) <= hi]
+        inside += [value(p) for p in points if lo <= float(p["speed_rad_per_s"]) <= hi]
         if inside:
             pad = 0.05 * (max(inside) - min(inside) or 1.0)
             axes[1].set_ylim(min(inside) - pad, max(inside) + pad)

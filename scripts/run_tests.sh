@@ -165,7 +165,9 @@ rm -rf "$ORB"
 timed "checks: orbits --quick" check "orbits: make_orbits.sh --quick" bash -c "'$ROOT/scripts/make_orbits.sh' --quick '$ORB' \
   > '$WS/orbits_check.log' 2>&1 && test -s '$ORB/periodic_orbits.png' \
   && grep -q 'plot_orbits: period doubling at 53.092018 rad/s' '$WS/orbits_check.log' \
-  && grep -q 'plot_orbits: neimark sacker at 64.892792 rad/s' '$WS/orbits_check.log'"
+  && grep -q 'plot_orbits: neimark sacker at 64.892792 rad/s' '$WS/orbits_check.log' \
+  && test -s '$ORB/stick_slip_orbits.png' \
+  && grep -q 'plot_orbits: period doubling at 107.505398 rad/s' '$WS/orbits_check.log'"
 
 # The bifurcation chart command end to end on a small grid (every picture drawn).
 BIF="$WS/bifurcation_check"

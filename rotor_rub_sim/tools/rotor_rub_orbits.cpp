@@ -107,9 +107,13 @@ void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
 
 // One CSV row per keyphasor point of each orbit (rotor minus stator, as
 // rotor_rub_bifurcation's Poincare points), in the orbit's order from the
-// point of the largest radius (keyphasor 0), which follows the same point
-// along a branch wherever the section moves. A bifurcation's row has no
-// verdict (stable empty: it is the boundary).
+// point of the largest radius (keyphasor 0; of an orbit on the bore, where
+// every radius is C to the rounding, of the largest direction atan2(y, x)),
+// which follows the same point along a branch wherever the section moves.
+// A bifurcation's row has no verdict (stable empty: it is the boundary).
+// Two keyphasor points' radii this close (relative) are the same: the bore's.
+constexpr double kSameRadius = 1e-9;
+
 void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, const char* bifurcation) {
   const int v = static_cast<int>(o.state.size()) / 2;
   const std::size_t n = o.keyphasor_states.size();
@@ -118,7 +122,12 @@ void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, co
   for (std::size_t k = 0; k < n; ++k) {
     rel[k] = o.keyphasor_states[k].head<2>();
     if (v == 4) rel[k] -= o.keyphasor_states[k].segment<2>(2);
-    if (rel[k].norm() > rel[first].norm()) first = k;
+    const double dr = rel[k].norm() - rel[first].norm();
+    if (dr > kSameRadius * rel[first].norm() ||
+        (std::abs(dr) <= kSameRadius * rel[first].norm() &&
+         std::atan2(rel[k].y(), rel[k].x()) > std::atan2(rel[first].y(), rel[first].x()))) {
+      first = k;
+    }
   }
   const std::string verdict = *bifurcation != '\0' ? "" : (o.stable() ? "1" : "0");
   for (std::size_t j = 0; j < n; ++j) {

@@ -55,14 +55,13 @@ TEST(OrbitsCli, ABranchInAKey) {
   EXPECT_NE(r.out.find("9.810000 to 8.30"), std::string::npos) << r.out;
 }
 
-// The thin shaft (R_r = C, f = 1, plastic: test_periodic_orbit.cpp's) sticks
+// The thin shaft (config/stick_slip_rub.yaml: R_r = C, f = 1, plastic) sticks
 // and slips on the bore's bottom: its events and multipliers on the bore's
 // tangent space; its branch, traced on that space, doubles its period at
 // 107.505 rad/s (test_orbit_continuation.cpp's AStickSlipBranchOnTheBore). The paper's rotor (R_r = 5 C) rolls
 // throughout at f = 1: a neutral multiplier (every phase of the rolling is an orbit).
 TEST(OrbitsCli, StickingOrbits) {
-  const std::string thin = "--scene " + config("horizontal_rub.yaml") +
-                           " --set rotor_radius_m=0.002 --set friction_coefficient=1 --set restitution=0 --speed 110";
+  const std::string thin = "--scene " + config("stick_slip_rub.yaml") + " --speed 110";
   const Result r = orbits(thin);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* line : {"stick     at t = 0.01211569", "slip      at t = 0.02635748", "stable",
