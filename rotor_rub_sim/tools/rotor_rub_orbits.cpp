@@ -6,8 +6,9 @@
 // period doublings and Neimark-Sacker points, and the branches of twice the
 // period born at the doublings (--doublings levels deep). The orbit starts
 // from the scene's event-driven flow (the switching method's physics) run
-// from rest for --settle-periods periods, then Newton on the shooting
-// residual. The contact is the rigid one (the scene's method switching or
+// from rest for --settle-periods periods, or from a run's sample
+// (--from-run, --at: an orbit the run's history settled on), then Newton on
+// the shooting residual. The contact is the rigid one (the scene's method switching or
 // iteration), under the prescribed drive (docs/periodic_orbits.md).
 //
 // Exit status: 0 ok (a branch's end is reported, not an error); 2 bad input
@@ -29,6 +30,7 @@
 #include "rotor_rub_sim/core/periodic_orbit.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "run_comparison.hpp"
 
 namespace {
 
@@ -138,14 +140,58 @@ void write_rows(std::ofstream& csv, int branch, const core::PeriodicOrbit& o, co
   }
 }
 
+// The start from a run (--from-run): the state of a rotor_rub_run CSV's
+// sample at or after t_s, in the flow's layout, and its spin angle (the
+// section). Exits 2 for a file that is not a run's, a time past its end, a
+// speed other than the orbit's.
+struct RunStart {
+  Eigen::VectorXd state;
+  double t_s = 0.0, angle_rad = 0.0;
+};
+RunStart start_from_run(const std::string& path, double t_s, const core::ModelParameters& p, double speed) {
+  // The run's speed within this of --speed (relative): the same constant speed.
+  constexpr double kSameSpeed = 1e-9;
+  tools::RecordedRun run;
+  try {
+    run = tools::read_runner_csv(path, "");
+  } catch (const std::exception& e) {
+    bad_input("--from-run: " + std::string(e.what()));
+  }
+  const auto at =
+      std::find_if(run.samples.begin(), run.samples.end(), [t_s](const core::Sample& s) { return s.t_s >= t_s; });
+  if (at == run.samples.end()) {
+    bad_input("--at " + core::exact_text(t_s) + ": past the run's last sample (t = " +
+              (run.samples.empty() ? std::string("none") : core::exact_text(run.samples.back().t_s)) + " s) in '" +
+              path + "'");
+  }
+  if (!(std::abs(at->drive.speed_rad_per_s - speed) <= kSameSpeed * speed)) {
+    bad_input("--from-run: the run's speed at t = " + core::exact_text(at->t_s) + " s is " +
+              core::exact_text(at->drive.speed_rad_per_s) + " rad/s; accepted: --speed " + core::exact_text(speed) +
+              " (a run held at the orbit's constant speed)");
+  }
+  const bool elastic = p.stator_model == core::StatorModel::kElastic;
+  RunStart out;
+  out.t_s = at->t_s;
+  out.angle_rad = std::fmod(at->drive.angle_rad, 2.0 * M_PI);
+  if (out.angle_rad < 0.0) out.angle_rad += 2.0 * M_PI;
+  out.state.resize(elastic ? 8 : 4);
+  const core::Kinematics& k = at->kin;
+  if (elastic) {
+    out.state << k.rotor_pos, k.stator_pos, k.rotor_vel, k.stator_vel;
+  } else {
+    out.state << k.rotor_pos, k.rotor_vel;
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   namespace cli = rotor_rub::cli;
-  std::string scene_path, csv_path, key;
+  std::string scene_path, csv_path, key, run_path;
   std::vector<std::string> sets;
   std::vector<double> range;
-  double speed = 0.0;
+  double speed = 0.0, run_at_s = 0.0;
   int periods = 1, settle_periods = 200, doublings = 1;
   CLI::App app(
       "The periodic orbit a Jeffcott scene settles into at a constant speed and its Floquet multipliers (the exact "
@@ -170,6 +216,16 @@ int main(int argc, char** argv) {
       ->type_name("P")
       ->capture_default_str()
       ->check(cli::integer_in(0, 1000000));
+  app.add_option("--from-run", run_path,
+                 "start Newton from a run instead (rotor_rub_run --csv of the scene at the constant --speed): its "
+                 "sample at --at, the section at its spin angle; an orbit of the run's history (a hysteresis "
+                 "band's other branch)")
+      ->type_name("CSV")
+      ->check(cli::existing_file());
+  app.add_option("--at", run_at_s, "with --from-run: the sample's time [s] (the first at or after it)")
+      ->type_name("T")
+      ->capture_default_str()
+      ->check(cli::number_in(0.0, 1e9));
   app.add_option("--continue", range,
                  "trace the orbit's branch both ways within LO..HI [rad/s, or the --parameter key's unit]")
       ->type_name("LO HI")
@@ -195,6 +251,7 @@ int main(int argc, char** argv) {
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
   if (!(speed > 0.0)) cli::usage_error(app, "--speed is required");
   if (!key.empty() && range.empty()) cli::usage_error(app, "--parameter needs --continue LO HI");
+  if (run_path.empty() && app.count("--at") > 0) cli::usage_error(app, "--at needs --from-run CSV");
   if (key.empty() && !range.empty() && !(range[0] > 0.0)) {
     cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " ...: a speed range; accepted: 0 < LO");
   }
@@ -276,8 +333,19 @@ int main(int argc, char** argv) {
   settings.periods = periods;
   core::PeriodicOrbit orbit;
   const auto t0 = std::chrono::steady_clock::now();
+  std::string start_text = "the flow run from rest for " + std::to_string(settle_periods) + " periods";
   try {
-    orbit = core::find_periodic_orbit(p, speed, core::settled_state(p, speed, settle_periods, settings), settings);
+    Eigen::VectorXd guess;
+    if (run_path.empty()) {
+      guess = core::settled_state(p, speed, settle_periods, settings);
+    } else {
+      const RunStart from = start_from_run(run_path, run_at_s, p, speed);
+      guess = from.state;
+      settings.section_angle_rad = from.angle_rad;
+      start_text = run_path + " at t = " + core::exact_text(from.t_s) + " s (spin angle " +
+                   core::exact_text(from.angle_rad) + " rad)";
+    }
+    orbit = core::find_periodic_orbit(p, speed, guess, settings);
   } catch (const std::invalid_argument& e) {
     bad_input(e.what());
   } catch (const core::OrbitError& e) {
@@ -288,11 +356,9 @@ int main(int argc, char** argv) {
     return 3;
   }
   const double orbit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf(
-      "%s: %s stator, f = %g, e = %g, g = %g m/s^2 (the flow run from rest for %d periods, then Newton: "
-      "%.3f s of wall time)\n",
-      scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution, p.gravity_m_per_s2,
-      settle_periods, orbit_s);
+  std::printf("%s: %s stator, f = %g, e = %g, g = %g m/s^2 (from %s, then Newton: %.3f s of wall time)\n",
+              scene_path.c_str(), core::to_string(p.stator_model), p.friction_coefficient, p.restitution,
+              p.gravity_m_per_s2, start_text.c_str(), orbit_s);
   orbit.parameter = start_value;
   print_orbit(p, orbit);
   if (range.empty()) {

@@ -416,3 +416,36 @@ TEST(OrbitContinuation, AStickSlipBranchOnTheBore) {
   EXPECT_LT(every2, kSettled);
   EXPECT_GT(every1, 100.0 * kSettled);
 }
+
+// The hysteresis band of the paper's scene (elastic stator, f = 0.1): at 160
+// rad/s the full rub (found from the turning frame's equilibrium, as a
+// run-up would leave it) traced up in speed on the bore's tangent space turns
+// back at a fold where full_rub_continuation's turning-frame branch does,
+// to kFold (each located by regula falsi to 1e-8 of a step of 0.05 in its
+// scaled arclength, where the speed is stationary: they agree to 9 digits).
+TEST(OrbitContinuation, TheFullRubsFoldByShootingIsTheTurningFrames) {
+  constexpr double kFold = 1e-6;
+  const core::ModelParameters p = test::paper_scene().model;
+  const double w = 160.0;
+  const auto rubs = core::full_rub_stability(p, w);
+  ASSERT_FALSE(rubs.empty());
+  const std::complex<double> i_w(0.0, w), z = rubs.front().station_m, zs = rubs.front().stator_m;
+  Eigen::VectorXd guess(8);
+  guess << z.real(), z.imag(), zs.real(), zs.imag(), (i_w * z).real(), (i_w * z).imag(), (i_w * zs).real(),
+      (i_w * zs).imag();
+  const core::PeriodicOrbit start = core::find_periodic_orbit(p, w, guess);
+  ASSERT_TRUE(start.starts_in_contact && start.events.empty());
+  core::ContinuationSettings settings = range(true);
+  settings.min_speed_rad_per_s = 150.0;
+  settings.max_speed_rad_per_s = 200.0;
+  const core::OrbitBranch up = core::continue_orbit(p, start, settings);
+  const core::OrbitBifurcation* fold = first(up, core::OrbitBifurcationKind::kFold);
+  ASSERT_NE(fold, nullptr) << up.end;
+  const core::FullRubBranch turning =
+      core::continue_full_rub(core::turning_rotor(p), core::station_stator(p), p.clearance_m, p.friction_coefficient,
+                              rubs.front(), w, settings);
+  ASSERT_FALSE(turning.folds_rad_per_s.empty()) << turning.end;
+  std::printf("the full rub's fold by shooting %.9f rad/s, in the turning frame %.9f rad/s\n", fold->speed_rad_per_s,
+              turning.folds_rad_per_s.front());
+  EXPECT_NEAR(fold->speed_rad_per_s, turning.folds_rad_per_s.front(), kFold);
+}

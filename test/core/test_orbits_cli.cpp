@@ -78,6 +78,35 @@ TEST(OrbitsCli, StickingOrbits) {
   EXPECT_NE(whip.out.find("sticking (rolling on it: dry whip)"), std::string::npos) << whip.out;
 }
 
+// From a run (--from-run, --at): the paper's run-up held at 160 rad/s stays
+// in the full rub, an orbit on the bore whose branch turns back at the
+// fold where rotor_rub_stability puts it (167.936436 rad/s); the flow from
+// rest at the same speed settles without contact (the hysteresis band).
+// A time past the run, a run at another speed, --at alone: exit status 2.
+TEST(OrbitsCli, FromARun) {
+  const std::string run_csv = rotor_rub::test::tmp() + "/runup_160.csv";
+  const std::string scene = "--scene " + config("paper_runup.yaml");
+  const Result run = rotor_rub::test::run_cli(
+      ROTOR_RUB_RUN, scene + " --set target_speed_rad_per_s=160 --set end_time_s=4 --quiet --csv " + run_csv);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const Result r = orbits(scene + " --speed 160 --from-run " + run_csv + " --at 3.9 --continue 150 200");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* line :
+       {"at t = 3.9 s", "on the bore throughout, sliding (the full rub)", "stable", "branch 0: fold at 167.93643"}) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+  EXPECT_NE(orbits(scene + " --speed 160").out.find("no contact"), std::string::npos);
+  for (const auto& [args, part] :
+       {std::pair<std::string, std::string>{" --speed 160 --from-run " + run_csv + " --at 5",
+                                            "past the run's last sample"},
+        {" --speed 150 --from-run " + run_csv + " --at 3.9", "the run's speed at t = 3.9 s is 160 rad/s"},
+        {" --speed 160 --at 3.9", "--at needs --from-run"}}) {
+    const Result bad = orbits(scene + args);
+    EXPECT_EQ(bad.status, 2) << args;
+    EXPECT_NE(bad.err.find(part), std::string::npos) << args << ": " << bad.err;
+  }
+}
+
 TEST(OrbitsCli, NoOrbitAndBadInput) {
   // Past the Neimark-Sacker point the motion is not periodic: exit 3.
   const Result none = orbits("--scene " + config("horizontal_rub.yaml") + " --speed 66.5");
