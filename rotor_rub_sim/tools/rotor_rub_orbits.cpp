@@ -30,6 +30,7 @@
 #include "rotor_rub_sim/core/periodic_orbit.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
+#include "rotor_rub_sim/core/turning_orbit.hpp"
 #include "run_comparison.hpp"
 
 namespace {
@@ -64,21 +65,37 @@ int least_period(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
 // R_r / C is an integer: OrbitsCli.StickingOrbits) or a bifurcation.
 constexpr double kNeutral = 1e-6;
 
+// The forcing periods scanned for a turning-frame orbit's repeating impacts
+// (turning_orbit_guess).
+constexpr int kTurningScan = 100;
+
 void print_orbit(const core::ModelParameters& p, const core::PeriodicOrbit& o) {
   const bool neutral = std::abs(std::abs(o.multipliers.front()) - 1.0) < kNeutral;
-  std::printf("orbit at %.6f rad/s: period %d T = %.9g s, %s, Newton %d iterations (residual %.2g of C)\n",
-              o.speed_rad_per_s, o.periods, o.period_s,
-              neutral      ? "neutral"
-              : o.stable() ? "stable"
-                           : "unstable",
-              o.newton_iterations, o.residual);
+  if (o.turning) {
+    std::printf(
+        "orbit at %.6f rad/s in the frame turning with the shaft: period T_r = %.12g s (%.6f forcing periods: "
+        "quasi-periodic in the casing), %s, Newton %d iterations (residual %.2g of C); trivial multiplier 1 %+.1e "
+        "(the flow's direction, left out below)\n",
+        o.speed_rad_per_s, o.period_s, o.period_s * o.speed_rad_per_s / (2.0 * M_PI),
+        neutral      ? "neutral"
+        : o.stable() ? "stable"
+                     : "unstable",
+        o.newton_iterations, o.residual, o.trivial_multiplier - 1.0);
+  } else {
+    std::printf("orbit at %.6f rad/s: period %d T = %.9g s, %s, Newton %d iterations (residual %.2g of C)\n",
+                o.speed_rad_per_s, o.periods, o.period_s,
+                neutral      ? "neutral"
+                : o.stable() ? "stable"
+                             : "unstable",
+                o.newton_iterations, o.residual);
+  }
   if (neutral) {
     std::printf(
         "  note: its largest multiplier lies on the unit circle to %g: neutral (a family of orbits, as a rolling "
         "whose R_r / C is an integer, or a bifurcation)\n",
         kNeutral);
   }
-  if (const int least = least_period(p, o); least < o.periods) {
+  if (const int least = o.turning ? 1 : least_period(p, o); least < o.periods) {
     std::printf("  note: its least period is %d T: it is the orbit of --periods %d traced %d times\n", least, least,
                 o.periods / least);
   }
@@ -189,6 +206,7 @@ RunStart start_from_run(const std::string& path, double t_s, const core::ModelPa
 int main(int argc, char** argv) {
   namespace cli = rotor_rub::cli;
   std::string scene_path, csv_path, key, run_path;
+  bool turning = false;
   std::vector<std::string> sets;
   std::vector<double> range;
   double speed = 0.0, run_at_s = 0.0;
@@ -222,6 +240,10 @@ int main(int argc, char** argv) {
                  "band's other branch)")
       ->type_name("CSV")
       ->check(cli::existing_file());
+  app.add_flag("--turning", turning,
+               "find the orbit periodic in the frame turning with the shaft instead (a scene without gravity and "
+               "with its stator centred): its own period T_r, quasi-periodic in the casing; from a start whose "
+               "impacts repeat (settled, or --from-run), without --continue, --periods or --csv");
   app.add_option("--at", run_at_s, "with --from-run: the sample's time [s] (the first at or after it)")
       ->type_name("T")
       ->capture_default_str()
@@ -252,6 +274,10 @@ int main(int argc, char** argv) {
   if (!(speed > 0.0)) cli::usage_error(app, "--speed is required");
   if (!key.empty() && range.empty()) cli::usage_error(app, "--parameter needs --continue LO HI");
   if (run_path.empty() && app.count("--at") > 0) cli::usage_error(app, "--at needs --from-run CSV");
+  if (turning && (!range.empty() || periods != 1 || !csv_path.empty())) {
+    cli::usage_error(app,
+                     "--turning takes no --continue, --periods or --csv (a turning-frame orbit is found, not traced)");
+  }
   if (key.empty() && !range.empty() && !(range[0] > 0.0)) {
     cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " ...: a speed range; accepted: 0 < LO");
   }
@@ -336,6 +362,7 @@ int main(int argc, char** argv) {
   std::string start_text = "the flow run from rest for " + std::to_string(settle_periods) + " periods";
   try {
     Eigen::VectorXd guess;
+    if (turning) core::check_turning_scene(p, speed, settings);
     if (run_path.empty()) {
       guess = core::settled_state(p, speed, settle_periods, settings);
     } else {
@@ -345,7 +372,14 @@ int main(int argc, char** argv) {
       start_text = run_path + " at t = " + core::exact_text(from.t_s) + " s (spin angle " +
                    core::exact_text(from.angle_rad) + " rad)";
     }
-    orbit = core::find_periodic_orbit(p, speed, guess, settings);
+    if (turning) {
+      // The start's time: its spin angle over the speed (the forcing's phase).
+      const core::TurningGuess g =
+          core::turning_orbit_guess(p, speed, guess, settings.section_angle_rad / speed, kTurningScan, settings);
+      orbit = core::find_turning_orbit(p, speed, g, settings);
+    } else {
+      orbit = core::find_periodic_orbit(p, speed, guess, settings);
+    }
   } catch (const std::invalid_argument& e) {
     bad_input(e.what());
   } catch (const core::OrbitError& e) {

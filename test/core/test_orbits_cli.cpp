@@ -107,6 +107,33 @@ TEST(OrbitsCli, FromARun) {
   }
 }
 
+// In the turning frame (--turning): the paper's scene run down from 600 to
+// 500 rad/s and held settles on a partial rub that repeats in the frame
+// turning with the shaft every 3.81 forcing periods (two touchdowns),
+// quasi-periodic in the casing (test_turning_orbit.cpp holds the method).
+// A scene with gravity, or --turning with --continue: exit status 2.
+TEST(OrbitsCli, TurningFrameOrbitFromARunDown) {
+  const std::string run_csv = rotor_rub::test::tmp() + "/rundown_500.csv";
+  const std::string scene = "--scene " + config("paper_runup.yaml");
+  const std::string rundown =
+      " --set initial_speed_rad_per_s=600 --set target_speed_rad_per_s=500 --set acceleration_rad_per_s2=500";
+  const Result run = rotor_rub::test::run_cli(
+      ROTOR_RUB_RUN, scene + rundown + " --set end_time_s=20 --rate 100 --quiet --csv " + run_csv);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const Result r = orbits(scene + " --speed 500 --from-run " + run_csv + " --at 19 --turning");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* line :
+       {"in the frame turning with the shaft: period T_r = 0.04785325", "(3.80804", "stable", "touchdown at t"}) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+  const Result gravity = orbits("--scene " + config("horizontal_rub.yaml") + " --speed 60 --turning");
+  EXPECT_EQ(gravity.status, 2);
+  EXPECT_NE(gravity.err.find("scene key 'gravity_m_per_s2' is 9.81"), std::string::npos) << gravity.err;
+  const Result traced = orbits(scene + " --speed 500 --turning --continue 450 550");
+  EXPECT_EQ(traced.status, 2);
+  EXPECT_NE(traced.err.find("--turning takes no --continue"), std::string::npos) << traced.err;
+}
+
 TEST(OrbitsCli, NoOrbitAndBadInput) {
   // Past the Neimark-Sacker point the motion is not periodic: exit 3.
   const Result none = orbits("--scene " + config("horizontal_rub.yaml") + " --speed 66.5");

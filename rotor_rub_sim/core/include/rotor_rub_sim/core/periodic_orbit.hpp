@@ -131,6 +131,11 @@ struct PeriodicOrbit {
   std::vector<Eigen::VectorXd> keyphasor_states;
   bool starts_in_contact = false;
   bool starts_in_stick = false;    ///< in contact, sticking
+  /// Periodic in the frame turning with the shaft (turning_orbit.hpp):
+  /// period_s its own, the monodromy's trivial multiplier (1: the flow's
+  /// direction) apart from the multipliers.
+  bool turning = false;
+  double trivial_multiplier = 0.0;
   std::vector<OrbitEvent> events;  ///< over one orbit, t in (psi / w, psi / w + n T]
   /// d y(nT) / d y(0) of y = (positions / C, velocities / (C w)); starting
   /// in contact, its part on the bore's tangent space in y (n - 2 columns of
