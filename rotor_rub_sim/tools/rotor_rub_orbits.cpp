@@ -383,10 +383,15 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     bad_input(e.what());
   } catch (const core::OrbitError& e) {
-    std::cerr << "rotor_rub_orbits: no periodic orbit of " << periods << " period(s) at " << speed
-              << " rad/s: " << e.what()
-              << " (the motion there may have more periods, --periods N; settle longer, --settle-periods; or start "
-                 "from a neighbouring speed's orbit with --continue)\n";
+    if (turning) {
+      std::cerr << "rotor_rub_orbits: no orbit of the turning frame at " << speed << " rad/s: " << e.what()
+                << " (settle longer, --settle-periods; or start from a run's later sample, --from-run CSV --at T)\n";
+    } else {
+      std::cerr << "rotor_rub_orbits: no periodic orbit of " << periods << " period(s) at " << speed
+                << " rad/s: " << e.what()
+                << " (the motion there may have more periods, --periods N; settle longer, --settle-periods; or "
+                   "start from a neighbouring speed's orbit with --continue)\n";
+    }
     return 3;
   }
   const double orbit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -547,6 +547,9 @@ void check_range(const ContinuationSettings& settings, const ContinuationParamet
 
 OrbitBranch continue_orbit(const ModelParameters& p, const PeriodicOrbit& start, const ContinuationSettings& settings,
                            const OrbitSettings& orbit, const ContinuationParameter& parameter, double start_value) {
+  if (start.turning) {
+    throw std::invalid_argument("orbit continuation: the start is periodic in the turning frame, which is not traced");
+  }
   const double v0 = parameter.model ? start_value : start.speed_rad_per_s;
   check_range(settings, parameter, v0);
   OrbitSettings s = orbit;

@@ -27,6 +27,9 @@ constexpr int kRepeats = 4;
 // A shooting residual this small (of C and C w) needs no Newton step
 // (periodic_orbit.cpp's).
 constexpr double kPolished = 1e-13;
+// A turning-frame field this small against w |y| is an equilibrium there,
+// which has no section across the flow.
+constexpr double kEquilibrium = 1e-9;
 
 // y with each planar pair (positions, velocities; the rotor's and the
 // stator's) turned by a.
@@ -84,13 +87,14 @@ TurningGuess turning_orbit_guess(const ModelParameters& p, double w, const Eigen
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (is_impact(e[i].kind)) impacts.push_back(i);
   }
-  // The last impacts, the most settled, against those m before them.
+  // The last impacts, the most settled, against those m before them (all m
+  // of them, at least kRepeats).
   const std::size_t count = impacts.size();
   auto velocity = [&](std::size_t k) { return e[impacts[count - 1 - k]].normal_velocity_m_per_s; };
   std::size_t m = 0;
-  for (std::size_t j = 1; j + kRepeats <= count && m == 0; ++j) {
+  for (std::size_t j = 1; j + std::max<std::size_t>(kRepeats, j) <= count && m == 0; ++j) {
     bool same = true;
-    for (std::size_t k = 0; k < kRepeats && same; ++k) {
+    for (std::size_t k = 0; k < std::max<std::size_t>(kRepeats, j) && same; ++k) {
       same = std::abs(velocity(k + j) - velocity(k)) <= kSameImpact * velocity(k);
     }
     if (same) m = j;
@@ -136,6 +140,11 @@ PeriodicOrbit find_turning_orbit(const ModelParameters& p, double w, const Turni
   const double t0 = angle / w;
   const Vector y_g = flow.scaled(guess.state);
   const Vector normal = turning_field(flow, t0, y_g);
+  if (!(normal.norm() > kEquilibrium * flow.speed() * y_g.norm())) {
+    throw OrbitError(
+        "the guess is at rest in the turning frame (the full rub or the synchronous whirl: an equilibrium there, "
+        "full_rub_stability's or steady_response's), not on a periodic orbit of it");
+  }
   Vector y = y_g;
   double period = guess.period_s;
   for (int it = 0;; ++it) {
@@ -164,25 +173,16 @@ PeriodicOrbit find_turning_orbit(const ModelParameters& p, double w, const Turni
       orbit.events = shot.events;
       orbit.monodromy = back * shot.jacobian;
       orbit.tangent_basis = Eigen::MatrixXd::Identity(n, n);
-      // The trivial multiplier: its eigenvector is the flow's direction.
-      const Eigen::EigenSolver<Eigen::MatrixXd> es(orbit.monodromy);
-      const Vector along = turning_field(flow, t0, y).normalized();
-      int trivial = 0;
-      double aligned = -1.0;
-      for (int i = 0; i < n; ++i) {
-        const double c = std::abs(es.eigenvectors().col(i).normalized().dot(along.cast<std::complex<double>>()));
-        if (c > aligned) {
-          aligned = c;
-          trivial = i;
-        }
-      }
-      orbit.trivial_multiplier = es.eigenvalues()(trivial).real();
-      for (int i = 0; i < n; ++i) {
-        if (i != trivial) orbit.multipliers.push_back(es.eigenvalues()(i));
-      }
-      std::stable_sort(
-          orbit.multipliers.begin(), orbit.multipliers.end(),
-          [](const std::complex<double>& a, const std::complex<double>& b) { return std::abs(a) > std::abs(b); });
+      // M f = f (f the turning frame's field at the orbit): the trivial
+      // multiplier. The others are the section's map's, (I - f f^T / |f|^2)
+      // M on the hyperplane across f: M's with the trivial one deflated.
+      const Vector f = turning_field(flow, t0, y);
+      const Eigen::MatrixXd f_column = f;
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr(f_column);
+      const Eigen::MatrixXd across = (qr.householderQ() * Eigen::MatrixXd::Identity(n, n)).rightCols(n - 1);
+      const Eigen::MatrixXd onto = Eigen::MatrixXd::Identity(n, n) - f * f.transpose() / f.squaredNorm();
+      orbit.trivial_multiplier = f.dot(orbit.monodromy * f) / f.squaredNorm();
+      orbit.multipliers = sorted_eigenvalues(across.transpose() * onto * orbit.monodromy * across);
       orbit.newton_iterations = it;
       orbit.residual = residual;
       orbit.slowest_impact = shot.slowest_impact;

@@ -12,7 +12,8 @@
 /// guess across the flow), its Jacobian [R Phi - I, R (f - w J y)(T_r); F, 0]
 /// from periodic_orbit.hpp's exact Phi through the events. The monodromy
 /// M = R(-w T_r) Phi has the trivial multiplier 1 (the flow's own
-/// direction), left out of the orbit's multipliers and kept apart. The
+/// direction f: M f = f), kept apart; the orbit's multipliers are the
+/// section's map's, (I - f f^T / |f|^2) M on the hyperplane across f. The
 /// section lies in free flight. Tests: test_turning_orbit.cpp.
 #pragma once
 
@@ -43,8 +44,8 @@ TurningGuess turning_orbit_guess(const ModelParameters& p, double w_rad_per_s, c
 
 /// The orbit near the guess: PeriodicOrbit with turning set, period_s T_r,
 /// state the state at section_angle_rad / w (the guess's time in the
-/// forcing period), monodromy the full M, multipliers without the trivial
-/// one (trivial_multiplier). Throws OrbitError where Newton does not
+/// forcing period), monodromy the full M, multipliers the section's map's
+/// (trivial_multiplier f^T M f / |f|^2 apart). Throws OrbitError where Newton does not
 /// converge, the section leaves free flight or the orbit grazes.
 PeriodicOrbit find_turning_orbit(const ModelParameters& p, double w_rad_per_s, const TurningGuess& guess,
                                  const OrbitSettings& settings = {});
