@@ -130,7 +130,7 @@ struct PeriodicOrbit {
   /// points (rotor_rub_bifurcation) see of it, n of them.
   std::vector<Eigen::VectorXd> keyphasor_states;
   bool starts_in_contact = false;
-  bool starts_in_stick = false;    ///< in contact, sticking
+  bool starts_in_stick = false;  ///< in contact, sticking
   /// Periodic in the frame turning with the shaft (turning_orbit.hpp):
   /// period_s its own, the monodromy's trivial multiplier (1: the flow's
   /// direction) apart from the multipliers.
