@@ -1,6 +1,7 @@
 // One shot of the Jeffcott's event-driven flow with its variational
-// equations (periodic_orbit.cpp): what the shooting and the orbits'
-// continuation (orbit_continuation.cpp) build on.
+// equations (orbit_shot.cpp): what the shooting (periodic_orbit.cpp,
+// turning_orbit.cpp) and the orbits' continuation (orbit_continuation.cpp)
+// build on.
 #pragma once
 
 #include <Eigen/Core>
@@ -41,6 +42,11 @@ std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& m);
 void check_scene(const ModelParameters& p, double w_rad_per_s, const OrbitSettings& s);
 // OrbitError for an orbit that passes closer to the bore than kGrazingGap.
 void check_grazing(double closest_miss);
+
+// A shooting residual this small (of C and C w) needs no Newton step: a
+// settled start meets the tolerance as it is (find_periodic_orbit,
+// find_turning_orbit).
+inline constexpr double kPolished = 1e-13;
 
 // RubFlow's settle apex for the settings (the integrator's tolerance of C).
 inline double settle_apex_m(const ModelParameters& p, const OrbitSettings& s) { return s.tolerance * p.clearance_m; }

@@ -24,9 +24,6 @@ using Vector = Eigen::VectorXd;
 constexpr double kSameImpact = 1e-6;
 // The impacts compared before a sequence is called repeating.
 constexpr int kRepeats = 4;
-// A shooting residual this small (of C and C w) needs no Newton step
-// (periodic_orbit.cpp's).
-constexpr double kPolished = 1e-13;
 // A turning-frame field this small against w |y| is an equilibrium there,
 // which has no section across the flow.
 constexpr double kEquilibrium = 1e-9;
