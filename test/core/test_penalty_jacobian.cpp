@@ -13,7 +13,10 @@
 #include <random>
 #include <string>
 
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/penalty_system.hpp"
+#include "rotor_rub_sim/core/rotor_model.hpp"
+#include "rotor_rub_sim/core/scene_file.hpp"
 #include "test_support.hpp"
 
 namespace rotor_rub {
@@ -82,7 +85,7 @@ double worst_ratio(const System& sys, const typename System::State& x, const typ
   const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
   auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
     const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
-    for (int i = 0; i < State::RowsAtCompileTime; ++i) {
+    for (int i = 0; i < x.size(); ++i) {
       const double allowed = kRelTolerance * std::max(std::abs(fd[i]), std::abs(exact[i])) + rounding;
       const double ratio = std::abs(fd[i] - exact[i]) / allowed;
       if (ratio > worst) {
@@ -92,7 +95,7 @@ double worst_ratio(const System& sys, const typename System::State& x, const typ
       }
     }
   };
-  for (int j = 0; j < State::RowsAtCompileTime; ++j) {
+  for (int j = 0; j < x.size(); ++j) {
     State xp = x, xm = x;
     xp[j] += steps[j];
     xm[j] -= steps[j];
@@ -298,6 +301,83 @@ TEST(PenaltyJacobian, PolarErrorIsTheCartesianStatesError) {
     // eps |y| / |y1 - y0| ~ 1e-8 (at 1e-6 of these steps it rounded to 1e-5).
     EXPECT_NEAR(sys.error_norm(e, x0, x1, atol, rtol), cartesian, 1e-6 * cartesian) << "trial " << trial;
   }
+}
+
+// A flexible rotor's penalty system (FlexibleRotor::add_free_jacobian: -K
+// and -(C + w G) of the reduced rotor, the unbalances' rate): the seal rotor
+// (its seal's circulatory kxy = -kyx: K not symmetric) with 8 planar modes on
+// a rigid stator under gravity and on an elastic one far above its critical
+// speed, and the anisotropic rig (kyy/kxx 115) with 20 planar modes at 400
+// rad/s, where w G is large; every mode of the law at random states, the
+// modal block's entries of the size a run reaches (xi ~ 1e-5 sqrt(kg) m).
+// Differences of a linear block are exact but for rounding; the contact's
+// rows are the Jeffcott's (Checker above).
+template <int kStatorDof>
+void check_flexible(const std::string& name, core::Scene s, const core::SpeedSegment& segment) {
+  using System = core::PenaltySystem<kStatorDof, false, true, core::FlexibleRotor>;
+  using L = typename System::L;
+  using State = typename System::State;
+  core::load_rotor(s);
+  const core::FlexibleRotor rotor(s);
+  const core::StationModel model(rotor.adopt(s.model));
+  System sys;
+  sys.model = &model;
+  sys.rotor = &rotor;
+  sys.law = core::PenaltyLaw(model);
+  sys.segment = segment;
+  const int n = rotor.modal_size();
+  const double t = segment.start_time_s + 0.37;
+  std::mt19937 rng(20261129);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
+  State h(L::kSize + 2 * n);
+  h.head(L::kDof).setConstant(kPositionStep_m);
+  h.segment(L::kDof, L::kDof).setConstant(kVelocityStep_m_per_s);
+  h.segment(L::kModal, n).setConstant(kPositionStep_m);
+  h.tail(n).setConstant(kVelocityStep_m_per_s);
+  std::vector<PenaltyMode> modes(4);
+  modes[1].pressed = modes[2].pressed = modes[3].pressed = true;
+  modes[2].slip = 1;
+  modes[3].slip = -1;
+  for (int trial = 0; trial < 12; ++trial) {
+    State x = State::Zero(L::kSize + 2 * n);
+    const double angle = M_PI * unit(rng);
+    const double distance = s.model.clearance_m * (trial % 4 == 0 ? 0.5 : 1.0 + 0.5 * share(rng));
+    const core::Vec2 stator = kStatorDof == 2 ? core::Vec2(1e-6 * unit(rng), 1e-6 * unit(rng)) : core::Vec2::Zero();
+    x.template segment<2>(L::kRotorPos) = stator + distance * core::Vec2(std::cos(angle), std::sin(angle));
+    x.template segment<2>(L::kRotorVel) = core::Vec2(1e-2 * unit(rng), 1e-2 * unit(rng));
+    if constexpr (kStatorDof == 2) {
+      x.template segment<2>(L::kStatorPos) = stator;
+      x.template segment<2>(L::kStatorVel) = core::Vec2(1e-3 * unit(rng), 1e-3 * unit(rng));
+    }
+    for (int i = 0; i < n; ++i) {
+      x[L::kModal + i] = 1e-5 * unit(rng);
+      x[L::kModal + n + i] = 1e-2 * unit(rng);
+    }
+    for (const PenaltyMode& m : modes) {
+      if (m.slip != 0 && !sys.law.has_friction()) continue;
+      sys.mode = m;
+      std::string where;
+      EXPECT_LE(worst_ratio(sys, x, h, t, &where), 1.0)
+          << name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
+    }
+  }
+}
+
+TEST(PenaltyJacobian, FlexibleRotorsClosedFormEqualsDifferences) {
+  core::Scene seal = core::load_scene(test::source_path("config/seal_rub_runup.yaml"));
+  seal.model.gravity_m_per_s2 = 9.81;
+  check_flexible<0>("seal rotor, rigid stator, gravity", seal, {0.5, 3.0, 150.0, 70.0});
+  seal.model.gravity_m_per_s2 = 0.0;
+  seal.model.stator_model = core::StatorModel::kElastic;
+  seal.model.friction_coefficient = 0.6;
+  seal.model.restitution = 0.7;
+  check_flexible<2>("seal rotor, elastic stator, far above critical", seal, {0.2, 10.0, 900.0, -40.0});
+  core::Scene rig = seal;
+  rig.model.stator_model = core::StatorModel::kRigid;
+  rig.rotor.file = test::source_path("test/data/rotors/anisotropic_rig.yaml");
+  rig.rotor.planar_modes = 20;
+  rig.rotor.loaded.reset();
+  check_flexible<0>("anisotropic rig, 20 planar modes", rig, {0.0, 1.0, 400.0, 0.0});
 }
 
 // The stiff integrator takes the closed form where the system gives it (6

@@ -99,7 +99,9 @@ struct RodaspTableau {
 //     df/dt = [0; g]): each stage's E u = r then takes one system of half
 //     the size, (I - tau B - tau^2 A) u_v = r_v + tau A r_p with u_p = r_p +
 //     tau u_v (tau = h gamma): a 4x4 LU for the elastic stator's 8 states,
-//     an eighth of the full one's work;
+//     an eighth of the full one's work. A state of dynamic size (a flexible
+//     rotor's) is [q (kFixedDof), q', xi (n), xi'], its positions q and xi:
+//     static constexpr int kFixedDof;
 //   kOwnErrorNorm: a state that is not the one its tolerances are meant for
 //     (the penalty method's polar coordinates) measures a step's error itself,
 //     double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const;
@@ -122,6 +124,9 @@ class DenseRodasp {
     x_old_ = x_new_ = x;
     f0_ = dfdt_ = step_ = cont_c_ = cont_d_ = State::Zero(x.size());
     jac_ = Matrix::Zero(x.size(), x.size());
+    if constexpr (System::kSecondOrderJacobian && kSize == Eigen::Dynamic) {
+      block_solver_.resize(System::kFixedDof, static_cast<int>(x.size()));
+    }
     t_old_ = t_new_ = t_s;
     dt_ = dt_s;
     err_old_ = 0.0;
@@ -245,7 +250,10 @@ class DenseRodasp {
   template <class System>
   double attempt(System& sys, double h, RunStats& stats) {
     static_assert(!System::kSecondOrderJacobian || System::kAnalyticJacobian, "a second-order J is a closed form");
-    if constexpr (System::kSecondOrderJacobian) {
+    if constexpr (System::kSecondOrderJacobian && kSize == Eigen::Dynamic) {
+      block_solver_.factor(jac_, h * RodaspTableau::kGamma);
+      return attempt_with(sys, h, block_solver_, stats);
+    } else if constexpr (System::kSecondOrderJacobian) {
       return attempt_with(sys, h, SecondOrderSolver(jac_, h * RodaspTableau::kGamma), stats);
     } else {
       full_lu_.compute(Matrix::Identity(jac_.rows(), jac_.cols()) - (h * RodaspTableau::kGamma) * jac_);
@@ -276,6 +284,65 @@ class DenseRodasp {
       const Half uv = lu.solve(r.template tail<kHalf>() + tau * (a * rp));
       State u;
       u << rp + tau * uv, uv;
+      return u;
+    }
+  };
+
+  // The same for a state of dynamic size [q (fixed_dof), q', xi (n), xi']:
+  // the positions and velocities gathered by index (loops: Eigen's indexed
+  // views copy their indices to the heap), the matrices sized once (resize)
+  // and refactored in place (no allocation per step: test_allocations).
+  struct BlockSecondOrderSolver {
+    using Half = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, State::MaxRowsAtCompileTime / 2, 1>;
+    Eigen::VectorXi pos, vel;
+    Eigen::MatrixXd a, e;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+    double tau = 0.0;
+    int fixed = -1;  // the fixed part's positions pos and vel were built for
+    void resize(int fixed_dof, int size) {
+      const int n = (size - 2 * fixed_dof) / 2, half = fixed_dof + n;
+      if (pos.size() == half && fixed == fixed_dof) return;  // a restart: sized already
+      fixed = fixed_dof;
+      pos.resize(half);
+      vel.resize(half);
+      for (int i = 0; i < fixed_dof; ++i) {
+        pos[i] = i;
+        vel[i] = fixed_dof + i;
+      }
+      for (int j = 0; j < n; ++j) {
+        pos[fixed_dof + j] = 2 * fixed_dof + j;
+        vel[fixed_dof + j] = 2 * fixed_dof + n + j;
+      }
+      a.resize(half, half);
+      e.resize(half, half);
+      lu = Eigen::PartialPivLU<Eigen::MatrixXd>(half);
+    }
+    void factor(const Matrix& jac, double tau_s) {
+      tau = tau_s;
+      const Eigen::Index half = pos.size();
+      for (Eigen::Index j = 0; j < half; ++j) {
+        for (Eigen::Index i = 0; i < half; ++i) {
+          a(i, j) = jac(vel[i], pos[j]);
+          e(i, j) = -tau_s * (jac(vel[i], vel[j]) + tau_s * a(i, j));
+        }
+        e(j, j) += 1.0;
+      }
+      lu.compute(e);
+    }
+    State solve(const State& r) const {
+      const Eigen::Index half = pos.size();
+      Half rp(half), rv(half);
+      for (Eigen::Index i = 0; i < half; ++i) {
+        rp[i] = r[pos[i]];
+        rv[i] = r[vel[i]];
+      }
+      rv.noalias() += tau * (a * rp);
+      const Half uv = lu.solve(rv);
+      State u(r.size());
+      for (Eigen::Index i = 0; i < half; ++i) {
+        u[pos[i]] = rp[i] + tau * uv[i];
+        u[vel[i]] = uv[i];
+      }
       return u;
     }
   };
@@ -341,6 +408,7 @@ class DenseRodasp {
   State f0_, dfdt_, step_;  // sized by initialize()
   Matrix jac_;
   Eigen::PartialPivLU<Matrix> full_lu_;  // E's LU when the Jacobian is full (FullSolver)
+  BlockSecondOrderSolver block_solver_;  // a dynamic state's second-order solve
   State x_old_, x_new_, cont_c_, cont_d_;
   double t_old_ = 0.0, t_new_ = 0.0, dt_ = 1e-5;
   double err_old_ = 0.0, dt_old_ = 0.0;

@@ -144,6 +144,32 @@ class FlexibleRotorModel {
     return f.head<2>();
   }
 
+  /// The free loads' partial derivatives at a fixed state, for an implicit
+  /// integrator's closed-form Jacobian (penalty_system.hpp, checked against
+  /// differences by test_penalty_jacobian.cpp): by q = [u; xi] -K, by q'
+  /// -(C + w G); the station's rows are forces, the block's accelerations.
+  const Eigen::MatrixXd& stiffness_matrix() const { return k_; }
+  const Eigen::MatrixXd& damping_matrix() const { return c_; }     ///< C: see stiffness_matrix()
+  const Eigen::MatrixXd& gyroscopic_matrix() const { return g_; }  ///< G: see stiffness_matrix()
+  /// The free loads' partial time rate at a fixed state under the
+  /// prescribed drive (A constant on a speed segment): the unbalances turning
+  /// (phi' = w, w' = A) and w G q' growing,
+  ///   -A G q' + 3 w A (a cos phi + b sin phi) + w^3 (b cos phi - a sin phi),
+  /// the station's [N/s] returned, the block's (n) written to xi_rate.
+  template <class Modal, class Out>
+  Vec2 free_load_time_rate(const Vec2& u_dot, const Eigen::MatrixBase<Modal>& modal, const Vec2& unbalance_dir,
+                           double w, double A, const Eigen::MatrixBase<Out>& xi_rate) const {
+    const int n = modal_size();
+    Reduced q_dot(n + 2), f(n + 2);
+    q_dot.head<2>() = u_dot;
+    q_dot.tail(n) = modal.tail(n);
+    const double c = unbalance_dir.x(), s = unbalance_dir.y();
+    f.noalias() = -A * (g_ * q_dot);
+    f += (3.0 * w * A * c - w * w * w * s) * a_ + (3.0 * w * A * s + w * w * w * c) * b_;
+    const_cast<Eigen::MatrixBase<Out>&>(xi_rate) = f.tail(n);
+    return f.head<2>();
+  }
+
   /// Under a motor drive: the spin coupling (model.hpp) at the unbalance's
   /// direction, given xi'' without the spin's share (free_loads with A = 0,
   /// F_xi) and the train's polar inertia J [kg m^2]. Under gravity the

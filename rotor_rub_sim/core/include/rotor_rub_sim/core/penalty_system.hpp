@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/cost_profiler.hpp"
 #include "rotor_rub_sim/core/model.hpp"
@@ -27,9 +28,7 @@ namespace rotor_rub::core {
 // rtol 1e-3 the position error allowed is about 400 times the penetration,
 // 3e-6 m against 8e-9 m): restarts there would multiply that noise.
 // Rotor: the rotor model (rotor_model.hpp), whose free loads and block's rows
-// the station's take; the law acts on the station alone (the closed-form
-// Jacobian below covers a state of the station and the stator only: a
-// rotor with a block of its own is differenced).
+// the station's take; the law acts on the station alone.
 template <int kStatorDof, bool kMotor, bool kModeLocked, class Rotor = JeffcottRotor>
 struct PenaltySystem {
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
@@ -86,45 +85,52 @@ struct PenaltySystem {
   }
   // The Jacobian df/dx and the partial df/dt in closed form (the integrator
   // would otherwise take kSize + 2 derivatives a step for them: 10 of
-  // RODASP's 16 on the paper scene). Of the mode's law (of the clamped law's
-  // piece at x on a fallback step); under a motor drive the spin couples
-  // every row, and the integrator differences instead (kAnalyticJacobian).
-  static constexpr bool kAnalyticJacobian = !kMotor && Rotor::kStationOnly;
-  // Positions then velocities, nothing else (FreeLayout without the spin).
+  // RODASP's 16 on the paper scene, 34 on the seal rotor's 8 planar modes).
+  // Of the mode's law (of the clamped law's piece at x on a fallback step);
+  // the rotor's own loads are its model's (add_free_jacobian). Under a motor
+  // drive the spin couples every row, and the integrator differences
+  // instead (kAnalyticJacobian).
+  static constexpr bool kAnalyticJacobian = !kMotor;
+  // Positions then velocities (FreeLayout without the spin), then a block's
+  // xi and xi': the rows of the positions are [0 I] (dense_rodasp.hpp's
+  // second-order solve, kFixedDof the positions before the block).
   static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
+  static constexpr int kFixedDof = L::kDof;
   static constexpr bool kOwnErrorNorm = false;  // the Cartesian state is the user's
   static_assert(kMotor || (L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof), "[q, v] layout");
-  using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
+  using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
-    static_assert(kAnalyticJacobian, "the motor drive's and a flexible rotor's Jacobians are differenced");
-    const Kinematics k = kinematics_of<kStatorDof, kMotor>(x);
+    static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
+    static_assert(kModeLocked, "the explicit integrators take no Jacobian");
+    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
     const DriveState d = segment.at(t);
     const ContactGeometry g = model->contact_geometry(k, d);
-    static_assert(kModeLocked, "the explicit integrators take no Jacobian");
     const PenaltyMode m = mode.clamped ? law.mode_of(law.edges(g)) : mode;
     const double radius_m = model->parameters().rotor_radius_m;
     const auto c = law.force_jacobian(g, k.rotor_vel - k.stator_vel, m, d.accel_rad_per_s2 * radius_m);
-    const JeffcottModel::FreeForceGains free = rotor->free_force_gains();
     const double imr = model->inv_rotor_mass();
-    const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
-    jac.setZero();
-    dfdt.setZero();
-    jac.template block<2, 2>(L::kRotorPos, L::kRotorVel) = eye;
-    jac.template block<2, 2>(L::kRotorVel, L::kRotorPos) = (c.d_rel_pos - free.rotor_stiffness_N_per_m * eye) * imr;
-    jac.template block<2, 2>(L::kRotorVel, L::kRotorVel) = (c.d_rel_vel - free.rotor_damping_N_s_per_m * eye) * imr;
-    dfdt.template segment<2>(L::kRotorVel) = (rotor->free_force_rate(d) + c.d_time) * imr;
+    const int n = modal_count<L>(x);
+    jac.setZero(x.size(), x.size());
+    dfdt.setZero(x.size());
+    jac.template block<2, 2>(L::kRotorPos, L::kRotorVel).setIdentity();
+    for (int i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
+    rotor->template add_free_jacobian<L>(*model, x, d, jac, dfdt);
+    jac.template block<2, 2>(L::kRotorVel, L::kRotorPos) += c.d_rel_pos * imr;
+    jac.template block<2, 2>(L::kRotorVel, L::kRotorVel) += c.d_rel_vel * imr;
+    dfdt.template segment<2>(L::kRotorVel) += c.d_time * imr;
     if constexpr (kStatorDof == 2) {
-      // The stator takes -F_c, a function of rel = r_r - r_s.
+      // The stator takes -F_c, a function of rel = r_r - r_s, and its own
+      // spring and damper.
       const double ims = model->inv_stator_mass();
+      const ModelParameters& p = model->parameters();
+      const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
       jac.template block<2, 2>(L::kStatorPos, L::kStatorVel) = eye;
       jac.template block<2, 2>(L::kRotorVel, L::kStatorPos) = -c.d_rel_pos * imr;
       jac.template block<2, 2>(L::kRotorVel, L::kStatorVel) = -c.d_rel_vel * imr;
       jac.template block<2, 2>(L::kStatorVel, L::kRotorPos) = -c.d_rel_pos * ims;
       jac.template block<2, 2>(L::kStatorVel, L::kRotorVel) = -c.d_rel_vel * ims;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) =
-          (c.d_rel_pos - free.stator_stiffness_N_per_m * eye) * ims;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) =
-          (c.d_rel_vel - free.stator_damping_N_s_per_m * eye) * ims;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) = (c.d_rel_pos - p.stator_stiffness_N_per_m * eye) * ims;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = (c.d_rel_vel - p.stator_damping_N_s_per_m * eye) * ims;
       dfdt.template segment<2>(L::kStatorVel) = -c.d_time * ims;
     }
   }

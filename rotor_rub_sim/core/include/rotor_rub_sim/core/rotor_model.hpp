@@ -13,11 +13,8 @@
 ///   State<kFixed>          a layout's state type (kFixed entries and the block)
 ///   ModalVector            its xi'' / xi''' storage (no allocation)
 ///   kStationOnly           the state is the station's and the stator's alone
-///                          (the penalty method's polar coordinates and its
-///                          closed-form Jacobian cover no more); such a rotor
-///                          also gives its free forces' gains and time rate
-///                          (free_force_gains(), free_force_rate(d)) for
-///                          that Jacobian
+///                          (the penalty method's polar coordinates cover no
+///                          more)
 ///   R(scene)               the scene's rotor, read once (Scene::rotor.loaded)
 ///   adopt(p)               takes the scene's parameters p (at the start, at a
 ///                          live change) and gives the station's (StationModel)
@@ -31,6 +28,11 @@
 ///   station_force_rate(m, k, acc, d, dir, rates, modal_jerk)  its time rate
 ///   add_spin_share(dir, amount, rows)          a motor's spin acceleration or
 ///       jump into the block's rates
+///   add_free_jacobian<L>(m, x, d, jac, dfdt)  the free loads' partial
+///       derivatives under the prescribed drive into the rows of the
+///       station's acceleration and the block's xi'' of a layout L's
+///       Jacobian, their partial time rate into dfdt (the penalty method's
+///       closed-form Jacobian, penalty_system.hpp)
 ///   finish_sample(m, modal, s)                 the probes, and the drive
 ///       torque's share of the rotor's lateral motion (prescribed drive)
 #pragma once
@@ -62,10 +64,6 @@ class JeffcottRotor {
     jeffcott_ = JeffcottModel(scene);
     return scene;
   }
-  /// The free forces' gains and their time rate at a fixed state (the
-  /// penalty method's closed-form Jacobian, penalty_system.hpp).
-  JeffcottModel::FreeForceGains free_force_gains() const { return jeffcott_.free_force_gains(); }
-  Vec2 free_force_rate(const DriveState& d) const { return jeffcott_.rotor_free_force_rate(d); }
   int modal_size() const { return 0; }
   void check_block(const ModalState& /*modal*/) const {
     throw std::logic_error("start_with_modes: this method runs the Jeffcott rotor");
@@ -94,6 +92,16 @@ class JeffcottRotor {
   template <class Out>
   void add_spin_share(const Vec2& /*unbalance_dir*/, double /*amount*/,
                       const Eigen::MatrixBase<Out>& /*modal_rows*/) const {}
+  /// The shaft's spring and damper on the station, the unbalance's rate.
+  template <class L, class State, class Matrix>
+  void add_free_jacobian(const StationModel& m, const State& /*x*/, const DriveState& d, Matrix& jac,
+                         State& dfdt) const {
+    const JeffcottModel::FreeForceGains gains = jeffcott_.free_force_gains();
+    const double imr = m.inv_rotor_mass();
+    jac.template block<2, 2>(L::kRotorVel, L::kRotorPos).diagonal().array() -= gains.rotor_stiffness_N_per_m * imr;
+    jac.template block<2, 2>(L::kRotorVel, L::kRotorVel).diagonal().array() -= gains.rotor_damping_N_s_per_m * imr;
+    dfdt.template segment<2>(L::kRotorVel) += jeffcott_.rotor_free_force_rate(d) * imr;
+  }
   /// Under the prescribed drive the torque takes the unbalance's lever in,
   /// - e F . u (JeffcottModel::unbalance_torque_N_m).
   template <class Modal>
@@ -146,6 +154,33 @@ class FlexibleRotor {
   template <class Out>
   void add_spin_share(const Vec2& unbalance_dir, double amount, const Eigen::MatrixBase<Out>& modal_rows) const {
     model_->add_spin_share(unbalance_dir, amount, modal_rows);
+  }
+  /// -K by q = [u; xi] and -(C + w G) by q' in the rows of u'' (over m_st)
+  /// and xi'', the unbalances' and w G's rate (free_load_time_rate: the
+  /// block's rows of dfdt written, which no other load reaches).
+  template <class L, class State, class Matrix>
+  void add_free_jacobian(const StationModel& m, const State& x, const DriveState& d, Matrix& jac, State& dfdt) const {
+    const int n = model_->modal_size();
+    const Eigen::MatrixXd &k = model_->stiffness_matrix(), &c = model_->damping_matrix(),
+                          &g = model_->gyroscopic_matrix();
+    const double w = d.speed_rad_per_s;
+    // q = [u; xi] in the layout: its positions' and velocities' first rows,
+    // each part's size and its first row in q; the station's rows over m_st.
+    const int pos[2] = {L::kRotorPos, L::kModal}, vel[2] = {L::kRotorVel, L::kModal + n};
+    const int size[2] = {2, n}, first[2] = {0, 2};
+    const double scale[2] = {m.inv_rotor_mass(), 1.0};
+    for (int r = 0; r < 2; ++r) {
+      for (int col = 0; col < 2; ++col) {
+        jac.block(vel[r], pos[col], size[r], size[col]) -= scale[r] * k.block(first[r], first[col], size[r], size[col]);
+        jac.block(vel[r], vel[col], size[r], size[col]) -=
+            scale[r] *
+            (c.block(first[r], first[col], size[r], size[col]) + w * g.block(first[r], first[col], size[r], size[col]));
+      }
+    }
+    const Vec2 station_rate =
+        model_->free_load_time_rate(x.template segment<2>(L::kRotorVel), x.tail(2 * n), m.unbalance_dir(d.angle_rad), w,
+                                    d.accel_rad_per_s2, dfdt.segment(L::kModal + n, n));
+    dfdt.template segment<2>(L::kRotorVel) += station_rate * scale[0];
   }
   /// The probes read their node; under the prescribed drive the torque takes
   /// the lateral motion's in (add_lateral_torque).
