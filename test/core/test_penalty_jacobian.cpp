@@ -73,16 +73,17 @@ typename System::State rhs(const System& sys, const typename System::State& x, d
 
 // Compares the closed form with central differences at x (steps: each
 // column's); returns the largest error over the tolerance (<= 1 passes).
-// The differences' rounding floor: 4 eps of the largest derivative over the step.
+// The differences' rounding floor: 4 eps of the largest derivative over the
+// step, or of term_scale, the largest term a row sums where that is larger.
 template <class System>
 double worst_ratio(const System& sys, const typename System::State& x, const typename System::State& steps, double t,
-                   std::string* where) {
+                   std::string* where, double term_scale = 0.0) {
   using State = typename System::State;
   typename System::Matrix jac;
   State dfdt;
   sys.jacobian(x, t, jac, dfdt);
   double worst = 0.0;
-  const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
+  const double fmax = std::max(rhs(sys, x, t).cwiseAbs().maxCoeff(), term_scale);
   auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
     const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
     for (int i = 0; i < x.size(); ++i) {
@@ -359,6 +360,35 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
       std::string where;
       EXPECT_LE(worst_ratio(sys, x, h, t, &where), 1.0)
           << name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
+    }
+    // The pressed mode in polar coordinates, the block beside them (steps:
+    // PolarChecker's; the block's 1e-4 and 1e-1: every row is linear in the
+    // block, so no step truncates). psi'' = (t . (a_r - a_s) - 2 delta'
+    // psi') / delta sums terms of up to |a| / delta (a friction force of f
+    // k_c delta over m delta, 1e7 rad/s^2) to a small result: their rounding
+    // is the differences' floor (term_scale).
+    if (distance < s.model.clearance_m) continue;
+    using Polar = core::PenaltyPolarSystem<kStatorDof, false, true, core::FlexibleRotor>;
+    using PL = typename Polar::L;
+    Polar polar;
+    polar.cartesian = &sys;
+    polar.reserve(x.size());
+    State xp = x;
+    Polar::store(core::kinematics_of<kStatorDof, false, core::FlexibleRotor>(x), xp);
+    State hp = h;
+    hp.head(PL::kSize) = PolarChecker<kStatorDof>::steps();
+    hp.segment(PL::kModal, n).setConstant(1e-4);
+    hp.tail(n).setConstant(1e-1);
+    for (int slip : {0, 1, -1}) {
+      sys.mode = PenaltyMode{};
+      sys.mode.pressed = true;
+      sys.mode.slip = slip;
+      const double delta = xp[PL::kDistance];
+      const double terms =
+          (rhs(sys, x, t).cwiseAbs().maxCoeff() + 2.0 * std::abs(xp[PL::kDistanceRate] * xp[PL::kAngleRate])) / delta;
+      std::string where;
+      EXPECT_LE(worst_ratio(polar, xp, hp, t, &where, terms), 1.0)
+          << name << ", polar, trial " << trial << ", slip " << slip << ": " << where;
     }
   }
 }

@@ -47,9 +47,9 @@ class PenaltyMethod final : public ContactMethod {
   using State = typename L::State;
   static constexpr bool kModeLocked = is_implicit<Integrator>::value;
   // The implicit integrator's pressed mode in the contact's polar
-  // coordinates, which hold the station and the stator only (a rotor with a
-  // block of its own stays Cartesian, its block beside the station).
-  static constexpr bool kPolar = kModeLocked && Rotor::kStationOnly;
+  // coordinates (a rotor's block beside them, as in the Cartesian state).
+  static constexpr bool kPolar = kModeLocked;
+  using Polar = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked, Rotor>;
 
   explicit PenaltyMethod(const Scene& scene)
       : rotor_(scene),
@@ -79,6 +79,7 @@ class PenaltyMethod final : public ContactMethod {
     system_.segment = segment;
     crossed_edge_ = -1;
     fallback_ = false;
+    if constexpr (kPolar) polar_sys_.reserve(L::kSize + modal.size());
     restart(t_s, k, modal, initial_step_s_);
   }
 
@@ -246,7 +247,7 @@ class PenaltyMethod final : public ContactMethod {
     State x;
     integrator_.state_at(t_s, x);
     if constexpr (kPolar) {
-      if (polar_) return PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::kinematics(x);
+      if (polar_) return Polar::kinematics(x);
     }
     return kinematics_of<kStatorDof, kMotor, Rotor>(x);
   }
@@ -280,7 +281,7 @@ class PenaltyMethod final : public ContactMethod {
     polar_ = kPolar && system_.mode.pressed && !system_.mode.clamped;
     State x = sized_state<L>(modal);
     if constexpr (kPolar) {
-      if (polar_) x = PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>::reduce(k);
+      if (polar_) Polar::store(k, x);
     }
     if (!polar_) store_kinematics<kStatorDof, kMotor, Rotor>(k, x);
     with_system([&](auto& sys) { integrator_.initialize(sys, x, t_s, dt_s, stats_); });
@@ -380,7 +381,7 @@ class PenaltyMethod final : public ContactMethod {
   StationModel model_;  // the station (Rotor::adopt)
   PenaltySystem<kStatorDof, kMotor, kModeLocked, Rotor> system_;
   struct NoPolar {};
-  std::conditional_t<kPolar, PenaltyPolarSystem<kStatorDof, kMotor, kModeLocked>, NoPolar> polar_sys_;
+  std::conditional_t<kPolar, Polar, NoPolar> polar_sys_;
   bool polar_ = false;  // the integrator's state is polar_sys_'s (kPolar, the pressed mode)
   Integrator integrator_;
   double initial_step_s_;

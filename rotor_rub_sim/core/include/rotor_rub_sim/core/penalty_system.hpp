@@ -141,35 +141,40 @@ struct PenaltySystem {
 // psi, r_r = r_s + delta n(psi), n = (cos psi, sin psi), t = (-sin, cos):
 //   delta'' = n . (a_r - a_s) + delta psi'^2,
 //   psi''   = (t . (a_r - a_s) - 2 delta' psi') / delta,
-// the accelerations the same model and law give (PenaltySystem). Why: the
-// contact's stiffness k_c acts along n, which turns with the whirl. In
-// Cartesian coordinates the stiff direction of the Jacobian turns by w h
+// the accelerations the same model and law give (PenaltySystem); a rotor's
+// block [xi; xi'] follows as in the Cartesian state (FreeLayout), untouched.
+// Why: the contact's stiffness k_c acts along n, which turns with the whirl.
+// In Cartesian coordinates the stiff direction of the Jacobian turns by w h
 // within a step, and a Rosenbrock method, which holds the Jacobian of the
 // step's start, loses accuracy on it: on the paper scene RODASP kept steps
 // of ~4.5e-5 s in sustained contact at rtol 3e-5, where a contact that does
-// not turn (a rotor pressed down by gravity) took ~4.5e-4 s (measured). In
-// these coordinates the stiff direction is delta's, fixed. Free flight and
-// the clamped law's fallback steps stay Cartesian (delta = 0, the rotor
-// centred, has no angle; a fallback step may leave the contact).
-template <int kStatorDof, bool kMotor>
+// not turn (a rotor pressed down by gravity) took ~4.5e-4 s (measured;
+// test SustainedRubStepsInPolarCoordinates). In these coordinates the stiff
+// direction is delta's, fixed. Free flight and the clamped law's fallback
+// steps stay Cartesian (delta = 0, the rotor centred, has no angle; a
+// fallback step may leave the contact).
+template <int kStatorDof, bool kMotor, class Rotor = JeffcottRotor>
 struct PolarLayout : SpinLayout<kMotor, 2 * (2 + kStatorDof)> {
   static constexpr int kDof = 2 + kStatorDof;
-  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;
-  static constexpr int kStatorPos = 0;                     // x_s, y_s [m] (elastic only)
-  static constexpr int kDistance = kStatorDof;             // delta = |r_r - r_s| [m]
-  static constexpr int kAngle = kStatorDof + 1;            // psi [rad]
-  static constexpr int kStatorVel = kDof;                  // x_s', y_s' [m/s] (elastic only)
-  static constexpr int kDistanceRate = kDof + kStatorDof;  // delta' [m/s]
-  static constexpr int kAngleRate = kDistanceRate + 1;     // psi' [rad/s]
-  using State = Eigen::Matrix<double, kSize, 1>;
+  static constexpr int kSize = 2 * kDof + SpinLayout<kMotor, 0>::kSpinSize;  // the fixed part
+  static constexpr int kStatorPos = 0;                                       // x_s, y_s [m] (elastic only)
+  static constexpr int kDistance = kStatorDof;                               // delta = |r_r - r_s| [m]
+  static constexpr int kAngle = kStatorDof + 1;                              // psi [rad]
+  static constexpr int kStatorVel = kDof;                                    // x_s', y_s' [m/s] (elastic only)
+  static constexpr int kDistanceRate = kDof + kStatorDof;                    // delta' [m/s]
+  static constexpr int kAngleRate = kDistanceRate + 1;                       // psi' [rad/s]
+  static constexpr int kModal = kSize;                                       // the rotor's block, as FreeLayout's
+  using State = typename Rotor::template State<kSize>;
 };
 
-template <int kStatorDof, bool kMotor, bool kModeLocked = true>
+template <int kStatorDof, bool kMotor, bool kModeLocked = true, class Rotor = JeffcottRotor>
 struct PenaltyPolarSystem {
-  using L = PolarLayout<kStatorDof, kMotor>;
+  using L = PolarLayout<kStatorDof, kMotor, Rotor>;
+  using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
+  using Cartesian = PenaltySystem<kStatorDof, kMotor, kModeLocked, Rotor>;
   using State = typename L::State;
-  static_assert(L::kSize == FreeLayout<kStatorDof, kMotor>::kSize, "the same integrator takes both");
-  const PenaltySystem<kStatorDof, kMotor, kModeLocked>* cartesian = nullptr;  // model, law, mode, drive
+  static_assert(L::kSize == FL::kSize && std::is_same_v<State, typename FL::State>, "the same integrator takes both");
+  const Cartesian* cartesian = nullptr;  // model, rotor, law, mode, drive
 
   static Kinematics kinematics(const State& x) {
     const double psi = x[L::kAngle];
@@ -191,9 +196,9 @@ struct PenaltyPolarSystem {
   }
 
   // The polar state of kinematics k, delta > 0 (a pressed contact has delta
-  // > C, or a rounding below it at a crossed edge).
-  static State reduce(const Kinematics& k) {
-    State x;
+  // > C, or a rounding below it at a crossed edge), written to x's fixed
+  // part (x sized: sized_state(), its block set).
+  static void store(const Kinematics& k, State& x) {
     const Vec2 rel = k.rotor_pos - k.stator_pos, rel_vel = k.rotor_vel - k.stator_vel;
     const double delta = rel.norm();
     const Vec2 n = rel / delta, t(-n.y(), n.x());
@@ -206,6 +211,11 @@ struct PenaltyPolarSystem {
     x[L::kDistanceRate] = rel_vel.dot(n);
     x[L::kAngleRate] = rel_vel.dot(t) / delta;
     write_spin<L>(k.spin, x);
+  }
+  // The same for a rotor without a block.
+  static State reduce(const Kinematics& k) {
+    State x;
+    store(k, x);
     return x;
   }
 
@@ -216,55 +226,78 @@ struct PenaltyPolarSystem {
   //   d(psi'')   = (t . dg - (g . n) dpsi - 2 psi' ddelta' - 2 delta' dpsi'
   //                 - psi'' ddelta) / delta,
   // with dr_r = dr_s + n ddelta + delta t dpsi and dv_r = dv_s + n ddelta'
-  // + delta t dpsi' + psi' t ddelta + (delta' t - delta psi' n) dpsi.
-  // Second order as the Cartesian one ([0 I; A B]).
+  // + delta t dpsi' + psi' t ddelta + (delta' t - delta psi' n) dpsi; the
+  // block's rows are the Cartesian ones through the same map. Second order
+  // as the Cartesian one ([0 I; A B], the block's xi then xi').
   static constexpr bool kAnalyticJacobian = !kMotor;
   static constexpr bool kSecondOrderJacobian = !kMotor;
+  static constexpr int kFixedDof = L::kDof;
   static constexpr bool kOwnErrorNorm = true;  // error_norm() below
-  using Matrix = Eigen::Matrix<double, L::kSize, L::kSize>;
+  using Matrix = typename Cartesian::Matrix;
+  using FixedMatrix = Eigen::Matrix<double, L::kSize, L::kSize>;
+  // The Cartesian Jacobian's storage, sized before a run advances
+  // (reserve(): no allocation per step).
+  void reserve(Eigen::Index size) { cartesian_jac_.setZero(size, size); }
   void jacobian(const State& x, double t_s, Matrix& jac, State& dfdt) const {
     static_assert(!kMotor, "the motor drive's Jacobian is differenced");
-    using FL = FreeLayout<kStatorDof, kMotor>;
+    constexpr int kFixed = L::kSize;
+    const Eigen::Index size = x.size(), block = size - kFixed, n = block / 2;
     const double delta = x[L::kDistance], psi = x[L::kAngle];
     const double delta_rate = x[L::kDistanceRate], psi_rate = x[L::kAngleRate];
-    const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
-    const Kinematics k = kinematics(x, n, t);
-    typename FL::State y;
-    store_kinematics<kStatorDof, kMotor>(k, y);
-    Matrix cart_jac;
-    typename FL::State cart_dfdt;
-    cartesian->jacobian(y, t_s, cart_jac, cart_dfdt);
-    const Matrix dy = tangent_map(x, n, t);
-    const Eigen::Matrix<double, 2, L::kSize> rotor_acc = cart_jac.template middleRows<2>(FL::kRotorVel) * dy;
-    Eigen::Matrix<double, 2, L::kSize> stator_acc = Eigen::Matrix<double, 2, L::kSize>::Zero();
+    const Vec2 nrm(std::cos(psi), std::sin(psi)), t(-nrm.y(), nrm.x());
+    const Kinematics k = kinematics(x, nrm, t);
+    State y = x;
+    store_kinematics<kStatorDof, kMotor, Rotor>(k, y);
+    Matrix& cj = cartesian_jac_;
+    State cart_dfdt;
+    cartesian->jacobian(y, t_s, cj, cart_dfdt);
+    const FixedMatrix dy = tangent_map(x, nrm, t);
+    // Rows of the Cartesian Jacobian in the polar state's columns: the fixed
+    // part's through dy, the block's as they are.
+    using Rows = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, State::MaxRowsAtCompileTime>;
+    auto polar_rows = [&](int first) {
+      Rows r(2, size);
+      r.leftCols(kFixed).noalias() = cj.template block<2, kFixed>(first, 0) * dy;
+      r.rightCols(block) = cj.block(first, kFixed, 2, block);
+      return r;
+    };
+    const Rows rotor_acc = polar_rows(FL::kRotorVel);
+    Rows stator_acc = Rows::Zero(2, size);
     Vec2 stator_acc_rate = Vec2::Zero();
     if constexpr (kStatorDof == 2) {
-      stator_acc = cart_jac.template middleRows<2>(FL::kStatorVel) * dy;
+      stator_acc = polar_rows(FL::kStatorVel);
       stator_acc_rate = cart_dfdt.template segment<2>(FL::kStatorVel);
     }
-    const Eigen::Matrix<double, 2, L::kSize> rel_acc = rotor_acc - stator_acc;
+    const Rows rel_acc = rotor_acc - stator_acc;
     const Vec2 rel_acc_rate = cart_dfdt.template segment<2>(FL::kRotorVel) - stator_acc_rate;
-    const Accelerations a = cartesian->accelerations(k, cartesian->segment.at(t_s));
+    const DriveState d = cartesian->model->drive_at(k, cartesian->segment.at(t_s));
+    const Accelerations a = accelerations(x, nrm, t, k, d);
     const Vec2 g = a.rotor - a.stator;
     const double psi_acc = (g.dot(t) - 2.0 * delta_rate * psi_rate) / delta;
-    jac.setZero();
-    dfdt.setZero();
+    jac.setZero(size, size);
+    dfdt.setZero(size);
     for (int i = 0; i < L::kDof; ++i) jac(i, L::kDof + i) = 1.0;
-    jac.row(L::kDistanceRate) = n.transpose() * rel_acc;
+    jac.row(L::kDistanceRate) = nrm.transpose() * rel_acc;
     jac(L::kDistanceRate, L::kAngle) += g.dot(t);
     jac(L::kDistanceRate, L::kDistance) += psi_rate * psi_rate;
     jac(L::kDistanceRate, L::kAngleRate) += 2.0 * delta * psi_rate;
     jac.row(L::kAngleRate) = t.transpose() * rel_acc;
-    jac(L::kAngleRate, L::kAngle) -= g.dot(n);
+    jac(L::kAngleRate, L::kAngle) -= g.dot(nrm);
     jac(L::kAngleRate, L::kDistanceRate) -= 2.0 * psi_rate;
     jac(L::kAngleRate, L::kAngleRate) -= 2.0 * delta_rate;
     jac(L::kAngleRate, L::kDistance) -= psi_acc;
     jac.row(L::kAngleRate) /= delta;
-    dfdt[L::kDistanceRate] = n.dot(rel_acc_rate);
+    dfdt[L::kDistanceRate] = nrm.dot(rel_acc_rate);
     dfdt[L::kAngleRate] = t.dot(rel_acc_rate) / delta;
     if constexpr (kStatorDof == 2) {
       jac.template middleRows<2>(L::kStatorVel) = stator_acc;
       dfdt.template segment<2>(L::kStatorVel) = stator_acc_rate;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
+    if (n > 0) {
+      jac.block(L::kModal + n, 0, n, kFixed).noalias() = cj.block(FL::kModal + n, 0, n, kFixed) * dy;
+      jac.block(L::kModal + n, kFixed, n, block) = cj.block(FL::kModal + n, kFixed, n, block);
+      dfdt.tail(n) = cart_dfdt.tail(n);
     }
   }
 
@@ -284,11 +317,11 @@ struct PenaltyPolarSystem {
     return g;
   }
 
-  // dy/dx: how the Cartesian state y (FreeLayout) moves with x at x.
-  static Matrix tangent_map(const State& x, const Vec2& n, const Vec2& t) {
-    using FL = FreeLayout<kStatorDof, kMotor>;
+  // dy/dx of the fixed part: how the Cartesian state's (FreeLayout's) moves
+  // with x's at x; the block maps to itself.
+  static FixedMatrix tangent_map(const State& x, const Vec2& n, const Vec2& t) {
     const double delta = x[L::kDistance], delta_rate = x[L::kDistanceRate], psi_rate = x[L::kAngleRate];
-    Matrix dy = Matrix::Zero();
+    FixedMatrix dy = FixedMatrix::Zero();
     dy.template block<2, 1>(FL::kRotorPos, L::kDistance) = n;
     dy.template block<2, 1>(FL::kRotorPos, L::kAngle) = delta * t;
     dy.template block<2, 1>(FL::kRotorVel, L::kDistanceRate) = n;
@@ -316,13 +349,12 @@ struct PenaltyPolarSystem {
   // rtol 1e-9 / atol 1e-12 on the paper scene 131k of 308k steps were
   // rejected on it (measured).
   double error_norm(const State& err, const State& x0, const State& x1, double atol, double rtol) const {
-    using FL = FreeLayout<kStatorDof, kMotor>;
     const double psi = x0[L::kAngle];
     const Vec2 n(std::cos(psi), std::sin(psi)), t(-n.y(), n.x());
-    typename FL::State y0, y1;
-    store_kinematics<kStatorDof, kMotor>(kinematics(x0, n, t), y0);
-    store_kinematics<kStatorDof, kMotor>(kinematics(x1), y1);
-    const State e = tangent_map(x0, n, t) * err;
+    State y0 = x0, y1 = x1, e = err;
+    store_kinematics<kStatorDof, kMotor, Rotor>(kinematics(x0, n, t), y0);
+    store_kinematics<kStatorDof, kMotor, Rotor>(kinematics(x1), y1);
+    e.template head<L::kSize>() = tangent_map(x0, n, t) * err.template head<L::kSize>();
     return std::sqrt((e.array() / (atol + rtol * y0.array().abs().max(y1.array().abs()))).square().mean());
   }
 
@@ -335,7 +367,11 @@ struct PenaltyPolarSystem {
     const DriveState reference = cartesian->segment.at(t_s);
     const StationModel& m = *cartesian->model;
     const DriveState d = m.drive_at(k, reference);
-    const Accelerations a = cartesian->accelerations(k, d, geometry(x, n, t, d));
+    const FreeLoads free = derivative_loads<L>(*cartesian->rotor, m, k, d, x, dxdt);
+    const Accelerations a = cartesian->accelerations(d, geometry(x, n, t, d), free);
+    if constexpr (kMotor) {
+      cartesian->rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
+    }
     const Vec2 rel_acc = a.rotor - a.stator;
     dxdt[L::kDistance] = delta_rate;
     dxdt[L::kAngle] = psi_rate;
@@ -347,6 +383,16 @@ struct PenaltyPolarSystem {
     }
     spin_derivative<L>(m, k, reference, a.spin_rad_per_s2, dxdt);
   }
+
+ private:
+  // The accelerations at x (kinematics k, drive d), the block's loads included.
+  Accelerations accelerations(const State& x, const Vec2& n, const Vec2& t, const Kinematics& k,
+                              const DriveState& d) const {
+    typename Rotor::ModalVector modal_acc(cartesian->rotor->modal_size());
+    const FreeLoads free = cartesian->rotor->loads(*cartesian->model, k, d, x.tail(x.size() - L::kSize), modal_acc);
+    return cartesian->accelerations(d, geometry(x, n, t, d), free);
+  }
+  mutable Matrix cartesian_jac_;
 };
 
 }  // namespace rotor_rub::core
