@@ -1,21 +1,23 @@
 #!/usr/bin/python3
 """The cost of a flexible rotor's run against the number of modes kept: the
-seal-rub run-up (config/seal_rub_runup.yaml) at each rotor_planar_modes, each
-run --repeats times by rotor_rub_run (the median wall time of its own
-integration timer), with the contact's quantities beside it, printed as a
-table. With --page, also written into docs/benchmarks.md between
-<!-- BEGIN GENERATED: flexible --> and <!-- END GENERATED: flexible -->, with
-the date, the machine and the command (the page's figures are the last run's,
-never typed in).
+seal-rub run-up (config/seal_rub_runup.yaml, or --scene) at each
+rotor_planar_modes, each run --repeats times by rotor_rub_run (the median
+wall time of its own integration timer), with the contact's quantities beside
+it, printed as a table. With several --method (METHOD or METHOD:INTEGRATOR),
+one column group per solver: its steps, its wall time and that time over its
+time at the first mode count. With --page, also written into
+docs/benchmarks.md between <!-- BEGIN GENERATED: NAME --> and <!-- END
+GENERATED: NAME --> (--block, default flexible), with the date, the machine
+and the command (the page's figures are the last run's, never typed in).
 
 With --penalty-stiffness K [K ...], instead: the penalty method on dopri5 and
 on rosenbrock4 at each contact stiffness K [N/m] (the scene's modes), each
 run's largest distance from the dopri5 run's station on the samples beside
 it (block flexible_penalty).
 
-usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M]
+usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M[:I] ...]
                          [--penalty-stiffness K ...] [--scene FILE]
-                         [--page docs/benchmarks.md]"""
+                         [--page docs/benchmarks.md] [--block NAME]"""
 import csv
 import argparse
 import json
@@ -73,13 +75,46 @@ def penalty_rows(a):
     return lines
 
 
+def solver_sets(solver):
+    """--set arguments of METHOD or METHOD:INTEGRATOR."""
+    method, _, integrator = solver.partition(":")
+    return ["method=" + method] + (["integrator=" + integrator] if integrator else [])
+
+
+def solvers_rows(a):
+    """Each solver's run at each number of planar modes: steps, wall, and the
+    wall over the first mode count's (the cost's growth)."""
+    head = "%6s %5s %11s" % ("modes", "coord", "touchdowns")
+    for solver in a.method:
+        head += " | %28s" % (solver + ": steps, ms, x")
+    lines = [head]
+    print(head, flush=True)
+    first = {}
+    for m in a.modes:
+        line = None
+        for solver in a.method:
+            sets = ["rotor_planar_modes=%d" % m] + solver_sets(solver)
+            runs = [run(a.runner, a.scene, sets) for _ in range(a.repeats)]
+            s = runs[0]
+            wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
+            first.setdefault(solver, wall_ms)
+            if line is None:
+                line = "%6d %5d %11d" % (m, 2 * m, s["stats"]["touchdowns"])
+            line += " | %10d %10.1f %6.0fx" % (s["stats"]["steps"], wall_ms, wall_ms / first[solver])
+        lines.append(line)
+        print(line, flush=True)
+    return lines
+
+
 def mode_rows(a):
     """The method's run at each number of planar modes."""
+    if len(a.method) > 1:
+        return solvers_rows(a)
     head = "%6s %5s %10s %10s %9s %11s %9s %11s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
                                                        "max_Fn_N", "touchdowns", "last_end_s")
     lines = [head]
     for m in a.modes:
-        sets = ["rotor_planar_modes=%d" % m, "method=" + a.method]
+        sets = ["rotor_planar_modes=%d" % m] + solver_sets(a.method[0])
         runs = [run(a.runner, a.scene, sets) for _ in range(a.repeats)]
         s = runs[0]
         wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
@@ -96,10 +131,12 @@ def main(argv=None):
     ap.add_argument("--scene", default=os.path.join(ROOT, "config", "seal_rub_runup.yaml"))
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 2, 4, 8, 12, 16, 20])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--method", default="switching")
+    ap.add_argument("--method", nargs="+", default=["switching"], metavar="M[:I]",
+                    help="solvers: a method, or method:integrator; several give one column group each")
     ap.add_argument("--penalty-stiffness", type=float, nargs="+", metavar="K",
                     help="the penalty method on dopri5 and rosenbrock4 at these contact stiffnesses [N/m]")
     ap.add_argument("--page", help="write the table into this page (docs/benchmarks.md)")
+    ap.add_argument("--block", help="the page's block to write (default: flexible, or flexible_penalty)")
     a = ap.parse_args(argv)
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
@@ -108,14 +145,19 @@ def main(argv=None):
     lines = penalty_rows(a) if a.penalty_stiffness else mode_rows(a)
     if a.page:
         what = "--penalty-stiffness %s" % " ".join("%g" % k for k in a.penalty_stiffness) if a.penalty_stiffness \
-            else "--method %s --modes %s" % (a.method, " ".join(map(str, a.modes)))
+            else "--method %s --modes %s" % (" ".join(a.method), " ".join(map(str, a.modes)))
+        scene = os.path.relpath(a.scene, ROOT)
+        if scene != "config/seal_rub_runup.yaml":
+            what = "--scene %s %s" % (scene, what)
+        name = a.block or ("flexible_penalty" if a.penalty_stiffness else "flexible")
+        if a.block:
+            what += " --block " + a.block
         command = "scripts/bench_flexible.py $WS/devel/lib/rotor_rub_sim/rotor_rub_run --repeats %d %s " \
                   "--page docs/benchmarks.md" % (a.repeats, what)
         block = ["Written by `scripts/bench_flexible.py` on %s UTC, on %s (%s, scene %s; wall: the median of "
-                 "%d runs):" % (now_utc(), machine(), "penalty" if a.penalty_stiffness else a.method,
-                                os.path.relpath(a.scene, ROOT), a.repeats), "", "    " + command, ""]
+                 "%d runs):" % (now_utc(), machine(), "penalty" if a.penalty_stiffness else ", ".join(a.method),
+                                scene, a.repeats), "", "    " + command, ""]
         block += ["    " + l for l in lines]
-        name = "flexible_penalty" if a.penalty_stiffness else "flexible"
         write_block(a.page, name, block, "bench_flexible")
 
 if __name__ == "__main__":

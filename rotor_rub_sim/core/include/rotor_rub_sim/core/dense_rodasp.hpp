@@ -336,7 +336,9 @@ class DenseRodasp {
         rp[i] = r[pos[i]];
         rv[i] = r[vel[i]];
       }
-      rv.noalias() += tau * (a * rp);
+      // rv += tau A rp, by columns (Eigen's product of these types warns
+      // falsely under GCC 12 of a read past the vector).
+      for (Eigen::Index j = 0; j < half; ++j) rv += (tau * rp[j]) * a.col(j);
       const Half uv = lu.solve(rv);
       State u(r.size());
       for (Eigen::Index i = 0; i < half; ++i) {
