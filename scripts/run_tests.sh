@@ -144,6 +144,8 @@ timed "checks: benchmark tables' cases" check "scripts/gen_bench_tables.py: a mo
   bash -c "'$ROOT/test/tools/test_gen_bench_tables.sh' > '$WS/gen_bench_tables_test.log' 2>&1"
 timed "checks: bench block's cases" check "scripts/gen_bench_block.py: the bench's tables and the speed bars' verdicts, errors" \
   bash -c "'$ROOT/test/tools/test_gen_bench_block.sh' > '$WS/gen_bench_block_test.log' 2>&1"
+timed "checks: flexible bench's cases" check "scripts/bench_flexible.py: one method's table, several solvers' column groups, the page's block, errors" \
+  bash -c "'$ROOT/test/tools/test_bench_flexible.sh' > '$WS/bench_flexible_test.log' 2>&1"
 timed "checks: phase table's cases" check "scripts/gen_phase_block.py: the test command's phases as a table, errors" \
   bash -c "'$ROOT/test/tools/test_gen_phase_block.sh' > '$WS/gen_phase_block_test.log' 2>&1"
 # The README's quick start, verbatim (scripts/check_quickstart.sh).
