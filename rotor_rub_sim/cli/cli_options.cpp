@@ -86,6 +86,21 @@ CLI::Validator key_value() {
       "", "key_value");
 }
 
+void add_scene_options(CLI::App& app, std::string& path, std::vector<std::string>& sets,
+                       const std::string& scene_description, const std::string& set_description) {
+  app.add_option("--scene", path, scene_description)->type_name("FILE")->check(existing_file());
+  app.add_option("--set", sets, set_description)->type_name("KEY=VALUE")->allow_extra_args(false)->check(key_value());
+}
+
+std::map<std::string, std::string> scene_overrides(const std::vector<std::string>& sets) {
+  std::map<std::string, std::string> overrides;
+  for (const std::string& kv : sets) {
+    const auto eq = kv.find('=');  // key_value() checked there is one
+    overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  return overrides;
+}
+
 CLI::Validator scene_key(const std::string& key) {
   const core::SceneKeyInfo& info = key_info(key);
   return CLI::Validator(

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <map>
 #include <string>
+#include <vector>
 
 namespace rotor_rub::cli {
 
@@ -28,6 +30,17 @@ CLI::Validator key_value();
 // The description of an option that sets scene key `key`: the key table's
 // line (with the unit) and the key's name.
 std::string scene_key_description(const std::string& key);
+
+// The tools' --scene FILE (an existing file; required, which the tool
+// checks after --help and its listings) and --set KEY=VALUE (repeatable,
+// each pair checked against the key table) into path and sets, with these
+// descriptions.
+void add_scene_options(CLI::App& app, std::string& path, std::vector<std::string>& sets,
+                       const std::string& scene_description = "the scene file (flat YAML of scene keys); required",
+                       const std::string& set_description = "sets any scene key, repeatable");
+// --set's KEY=VALUE pairs as load_scene's overrides (a key given twice: the
+// last value).
+std::map<std::string, std::string> scene_overrides(const std::vector<std::string>& sets);
 
 // Parses the command line. On --help prints the help on stdout and exits 0;
 // on a usage error prints "<tool>: <message> (see <tool> --help)" on

@@ -216,13 +216,7 @@ int main(int argc, char** argv) {
       "monodromy of the event-driven flow); with --continue, its branch over a speed range by continuation, its "
       "folds, period doublings and Neimark-Sacker points, and the doubled branches. Rigid contact, prescribed drive.",
       "rotor_rub_orbits");
-  app.add_option("--scene", scene_path, "the scene file (flat YAML of scene keys); required")
-      ->type_name("FILE")
-      ->check(cli::existing_file());
-  app.add_option("--set", sets, "sets any scene key, repeatable")
-      ->type_name("KEY=VALUE")
-      ->allow_extra_args(false)
-      ->check(cli::key_value());
+  cli::add_scene_options(app, scene_path, sets);
   app.add_option("--speed", speed, "the constant speed [rad/s]; required")
       ->type_name("W")
       ->check(cli::number_in(0.0, 1e7, true));
@@ -281,11 +275,9 @@ int main(int argc, char** argv) {
   if (key.empty() && !range.empty() && !(range[0] > 0.0)) {
     cli::usage_error(app, "--continue " + core::exact_text(range[0]) + " ...: a speed range; accepted: 0 < LO");
   }
-  std::map<std::string, std::string> overrides;
-  for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
   core::Scene scene;
   try {
-    scene = core::load_scene(scene_path, overrides);
+    scene = core::load_scene(scene_path, cli::scene_overrides(sets));
   } catch (const std::exception& e) {
     bad_input(e.what());
   }

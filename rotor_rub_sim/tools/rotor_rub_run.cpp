@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
       "The headless runner: runs a scene on the core (no master, no ROS) and writes its samples (CSV) "
       "and a summary (JSON).",
       "rotor_rub_run");
-  app.add_option("--scene", scene_path, "the scene file: flat YAML of scene keys (see --list-keys); required")
-      ->type_name("FILE")
-      ->check(cli::existing_file());
+  cli::add_scene_options(app, scene_path, sets, "the scene file: flat YAML of scene keys (see --list-keys); required",
+                         "sets any scene key, repeatable; --method, --integrator, --rtol, --atol and --rate win over "
+                         "--set of the same key");
   app.add_option("--method", method, cli::scene_key_description("method"))
       ->type_name("NAME")
       ->check(cli::scene_key("method"));
@@ -58,12 +58,6 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate, cli::scene_key_description("output_rate_hz"))
       ->type_name("HZ")
       ->check(cli::scene_key("output_rate_hz"));
-  app.add_option("--set", sets,
-                 "sets any scene key, repeatable; --method, --integrator, --rtol, --atol and --rate win over --set of "
-                 "the same key")
-      ->type_name("KEY=VALUE")
-      ->allow_extra_args(false)
-      ->check(cli::key_value());
   app.add_option("--csv", csv_path, "write the samples to this CSV file (one row per sample at t = k / rate)")
       ->type_name("FILE");
   app.add_option("--summary", summary_path, "write the JSON summary (status, events, stats) to this file")
@@ -101,11 +95,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
-  std::map<std::string, std::string> overrides;
-  for (const auto& kv : sets) {
-    const auto eq = kv.find('=');
-    overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
-  }
+  std::map<std::string, std::string> overrides = cli::scene_overrides(sets);
   if (!method.empty()) overrides["method"] = method;
   if (!integrator.empty()) overrides["integrator"] = integrator;
   if (!rtol.empty()) overrides["rtol"] = rtol;

@@ -70,13 +70,7 @@ int main(int argc, char** argv) {
       "under "
       "the prescribed drive, rigid contact, no gravity.",
       "rotor_rub_stability");
-  app.add_option("--scene", scene_path, "the scene file (flat YAML of scene keys); required")
-      ->type_name("FILE")
-      ->check(cli::existing_file());
-  app.add_option("--set", sets, "sets any scene key, repeatable")
-      ->type_name("KEY=VALUE")
-      ->allow_extra_args(false)
-      ->check(cli::key_value());
+  cli::add_scene_options(app, scene_path, sets);
   app.add_option("--speeds", range, "the lowest and highest speed [rad/s]; required")
       ->type_name("LO HI")
       ->expected(2)
@@ -99,11 +93,9 @@ int main(int argc, char** argv) {
   cli::parse_or_exit(app, argc, argv);
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");
   if (range.size() != 2 || !(range[0] < range[1])) cli::usage_error(app, "--speeds needs LO < HI");
-  std::map<std::string, std::string> overrides;
-  for (const auto& kv : sets) overrides[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
   core::Scene scene;
   try {
-    scene = core::load_scene(scene_path, overrides);
+    scene = core::load_scene(scene_path, cli::scene_overrides(sets));
   } catch (const std::exception& e) {
     bad_input(e.what());
   }
