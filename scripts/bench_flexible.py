@@ -13,7 +13,8 @@ and the command (the page's figures are the last run's, never typed in).
 With --penalty-stiffness K [K ...], instead: the penalty method on dopri5 and
 on rosenbrock4 at each contact stiffness K [N/m] (the scene's modes), each
 run's largest distance from the dopri5 run's station on the samples beside
-it (block flexible_penalty).
+it (with --page, into the block --block names: docs/benchmarks.md holds none
+of these).
 
 usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M[:I] ...]
                          [--penalty-stiffness K ...] [--scene FILE]
@@ -136,12 +137,14 @@ def main(argv=None):
     ap.add_argument("--penalty-stiffness", type=float, nargs="+", metavar="K",
                     help="the penalty method on dopri5 and rosenbrock4 at these contact stiffnesses [N/m]")
     ap.add_argument("--page", help="write the table into this page (docs/benchmarks.md)")
-    ap.add_argument("--block", help="the page's block to write (default: flexible, or flexible_penalty)")
+    ap.add_argument("--block", help="the page's block to write (default: flexible)")
     a = ap.parse_args(argv)
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
     if a.penalty_stiffness and any(not (k > 0.0) for k in a.penalty_stiffness):
         sys.exit("bench_flexible: --penalty-stiffness must be > 0")
+    if a.penalty_stiffness and a.page and not a.block:
+        sys.exit("bench_flexible: --penalty-stiffness with --page needs --block NAME")
     lines = penalty_rows(a) if a.penalty_stiffness else mode_rows(a)
     if a.page:
         what = "--penalty-stiffness %s" % " ".join("%g" % k for k in a.penalty_stiffness) if a.penalty_stiffness \
@@ -149,7 +152,7 @@ def main(argv=None):
         scene = os.path.relpath(a.scene, ROOT)
         if scene != "config/seal_rub_runup.yaml":
             what = "--scene %s %s" % (scene, what)
-        name = a.block or ("flexible_penalty" if a.penalty_stiffness else "flexible")
+        name = a.block or "flexible"
         if a.block:
             what += " --block " + a.block
         command = "scripts/bench_flexible.py $WS/devel/lib/rotor_rub_sim/rotor_rub_run --repeats %d %s " \

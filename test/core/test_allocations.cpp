@@ -67,24 +67,36 @@ long allocations_between(const core::Scene& scene, double t0_s, double t1_s) {
 
 // The paper's run-up in contact (first contact 1.11 s) and the seal-rub
 // run-up of a flexible rotor at 8 planar modes and at its full FE model (26)
-// across its first
-// contact (1.24 s): every registry row.
+// across its first contact (1.24 s), and at 8 with an elastic stator and
+// under a motor drive (the penalty method's polar coordinates with the block
+// beside them, its Jacobian in closed form or differenced): every registry
+// row.
 TEST(Allocations, NoneWhileARunAdvances) {
   struct Case {
     const char* scene;
     long planar_modes;  // 0: the scene's rotor
     double t0_s, t1_s;
+    bool elastic_stator = false, motor = false;
   };
   for (const Case& c : {Case{"config/paper_runup.yaml", 0, 1.0, 1.3}, Case{"config/seal_rub_runup.yaml", 8, 1.2, 1.3},
-                        Case{"config/seal_rub_runup.yaml", 26, 1.23, 1.25}}) {
+                        Case{"config/seal_rub_runup.yaml", 26, 1.23, 1.25},
+                        Case{"config/seal_rub_runup.yaml", 8, 1.2, 1.3, true, false},
+                        Case{"config/seal_rub_runup.yaml", 8, 1.2, 1.3, false, true}}) {
     for (const core::SolverEntry& row : core::solver_registry()) {
       if (row.integrator == core::Integrator::kRk4) continue;  // its fixed step: test_flexible_rk4
       core::Scene scene = core::load_scene(source(c.scene));
       scene.solver.method = row.method;
       scene.solver.integrator = row.integrator;
       if (c.planar_modes > 0) scene.rotor.planar_modes = c.planar_modes;
+      if (c.elastic_stator) scene.model.stator_model = core::StatorModel::kElastic;
+      if (c.motor) {
+        // A motor strong enough to hold the run-up through the rub.
+        scene.model.drive_model = core::DriveModel::kMotor;
+        scene.model.drive_torque_limit_N_m = 200.0;
+      }
       EXPECT_EQ(allocations_between(scene, c.t0_s, c.t1_s), 0)
-          << c.scene << " " << c.planar_modes << " planar modes, " << core::to_string(row.method) << " on "
+          << c.scene << " " << c.planar_modes << " planar modes" << (c.elastic_stator ? ", elastic stator" : "")
+          << (c.motor ? ", motor" : "") << ", " << core::to_string(row.method) << " on "
           << core::to_string(row.integrator);
     }
   }

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -74,19 +75,21 @@ typename System::State rhs(const System& sys, const typename System::State& x, d
 // Compares the closed form with central differences at x (steps: each
 // column's); returns the largest error over the tolerance (<= 1 passes).
 // The differences' rounding floor: 4 eps of the largest derivative over the
-// step, or of term_scale, the largest term a row sums where that is larger.
+// step; in row term_row of term_scale, the largest term that row sums, where
+// that is larger.
 template <class System>
 double worst_ratio(const System& sys, const typename System::State& x, const typename System::State& steps, double t,
-                   std::string* where, double term_scale = 0.0) {
+                   std::string* where, double term_scale = 0.0, int term_row = -1) {
   using State = typename System::State;
   typename System::Matrix jac;
   State dfdt;
   sys.jacobian(x, t, jac, dfdt);
   double worst = 0.0;
-  const double fmax = std::max(rhs(sys, x, t).cwiseAbs().maxCoeff(), term_scale);
+  const double fmax = rhs(sys, x, t).cwiseAbs().maxCoeff();
   auto check = [&](const State& fd, const State& exact, double h, const std::string& column) {
-    const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * fmax / h;
     for (int i = 0; i < x.size(); ++i) {
+      const double scale = i == term_row ? std::max(fmax, term_scale) : fmax;
+      const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * scale / h;
       const double allowed = kRelTolerance * std::max(std::abs(fd[i]), std::abs(exact[i])) + rounding;
       const double ratio = std::abs(fd[i] - exact[i]) / allowed;
       if (ratio > worst) {
@@ -309,7 +312,8 @@ TEST(PenaltyJacobian, PolarErrorIsTheCartesianStatesError) {
 // (its seal's circulatory kxy = -kyx: K not symmetric) with 8 planar modes on
 // a rigid stator under gravity and on an elastic one far above its critical
 // speed, and the anisotropic rig (kyy/kxx 115) with 20 planar modes at 400
-// rad/s, where w G is large; every mode of the law at random states, the
+// rad/s accelerating at 50 rad/s^2, where w G and its rate A G q' are large;
+// every mode of the law at random states, the
 // modal block's entries of the size a run reaches (xi ~ 1e-5 sqrt(kg) m).
 // Differences of a linear block are exact but for rounding; the contact's
 // rows are the Jeffcott's (Checker above).
@@ -342,7 +346,11 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
   for (int trial = 0; trial < 12; ++trial) {
     State x = State::Zero(L::kSize + 2 * n);
     const double angle = M_PI * unit(rng);
-    const double distance = s.model.clearance_m * (trial % 4 == 0 ? 0.5 : 1.0 + 0.5 * share(rng));
+    // Free states 1 um inside the bore: the pressed law extended there pulls
+    // by k_c delta (1e3 N at 1e9 N/m), whose turning with the angle, over
+    // the station's distance d, gives the differences a truncation of h^2
+    // F / (6 m d^3); at d = C / 2 that reached 1.6e-6 of an entry.
+    const double distance = s.model.clearance_m * (trial % 4 == 0 ? 0.95 : 1.0 + 0.5 * share(rng));
     const core::Vec2 stator = kStatorDof == 2 ? core::Vec2(1e-6 * unit(rng), 1e-6 * unit(rng)) : core::Vec2::Zero();
     x.template segment<2>(L::kRotorPos) = stator + distance * core::Vec2(std::cos(angle), std::sin(angle));
     x.template segment<2>(L::kRotorVel) = core::Vec2(1e-2 * unit(rng), 1e-2 * unit(rng));
@@ -366,7 +374,7 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
     // block, so no step truncates). psi'' = (t . (a_r - a_s) - 2 delta'
     // psi') / delta sums terms of up to |a| / delta (a friction force of f
     // k_c delta over m delta, 1e7 rad/s^2) to a small result: their rounding
-    // is the differences' floor (term_scale).
+    // is that row's differences' floor (term_scale).
     if (distance < s.model.clearance_m) continue;
     using Polar = core::PenaltyPolarSystem<kStatorDof, false, true, core::FlexibleRotor>;
     using PL = typename Polar::L;
@@ -387,7 +395,7 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
       const double terms =
           (rhs(sys, x, t).cwiseAbs().maxCoeff() + 2.0 * std::abs(xp[PL::kDistanceRate] * xp[PL::kAngleRate])) / delta;
       std::string where;
-      EXPECT_LE(worst_ratio(polar, xp, hp, t, &where, terms), 1.0)
+      EXPECT_LE(worst_ratio(polar, xp, hp, t, &where, terms, PL::kAngleRate), 1.0)
           << name << ", polar, trial " << trial << ", slip " << slip << ": " << where;
     }
   }
@@ -407,7 +415,7 @@ TEST(PenaltyJacobian, FlexibleRotorsClosedFormEqualsDifferences) {
   rig.rotor.file = test::source_path("test/data/rotors/anisotropic_rig.yaml");
   rig.rotor.planar_modes = 20;
   rig.rotor.loaded.reset();
-  check_flexible<0>("anisotropic rig, 20 planar modes", rig, {0.0, 1.0, 400.0, 0.0});
+  check_flexible<0>("anisotropic rig, 20 planar modes", rig, {0.0, 1.0, 400.0, 50.0});
 }
 
 // The stiff integrator takes the closed form where the system gives it (6

@@ -39,4 +39,6 @@ expect "one method: the contact's quantities beside the cost" grep -qE '^ +3 +6 
 expect "a mode count below 1 is refused" fails_with "--repeats and --modes must be >= 1" "${BENCH[@]}" --modes 0
 expect "a page without the block is named" fails_with "has no '<!-- BEGIN GENERATED: nothere -->" \
   "${BENCH[@]}" --repeats 1 --modes 1 --page "$T/page.md" --block nothere
+expect "the contact-stiffness table names its block" fails_with "--penalty-stiffness with --page needs --block NAME" \
+  "${BENCH[@]}" --penalty-stiffness 1e9 --page "$T/page.md"
 exit $((fails > 0))

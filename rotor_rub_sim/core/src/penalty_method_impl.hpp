@@ -79,7 +79,7 @@ class PenaltyMethod final : public ContactMethod {
     system_.segment = segment;
     crossed_edge_ = -1;
     fallback_ = false;
-    if constexpr (kPolar) polar_sys_.reserve(L::kSize + modal.size());
+    if constexpr (kPolar && !kMotor) polar_sys_.reserve(L::kSize + modal.size());  // its closed-form Jacobian's
     restart(t_s, k, modal, initial_step_s_);
   }
 

@@ -310,7 +310,7 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(choice("method", kAllMethods, "contact method: penalty (I), switching (II), iteration (III)",
                        [](Scene& s) -> Method& { return s.solver.method; }));
     t.push_back(choice("integrator", kAllIntegrators,
-                       "time integrator; auto: the fastest for the method at the rtol (" + auto_integrator_text() +
+                       "time integrator; auto: the method's usual fastest at the rtol (" + auto_integrator_text() +
                            "); each method's integrators: rotor_rub_run --list-solvers",
                        [](Scene& s) -> Integrator& { return s.solver.integrator; }));
     t.push_back(real("rtol", 1e-14, false, 1.0, "relative error tolerance per step [-]",

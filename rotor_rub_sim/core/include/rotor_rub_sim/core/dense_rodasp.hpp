@@ -26,11 +26,10 @@
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
 // The Jacobian J = df/dy and f_t = df/dt come from the system in closed form
 // where it gives them (kAnalyticJacobian: the penalty method under the
-// prescribed drive, penalty_system.hpp; 6 right-hand sides an accepted step,
-// 5 a rejected one), else are forward differences of the same right-hand
-// side (jacobian()): n + 2 more a step for n states (the motor drive's 11
-// or 7; a flexible rotor's fixed part plus its modal block, 32 on the seal
-// example with 8 planar modes). A flexible rotor's
+// prescribed drive, a flexible rotor's too, penalty_system.hpp; 6
+// right-hand sides an accepted step, 5 a rejected one), else are forward
+// differences of the same right-hand side (jacobian()): n + 2 more a step
+// for n states (a motor drive's). A flexible rotor's
 // state is dynamic within a bound (model.hpp), and so are J and its LU: on
 // the stack, no allocation per step.
 #pragma once

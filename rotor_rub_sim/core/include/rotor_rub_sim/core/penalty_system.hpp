@@ -40,19 +40,9 @@ struct PenaltySystem {
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
 
-  // The accelerations under the law (the mode's, or the clamped law) at
-  // kinematics k, the drive d of drive_at() [m/s^2, rad/s^2], of a rotor
-  // whose state is the station's alone (the polar coordinates').
-  Accelerations accelerations(const Kinematics& k, const DriveState& d) const {
-    return accelerations(k, d, model->contact_geometry(k, d));
-  }
-  // The same given the contact's geometry g at k (the polar coordinates
-  // have it without the round trip through the positions).
-  Accelerations accelerations(const Kinematics& k, const DriveState& d, const ContactGeometry& g) const {
-    static_assert(Rotor::kStationOnly, "a rotor's block is in its free loads");
-    return accelerations(d, g, loads_at(*rotor, *model, k, d, ModalState()));
-  }
-  // The same from the state's free loads (the rotor model's).
+  // The accelerations under the law (the mode's, or the clamped law) at the
+  // drive d of drive_at() and the contact's geometry g, from the state's
+  // free loads (the rotor model's) [m/s^2, rad/s^2].
   Accelerations accelerations(const DriveState& d, const ContactGeometry& g, const FreeLoads& free) const {
     double fn, ft;
     if constexpr (kModeLocked) {

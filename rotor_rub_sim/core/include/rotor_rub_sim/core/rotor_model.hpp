@@ -13,8 +13,7 @@
 ///   State<kFixed>          a layout's state type (kFixed entries and the block)
 ///   ModalVector            its xi'' / xi''' storage (no allocation)
 ///   kStationOnly           the state is the station's and the stator's alone
-///                          (the penalty method's polar coordinates cover no
-///                          more)
+///                          (no block)
 ///   R(scene)               the scene's rotor, read once (Scene::rotor.loaded)
 ///   adopt(p)               takes the scene's parameters p (at the start, at a
 ///                          live change) and gives the station's (StationModel)
