@@ -12,6 +12,11 @@
 // real-time factor. Parameter changes and faults share the queue (at one
 // stamp, in arrival order): a future stamp applies exactly then, a zero stamp
 // at the time reached, and a stamp already simulated is refused.
+//
+// Its definitions by job: sim_node.cpp (construction, the run loop, pacing
+// and lockstep), sim_node_output.cpp (topics, the bag, tf, /clock),
+// sim_node_commands.cpp (commands, changes, faults, services),
+// sim_node_diagnostics.cpp; their shared helpers in src/sim_node_io.hpp.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
