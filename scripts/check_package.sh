@@ -92,6 +92,11 @@ layout)
     [ -f "$INSTALL/include/rotor_rub_sim/core/$(basename "$h")" ] || missing+=("include/rotor_rub_sim/core/$(basename "$h")")
   done
   [ -f "$INSTALL/lib/librotor_rub_core.so" ] || missing+=("lib/librotor_rub_core.so")
+  [ -f "$INSTALL/lib/librotor_rub_analysis.so" ] || missing+=("lib/librotor_rub_analysis.so")
+  # The private headers (core/src/FOLDER/) stay out of the install space.
+  leaked=$(cd "$ROOT/rotor_rub_sim/core/src" && find . -name "*.hpp" -printf "%f\n" | while read -r h; do
+    [ ! -e "$INSTALL/include/rotor_rub_sim/core/$h" ] || echo "$h"; done)
+  [ -z "$leaked" ] || fail "private headers installed: $leaked"
   BIN="$INSTALL/lib/rotor_rub_sim"
   for p in rotor_rub_run rotor_rub_bench rotor_rub_sweep rotor_rub_bifurcation rotor_rub_compare rotor_rub_sim_node; do
     [ -x "$BIN/$p" ] || missing+=("lib/rotor_rub_sim/$p")

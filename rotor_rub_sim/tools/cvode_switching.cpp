@@ -20,14 +20,14 @@
 #include <type_traits>
 #include <utility>
 
-#include "rotor_rub_sim/core/chatter_guard.hpp"
-#include "rotor_rub_sim/core/constrained_dynamics.hpp"
+#include "methods/chatter_guard.hpp"
+#include "methods/constrained_dynamics.hpp"
+#include "methods/event_location.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/model.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
-#include "rotor_rub_sim/core/sample_builder.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
+#include "run/sample_builder.hpp"
 
 // SUNContext arrived in 6.0; 7.0 replaced the error handler (CVodeSetErrHandlerFn).
 static_assert(SUNDIALS_VERSION_MAJOR == 6, "written against the SUNDIALS 6 API (Debian 12: 6.4.1)");

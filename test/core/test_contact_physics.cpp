@@ -8,8 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include "methods/event_location.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"

@@ -12,10 +12,10 @@
 #include <set>
 #include <string>
 
-#include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/dense_high_order.hpp"
-#include "rotor_rub_sim/core/dense_rk4.hpp"
-#include "rotor_rub_sim/core/dense_rodasp.hpp"
+#include "integrators/dense_dopri5.hpp"
+#include "integrators/dense_high_order.hpp"
+#include "integrators/dense_rk4.hpp"
+#include "integrators/dense_rodasp.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 
 namespace rotor_rub {

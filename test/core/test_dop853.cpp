@@ -10,8 +10,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "rotor_rub_sim/core/dense_high_order.hpp"
-#include "rotor_rub_sim/core/dop853.hpp"
+#include "integrators/dense_high_order.hpp"
+#include "integrators/dop853.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 
 namespace rotor_rub {

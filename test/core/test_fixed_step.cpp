@@ -6,8 +6,8 @@
 #include <cmath>
 #include <complex>
 
+#include "integrators/rk4_stability.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "test_support.hpp"

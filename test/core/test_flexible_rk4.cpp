@@ -11,10 +11,10 @@
 #include <memory>
 #include <string>
 
+#include "integrators/rk4_stability.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/contact_method.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
-#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"

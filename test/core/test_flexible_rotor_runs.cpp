@@ -12,7 +12,7 @@
 #include <limits>
 #include <vector>
 
-#include "rotor_rub_sim/core/event_location.hpp"
+#include "methods/event_location.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/invariants.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"

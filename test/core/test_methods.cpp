@@ -5,11 +5,11 @@
 #include <memory>
 #include <vector>
 
+#include "integrators/rk4_stability.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/contact_method.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
-#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 #include "rotor_rub_sim/core/trajectory_compare.hpp"
 #include "test_support.hpp"

@@ -5,8 +5,8 @@
 #include <limits>
 #include <utility>
 
-#include "rotor_rub_sim/core/angle_pair.hpp"
-#include "rotor_rub_sim/core/constrained_dynamics.hpp"
+#include "contact/angle_pair.hpp"
+#include "methods/constrained_dynamics.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 

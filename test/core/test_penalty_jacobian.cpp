@@ -14,9 +14,9 @@
 #include <random>
 #include <string>
 
+#include "methods/penalty_system.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
-#include "rotor_rub_sim/core/penalty_system.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "test_support.hpp"
 

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "rotor_rub_sim/core/dense_rodasp.hpp"
+#include "integrators/dense_rodasp.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 #include "test_support.hpp"
 

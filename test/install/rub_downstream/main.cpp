@@ -1,10 +1,13 @@
 // A downstream program on the installed core: loads a scene file, runs it for
-// 50 ms and checks the samples and the solver's work.
+// 50 ms and checks the samples and the solver's work; the analysis library
+// (exported too) records the run as a reference and finds it at no distance
+// from itself.
 //   rub_downstream SCENE.yaml
 #include <cmath>
 #include <cstdio>
 #include <exception>
 
+#include "rotor_rub_sim/core/run_errors.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
 
@@ -40,6 +43,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "rub_downstream: %ld samples up to t = %g s in %ld steps (expected %ld samples up to %g s)\n",
                    count.samples, count.last_t_s, r.stats.steps, grid, scene.end_time_s);
+      return 1;
+    }
+    const core::ReferenceTrace trace = core::record_reference(scene);
+    if (trace.failed || static_cast<long>(trace.t_s.size()) != count.samples ||
+        !std::isinf(core::sensitivity_horizon_s(trace, trace, 1e-9))) {
+      std::fprintf(stderr, "rub_downstream: the reference trace of the same run differs (%zu samples)\n",
+                   trace.t_s.size());
       return 1;
     }
     std::printf("rub_downstream: %ld samples up to t = %g s, %ld steps, method %s\n", count.samples, count.last_t_s,

@@ -10,9 +10,9 @@
 #include <set>
 #include <sstream>
 
+#include "integrators/rk4_stability.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
-#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 #include "scene_text.hpp"
 

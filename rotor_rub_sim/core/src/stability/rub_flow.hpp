@@ -14,11 +14,11 @@
 #include <cmath>
 #include <string>
 
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/periodic_orbit.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
 
 namespace rotor_rub::core {
 

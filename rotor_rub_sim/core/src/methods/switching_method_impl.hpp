@@ -14,18 +14,18 @@
 #include <string>
 #include <type_traits>
 
-#include "rotor_rub_sim/core/angle_pair.hpp"
-#include "rotor_rub_sim/core/chatter_guard.hpp"
-#include "rotor_rub_sim/core/constrained_dynamics.hpp"
+#include "contact/angle_pair.hpp"
+#include "integrators/dense_dopri5.hpp"
+#include "integrators/dense_high_order.hpp"
+#include "methods/chatter_guard.hpp"
+#include "methods/constrained_dynamics.hpp"
+#include "methods/event_location.hpp"
+#include "methods/method_factory.hpp"
+#include "methods/switching_method.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/cost_profiler.hpp"
-#include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/dense_high_order.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
-#include "rotor_rub_sim/core/method_factory.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
-#include "rotor_rub_sim/core/sample_builder.hpp"
-#include "rotor_rub_sim/core/switching_method.hpp"
+#include "run/cost_profiler.hpp"
+#include "run/sample_builder.hpp"
 
 namespace rotor_rub::core {
 namespace {

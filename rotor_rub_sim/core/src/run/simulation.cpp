@@ -7,12 +7,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "methods/event_location.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/cost_profiler.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
+#include "run/cost_profiler.hpp"
 
 namespace rotor_rub::core {
 

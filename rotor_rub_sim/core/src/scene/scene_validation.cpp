@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "integrators/rk4_stability.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
-#include "rotor_rub_sim/core/rk4_stability.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/solver_registry.hpp"
 #include "scene_text.hpp"

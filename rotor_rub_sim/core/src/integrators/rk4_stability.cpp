@@ -1,14 +1,14 @@
 // RK4's stability bound from a linear system's eigenvalues (rk4_stability.hpp).
-#include "rotor_rub_sim/core/rk4_stability.hpp"
+#include "integrators/rk4_stability.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "contact/penalty_law.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
-#include "rotor_rub_sim/core/penalty_law.hpp"
 
 namespace rotor_rub::core {
 

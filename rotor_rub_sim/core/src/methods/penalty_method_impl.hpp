@@ -13,18 +13,18 @@
 #include <type_traits>
 #include <utility>
 
+#include "contact/penalty_law.hpp"
+#include "integrators/dense_dopri5.hpp"
+#include "integrators/dense_rk4.hpp"
+#include "integrators/dense_rodasp.hpp"
+#include "methods/event_location.hpp"
+#include "methods/method_factory.hpp"
+#include "methods/penalty_method.hpp"
+#include "methods/penalty_system.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
-#include "rotor_rub_sim/core/cost_profiler.hpp"
-#include "rotor_rub_sim/core/dense_dopri5.hpp"
-#include "rotor_rub_sim/core/dense_rk4.hpp"
-#include "rotor_rub_sim/core/dense_rodasp.hpp"
-#include "rotor_rub_sim/core/event_location.hpp"
-#include "rotor_rub_sim/core/method_factory.hpp"
-#include "rotor_rub_sim/core/penalty_law.hpp"
-#include "rotor_rub_sim/core/penalty_method.hpp"
-#include "rotor_rub_sim/core/penalty_system.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
-#include "rotor_rub_sim/core/sample_builder.hpp"
+#include "run/cost_profiler.hpp"
+#include "run/sample_builder.hpp"
 
 namespace rotor_rub::core {
 namespace {

@@ -4,9 +4,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "rotor_rub_sim/core/iteration_method.hpp"
-#include "rotor_rub_sim/core/penalty_method.hpp"
-#include "rotor_rub_sim/core/switching_method.hpp"
+#include "methods/iteration_method.hpp"
+#include "methods/penalty_method.hpp"
+#include "methods/switching_method.hpp"
 
 namespace rotor_rub::core {
 

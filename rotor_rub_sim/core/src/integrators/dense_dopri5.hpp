@@ -9,8 +9,8 @@
 #include <boost/numeric/odeint/external/eigen/eigen.hpp>
 #include <cmath>
 
+#include "integrators/step_ends.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
-#include "rotor_rub_sim/core/step_ends.hpp"
 
 namespace rotor_rub::core {
 

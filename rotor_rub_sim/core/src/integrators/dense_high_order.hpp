@@ -37,10 +37,10 @@
 #include <type_traits>
 #include <utility>
 
-#include "rotor_rub_sim/core/dop853.hpp"
+#include "integrators/dop853.hpp"
+#include "integrators/step_ends.hpp"
 #include "rotor_rub_sim/core/model.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
-#include "rotor_rub_sim/core/step_ends.hpp"
 
 namespace rotor_rub::core {
 

@@ -32,10 +32,10 @@
 #include <cmath>
 #include <type_traits>
 
-#include "rotor_rub_sim/core/angle_pair.hpp"
+#include "contact/angle_pair.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
 
 namespace rotor_rub::core {
 

@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-#include "rotor_rub_sim/core/event_location.hpp"
+#include "methods/event_location.hpp"
 
 namespace rotor_rub::core {
 

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <type_traits>
 
-#include "rotor_rub_sim/core/cost_profiler.hpp"
+#include "contact/penalty_law.hpp"
+#include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
-#include "rotor_rub_sim/core/penalty_law.hpp"
-#include "rotor_rub_sim/core/rotor_model.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
+#include "run/cost_profiler.hpp"
 
 namespace rotor_rub::core {
 

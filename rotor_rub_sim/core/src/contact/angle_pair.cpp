@@ -1,4 +1,4 @@
-#include "rotor_rub_sim/core/angle_pair.hpp"
+#include "contact/angle_pair.hpp"
 
 #include <cmath>
 
