@@ -28,7 +28,7 @@ import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sanitize_skip import gtest_filter, listed_tests, read_skip_list  # noqa: E402
+from sanitize_skip import gtest_filter, listed_tests, read_skip_list, unknown_names  # noqa: E402
 
 # Real paths: the catkin workspace compiles through a link to the checkout.
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
@@ -83,7 +83,7 @@ def main():
         sys.exit(__doc__)
     build_dir, test_core = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     skip = read_skip_list(sys.argv[3] if len(sys.argv) == 4 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
-    unknown = sorted(set(skip) - listed_tests(test_core))
+    unknown = unknown_names(skip, listed_tests(test_core))
     if unknown:
         print("sanitize_coverage.py: not tests of %s: %s" % (test_core, ", ".join(unknown)), file=sys.stderr)
         sys.exit(2)

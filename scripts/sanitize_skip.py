@@ -4,11 +4,13 @@ test/sanitize_skip.txt (docs/testing.md, "The sanitized subset").
 
     scripts/sanitize_skip.py TEST_CORE [SKIP_LIST]
 
-Prints the filter (for --gtest_filter). Exits 2, naming them, when a listed
-name is no test of TEST_CORE or is listed twice: a renamed test must not slip
+Prints the filter (for --gtest_filter). A name may end in * (a parameterised
+suite's cases: Runs/GoldenRun.*). Exits 2, naming them, when a listed
+name is no test of TEST_CORE (a pattern: matches none) or is listed twice: a renamed test must not slip
 back into the sanitized run unnoticed. The filter is printed then too (a
 name that matches no test excludes nothing).
 """
+import fnmatch
 import os
 import subprocess
 import sys
@@ -29,6 +31,11 @@ def read_skip_list(path):
 
 def gtest_filter(skip):
     return "*-" + ":".join(skip) if skip else "*"
+
+
+def unknown_names(skip, tests):
+    """The listed names (or patterns ending in *) that match no test of tests."""
+    return sorted(name for name in skip if not fnmatch.filter(tests, name))
 
 
 def listed_tests(test_core):
@@ -52,7 +59,7 @@ def main():
     if len(sys.argv) not in (2, 3):
         sys.exit(__doc__)
     skip = read_skip_list(sys.argv[2] if len(sys.argv) == 3 else os.path.join(ROOT, "test", "sanitize_skip.txt"))
-    unknown = sorted(set(skip) - listed_tests(sys.argv[1]))
+    unknown = unknown_names(skip, listed_tests(sys.argv[1]))
     twice = sorted({name for name in skip if skip.count(name) > 1})
     print(gtest_filter(skip))
     if unknown:
