@@ -22,7 +22,7 @@
 
 #include "methods/chatter_guard.hpp"
 #include "methods/constrained_dynamics.hpp"
-#include "methods/event_location.hpp"
+#include "methods/event_scanner.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "rotor_rub_sim/core/model.hpp"
@@ -43,8 +43,6 @@ using core::Kinematics;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// The core's "starts on its surface" window (switching_method_impl.hpp).
-constexpr double kOnSurface_s = 10.0 * core::kEventTimeTolerance_s;
 // A restart's first step: this share of the step CVODE would have taken next
 // in the regime it leaves, as the core restarts with the step size it had.
 // CVODE's own estimate bounds the step by 0.1 (|y_i| + atol) / |y_i'| per
@@ -260,7 +258,7 @@ struct RootValues {
 //   strictly negative from the start, so the crossing back is found however
 //   early it comes (the undeflated function starts at +0 and may return to +
 //   within CVODE's first step, a sign change CVODE cannot see). The core does
-//   the same (switching_method_impl.hpp, crossing()).
+//   the same (event_scanner.hpp, crossing()).
 // * The free flight's gap must be seen below its noise floor before a
 //   crossing counts (armed). CVODE arms on any negative value at a step end,
 //   and a flight that starts at a tangency (after a lift-off, or a plastic
@@ -600,19 +598,19 @@ class CvodeSwitching {
     const RootValues v = values_at_state(y, t_s);
     for (int k = 0; k < kRoots; ++k) {
       const double rate = v.rate[k];
-      start_.deflated[k] = !(v.value[k] < 0.0) && rate < 0.0 && std::abs(v.value[k]) <= -rate * kOnSurface_s;
+      start_.deflated[k] = !(v.value[k] < 0.0) && core::starts_on_surface(v.value[k], rate);
       start_.rate[k] = rate;
     }
     if (regime_ == Regime::kFree) {
       // Deflated only if the rate leaves the noise within the window.
-      start_.deflated[kGap] = start_.deflated[kGap] && -v.rate[kGap] * kOnSurface_s >= start_.gap_noise_m;
+      start_.deflated[kGap] = start_.deflated[kGap] && -v.rate[kGap] * core::kOnSurface_s >= start_.gap_noise_m;
       start_.gap_armed = start_.deflated[kGap] || v.value[kGap] < -start_.gap_noise_m;
     }
   }
 
   // After a free-flight step ending at t1: the gap is armed where it is below
   // its noise floor (RootStart), and the core's third way to a touchdown
-  // (switching_method_impl.hpp, crossing()) is checked: a touch that enters and
+  // (event_scanner.hpp, crossing()) is checked: a touch that enters and
   // leaves the bore inside one step, the gap negative at both ends, where
   // CVODE sees no sign change. The gap's rate falls through zero in between
   // (a maximum); located on the dense output, and the gap there decides.
@@ -623,19 +621,15 @@ class CvodeSwitching {
     step_begin_ = {t1, v1.value[kGap], v1.rate[kGap]};
     const bool armed_at_begin = start_.gap_armed;
     start_.gap_armed = armed_at_begin || v1.value[kGap] < -start_.gap_noise_m;
-    if (!(armed_at_begin && begin.gap_m < 0.0 && v1.value[kGap] < 0.0 && begin.rate > 0.0 && v1.rate[kGap] < 0.0)) {
-      return kInf;
-    }
+    if (!(armed_at_begin && begin.gap_m < 0.0 && v1.value[kGap] < 0.0)) return kInf;
     core::RunStats located;
     auto values = [this](double t) { return free_values(free_state(free_.state_at(t)), t); };
-    auto falling_rate = [&values](double t) { return -values(t).rate[kGap]; };
-    const double tm = core::locate_event(falling_rate, begin.t_s, -begin.rate, t1, -v1.rate[kGap], located);
-    const double gm = values(tm).value[kGap];
-    double te = kInf;
-    if (gm >= 0.0) {
-      auto gap = [&values](double t) { return values(t).value[kGap]; };
-      te = core::locate_event(gap, begin.t_s, begin.gap_m, tm, gm, located);
-    }
+    auto gap = [&values](double t) { return values(t).value[kGap]; };
+    auto rate = [&values](double t) { return values(t).rate[kGap]; };
+    core::EventWatch w;
+    w.armed = true;
+    const double te =
+        core::crossing(w, gap, rate, begin.t_s, begin.gap_m, begin.rate, t1, v1.value[kGap], v1.rate[kGap], located);
     out_.root_evals += located.root_iterations;
     return te;
   }
@@ -644,7 +638,7 @@ class CvodeSwitching {
   // where -F_n (sticking: |F_t| - f F_n too) is below zero it can rise
   // through zero and back (a grazing lift-off), a sign change CVODE's root
   // finding cannot see. Checked as the core checks between its scan points,
-  // on the step's two halves (core::locate_interior_crossing). Returns the
+  // on the step's two halves (core::crossing). Returns the
   // earliest such event's root and time (infinity: none).
   std::pair<int, double> after_contact_step(double t1) {
     const double t0 = contact_step_begin_s_;
@@ -659,7 +653,9 @@ class CvodeSwitching {
         const double va = value(k, a), vb = value(k, b);
         if (!(va < 0.0 && vb < 0.0)) continue;
         auto g = [&value, k](double t) { return value(k, t); };
-        const double te = core::locate_interior_crossing(g, a, va, b, vb, core::kInteriorRateStep * (b - a), located);
+        core::EventWatch w;
+        w.armed = true;
+        const double te = core::crossing(w, g, a, va, b, vb, located);
         if (te < first.second) first = {k, te};
       }
       if (first.second < kInf) break;

@@ -4,7 +4,7 @@
 // tangential force the rolling needs reaches the friction cone. Rolling's
 // state is a parabola (psi'' = -A R_r / C) whose error estimate is zero, so
 // the switching method's steps grew over whole revolutions of the forcing
-// and its scan missed the breakaway (event_location.hpp, kMaxScanAngle_rad).
+// and its scan missed the breakaway (event_scanner.hpp, kMaxScanAngle_rad).
 // Held here against the breakaway's instant in closed form and against the
 // other methods.
 #include <gtest/gtest.h>

@@ -27,22 +27,6 @@ double locate_event(F&& f, double t0, double f0, double t1, double f1, RunStats&
   return bracket.second;
 }
 
-// A held contact's event functions (the normal force, the stick force
-// against the cone) carry the unbalance at its angle in the contact frame,
-// phi - psi, which the state need not see: rolling on a rigid stator holds
-// psi'' = -A R_r / C, a parabola whose error estimate is zero, and the error
-// control would step over whole revolutions of that angle (and restart the
-// next regime with such a step). A held step turns that angle by at most
-// this much per scan interval, so that an interval holds at most one
-// extremum of the forces' first harmonic and the rates at its ends find it
-// (test/core/test_transitions.cpp).
-inline constexpr double kMaxScanAngle_rad = 0.25 * 3.14159265358979323846;
-
-// locate_interior_crossing's difference step per interval b - a: small
-// against a force's variation between two scan points, large against its
-// rounding.
-inline constexpr double kInteriorRateStep = 1e-4;
-
 // A crossing of g between two points a < b where g is below zero at both
 // (ga, gb < 0): g rising through zero and back between them, at one
 // interior maximum (a graze shorter than the points' spacing). The maximum

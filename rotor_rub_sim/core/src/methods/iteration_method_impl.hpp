@@ -14,12 +14,13 @@
 #include <string>
 #include <type_traits>
 
-#include "contact_force_solver.hpp"
 #include "integrators/dense_dopri5.hpp"
 #include "integrators/dense_high_order.hpp"
 #include "methods/chatter_guard.hpp"
-#include "methods/event_location.hpp"
+#include "methods/contact_force_solver.hpp"
+#include "methods/event_scanner.hpp"
 #include "methods/iteration_method.hpp"
+#include "methods/iteration_system.hpp"
 #include "methods/method_factory.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
@@ -28,83 +29,6 @@
 
 namespace rotor_rub::core {
 namespace {
-
-template <int kStatorDof, bool kMotor, class Rotor>
-struct IterationSystem {
-  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
-  // The jerk for the Hermite dense output (DenseHighOrder): a difference
-  // (the contact force is a root, its rate no closed form), end_derivatives.
-  static constexpr bool kOwnEndDerivatives = true;
-  const StationModel* model = nullptr;
-  const Rotor* rotor = nullptr;
-  const ContactForceSolver* solver = nullptr;
-  SpeedSegment segment;
-  bool engaged = false;
-  FrictionMode mode;
-  long* iterations = nullptr;
-  double* rhs_time_s = nullptr;        // profiling only
-  double* iteration_time_s = nullptr;  // profiling only
-
-  ContactForces forces(const Kinematics& k, const DriveState& d, const ContactGeometry& g, const FreeLoads& free,
-                       double t) const {
-    if (!engaged) return {};
-    ProfileScope scope(iteration_time_s);
-    return solver->solve(k, d, g, free, mode, false, t, *iterations);
-  }
-
-  void operator()(const typename L::State& x, typename L::State& dxdt, double t) const { derivative(x, dxdt, t); }
-
-  // The derivative and its rate along the solution at a step's end: the
-  // central difference of the derivative along (dxdt, 1) over
-  // kHermiteJerkStep_s, but from the step's side of a release. Engaged, the
-  // force is clamped at zero where nothing needs to press (a kink): a
-  // difference across it is the clamp's, not the step's, and would bend the
-  // interpolant of a step that ends just before a lift-off into the stator
-  // (PaperScene.IterationLocatesItsLiftOffs). Where the two points differ
-  // in being pressed, the second-order one-sided difference into the step
-  // is taken (one evaluation more): at a step's end the pressed side, also
-  // where the end lies on the kink itself (a step redone to end on its
-  // lift-off, whose own force may round to either side). At a step's start
-  // with a lift-off less than kHermiteJerkStep_s ahead it is the released
-  // side; that step is cut at the lift-off, shorter than 1 us, where the
-  // jerk's weight (h^3) leaves nothing to see.
-  int end_derivatives(const typename L::State& x, double t, StepEnd end, typename L::State& dxdt,
-                      typename L::State& ddx) const {
-    constexpr double h = kHermiteJerkStep_s;
-    typename L::State before, after, far;
-    derivative(x, dxdt, t);
-    const bool pressed_before = derivative(x - h * dxdt, before, t - h) > 0.0;
-    const bool pressed_after = derivative(x + h * dxdt, after, t + h) > 0.0;
-    if (pressed_before == pressed_after) {
-      ddx = (after - before) / (2.0 * h);
-      return 3;
-    }
-    if (end == StepEnd::kEnd) {
-      derivative(x - 2.0 * h * dxdt, far, t - 2.0 * h);
-      ddx = (3.0 * dxdt - 4.0 * before + far) / (2.0 * h);
-    } else {
-      derivative(x + 2.0 * h * dxdt, far, t + 2.0 * h);
-      ddx = (4.0 * after - far - 3.0 * dxdt) / (2.0 * h);
-    }
-    return 4;
-  }
-
-  // The derivative; returns the normal force [N] (0 free or released).
-  double derivative(const typename L::State& x, typename L::State& dxdt, double t) const {
-    ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    const DriveState reference = segment.at(t);
-    const DriveState d = model->drive_at(k, reference);
-    const ContactGeometry g = model->contact_geometry(k, d);
-    const FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
-    const ContactForces f = forces(k, d, g, free, t);
-    const Accelerations a = model->accelerations(d, g, free, f.normal_N, f.tangential_N);
-    // A motor's spin: the rotor's block takes its share of its acceleration.
-    if constexpr (kMotor) rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
-    free_derivative<L>(*model, k, reference, a, dxdt);
-    return f.normal_N;
-  }
-};
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5) or 8(5,3) with the
 // Hermite dense output (dop853, dense_high_order.hpp). Rotor: the rotor
@@ -372,7 +296,7 @@ class IterationMethod final : public ContactMethod {
     ContactGeometry prev = geometry_at(t0);
     double prev_t = t0, worst = -std::numeric_limits<double>::infinity();
     for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = scan_point(t0, t1, i, kScanPoints);
       const ContactGeometry g = geometry_at(ti);
       worst = std::max(worst, g.penetration_m);
       if (prev.normal_velocity_m_per_s > 0.0 && g.normal_velocity_m_per_s < 0.0) {
@@ -426,53 +350,35 @@ class IterationMethod final : public ContactMethod {
     // holds), on its surface because the regime began there, or above zero
     // at a step that is not a regime's start: it jumped there at a drive
     // change (the contact forces hold m e A and A R_r terms), and the
-    // transition is now. On its surface with a rate into the regime (slip
-    // from rest), the deflated function, whose value at t0 is that rate,
-    // brackets the first crossing. Otherwise a sign change counts once the
-    // function has been below zero (armed, as the switching method's event
-    // functions are); a slip begun at a breakaway has no rate there (the
-    // slip force equals the stick force, v_slide' = 0), and one that slides
-    // and stops within the first interval is found by probing nearer the
-    // start for the slip's side (the switching method's crossing() does the
-    // same).
-    bool deflated = false, armed = true;
-    double rate = 0.0;
+    // transition is now. On its surface the crossing right after the start
+    // is found as the switching method's are (crossing(), event_scanner.hpp:
+    // with a rate into the regime, slip from rest, the deflated bracket;
+    // without, a slip begun at a breakaway, by probing nearer the start).
+    EventWatch w;  // armed unless it starts at or above zero
+    w.armed = true;
+    w.regime_start_s = mode_start_s_;
+    w.interior = system_.mode.stick;
     if (prev_f >= 0.0) {
       if (t0 != mode_start_s_) return t0;
-      rate = friction_event_rate(t0);
-      deflated = rate < 0.0 && std::abs(prev_f) <= -rate * kOnSurface_s;
-      armed = deflated;
+      const double rate = friction_event_rate(t0);
+      w.armed = false;
+      w.on_surface = starts_on_surface(prev_f, rate);
+      w.start_rate = rate;
+      w.on_surface_without_rate = slip_from_breakaway_ && !w.on_surface;
     }
     auto f = [this](double t) { return friction_event(t); };
     // The midpoint and the end of the step: an excursion out of the regime
-    // and back between two of them would be missed (kScanPoints).
+    // and back between two of them would be missed (kScanPoints). A
+    // breakaway out of the cone and back between two points (the forcing
+    // turns the stick force within a step: the transitions sweep,
+    // config/sweeps/transitions.yaml) is found by the function's maximum
+    // between them, its rate a difference quotient.
     for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = scan_point(t0, t1, i, kScanPoints);
       const double fi = friction_event(ti);
-      if (fi >= 0.0 && !armed && i == 1 && slip_from_breakaway_ && t0 == mode_start_s_) {
-        for (const double fraction : {1e-3, 1e-2, 1e-1, 0.5}) {
-          const double t = t0 + fraction * (ti - t0), ft = f(t);
-          if (ft < 0.0) return locate_event(f, t, ft, ti, fi, stats_);
-        }
-      }
-      if (fi >= 0.0 && armed) {
-        if (deflated) {
-          auto h = [this, t0](double t) { return friction_event(t) / (t - t0); };
-          return locate_event(h, t0, rate, ti, fi / (ti - t0), stats_);
-        }
-        return locate_event(f, prev_t, prev_f, ti, fi, stats_);
-      }
-      if (system_.mode.stick && armed && prev_f < 0.0) {
-        // A breakaway out of the cone and back between two points (the
-        // forcing turns the stick force within a step: the transitions
-        // sweep, config/sweeps/transitions.yaml), by the function's maximum
-        // between them, its rate a difference quotient.
-        const double te =
-            locate_interior_crossing(f, prev_t, prev_f, ti, fi, kInteriorRateStep * (ti - prev_t), stats_);
-        if (te < kNone) return te;
-      }
-      armed = armed || fi < 0.0;
-      deflated = false;
+      const double te = crossing(w, f, prev_t, prev_f, ti, fi, stats_);
+      if (te < kNone) return te;
+      w.armed = w.armed || fi < 0.0;
       prev_t = ti;
       prev_f = fi;
     }
@@ -502,19 +408,18 @@ class IterationMethod final : public ContactMethod {
     const double t0 = integrator_.t_old(), t1 = valid_end_;
     double prev_t = t0, prev_p = pressing_at(t0);
     if (!(prev_p > 0.0)) return kNone;  // not pressed at the start: the step's end decides
+    // A rotor's modes ring the pressing: a minimum that dips below zero and
+    // back between two points is looked for too. The Jeffcott's pressing has
+    // no such ringing.
+    EventWatch w;
+    w.armed = true;
+    w.interior = !Rotor::kStationOnly;
+    auto releasing = [this](double t) { return -pressing_at(t); };
     for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = scan_point(t0, t1, i, kScanPoints);
       const double pressing_i = pressing_at(ti);
-      auto releasing = [this](double t) { return -pressing_at(t); };
-      if (!(pressing_i > 0.0)) return locate_event(releasing, prev_t, -prev_p, ti, -pressing_i, stats_);
-      if constexpr (!Rotor::kStationOnly) {
-        // A rotor's modes ring the pressing: a minimum that dips below zero
-        // and back between two points (the switching method's crossing() has
-        // the same). The Jeffcott's pressing has no such ringing.
-        const double te = locate_interior_crossing(releasing, prev_t, -prev_p, ti, -pressing_i,
-                                                   kInteriorRateStep * (ti - prev_t), stats_);
-        if (te < kNone) return te;
-      }
+      const double te = crossing(w, releasing, prev_t, -prev_p, ti, -pressing_i, stats_);
+      if (te < kNone) return te;
       prev_t = ti;
       prev_p = pressing_i;
     }
@@ -664,15 +569,9 @@ class IterationMethod final : public ContactMethod {
     valid_begin_ = valid_end_ = t_s;
   }
 
-  // The event functions are checked at the step's midpoint and end (see
-  // the switching method's kScanPoints for why two), at its quarter points
-  // on dop853, whose steps are 4-6x longer (as the switching method's).
-  static constexpr int kScanPoints = kScheme == Integrator::kDop853 ? 4 : 2;
-  // As in the switching method: a function is on its surface when its value
-  // is what its rate makes in this time.
-  static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
-  double mode_start_s_ = -1.0;        // when the current friction regime began
-  bool slip_from_breakaway_ = false;  // that regime is a slip begun at a breakaway
+  static constexpr int kScanPoints = scan_points(kScheme);  // event_scanner.hpp
+  double mode_start_s_ = -1.0;                              // when the current friction regime began
+  bool slip_from_breakaway_ = false;                        // that regime is a slip begun at a breakaway
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   ContactForceSolver solver_;

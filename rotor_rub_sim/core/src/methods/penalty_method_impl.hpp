@@ -17,7 +17,7 @@
 #include "integrators/dense_dopri5.hpp"
 #include "integrators/dense_rk4.hpp"
 #include "integrators/dense_rodasp.hpp"
-#include "methods/event_location.hpp"
+#include "methods/event_scanner.hpp"
 #include "methods/method_factory.hpp"
 #include "methods/penalty_method.hpp"
 #include "methods/penalty_system.hpp"
@@ -137,7 +137,7 @@ class PenaltyMethod final : public ContactMethod {
     const bool free_field = !system_.mode.clamped && edges_end_steps(system_.mode) && !system_.mode.pressed;
     double prev_vn = free_field ? geometry_at(t0).normal_velocity_m_per_s : 0.0;
     for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = scan_point(t0, t1, i, kScanPoints);
       g_end = geometry_at(ti);
       PenaltyEdgeValues cur = system_.law.edges(g_end);
       double t_cur = ti;

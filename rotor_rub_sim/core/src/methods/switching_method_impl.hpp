@@ -19,9 +19,10 @@
 #include "integrators/dense_high_order.hpp"
 #include "methods/chatter_guard.hpp"
 #include "methods/constrained_dynamics.hpp"
-#include "methods/event_location.hpp"
+#include "methods/event_scanner.hpp"
 #include "methods/method_factory.hpp"
 #include "methods/switching_method.hpp"
+#include "methods/switching_systems.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/contact_law.hpp"
 #include "run/cost_profiler.hpp"
@@ -29,126 +30,6 @@
 
 namespace rotor_rub::core {
 namespace {
-
-// Free flight: the station (model) under the rotor's free loads, and the
-// rotor's own block (rotor_model.hpp).
-template <int kStatorDof, bool kMotor, class Rotor>
-struct FreeFlightSystem {
-  using L = FreeLayout<kStatorDof, kMotor, Rotor>;
-  using State = typename L::State;
-  const StationModel* model;
-  const Rotor* rotor = nullptr;
-  SpeedSegment segment;
-  double* rhs_time_s = nullptr;  // profiling only
-  void operator()(const State& x, State& dxdt, double t) const {
-    ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    if constexpr (kMotor) {
-      // The spin's acceleration and the rotor's depend on each other
-      // (model.hpp): the free loads with the spin coupling, then the block's
-      // share of the spin's acceleration.
-      const DriveState reference = segment.at(t);
-      const DriveState d = model->drive_at(k, reference);
-      const FreeLoads free = derivative_loads<L>(*rotor, *model, k, d, x, dxdt);
-      const Accelerations a = model->accelerations(d, ContactGeometry(), free, 0.0, 0.0);
-      rotor->add_spin_share(free.unbalance_dir, a.spin_rad_per_s2, dxdt.tail(modal_count<L>(x)));
-      dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-      dxdt.template segment<2>(L::kRotorVel) = a.rotor;
-      if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorVel) = a.stator;
-      spin_derivative<L>(*model, k, reference, a.spin_rad_per_s2, dxdt);
-    } else {
-      const DriveState d = segment.at(t);
-      derivative(x, k, d, unbalance_at(d.angle_rad), dxdt);
-    }
-  }
-  // The derivative and the state's second derivative at a step's end, from
-  // one sin/cos of the unbalance (DenseHighOrder's jerk, instead of two
-  // derivative evaluations): under the prescribed drive the free forces are
-  // linear in the state (model.hpp), so x'' is the derivative's own linear
-  // map applied to dxdt, plus the unbalance's rate.
-  static constexpr bool kOwnEndDerivatives = !kMotor;
-  int end_derivatives(const State& x, double t, StepEnd /*end*/, State& dxdt, State& ddx) const {
-    static_assert(!kMotor, "the motor's spin couples: differenced instead");
-    ProfileScope scope(rhs_time_s);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    const DriveState d = segment.at(t);
-    const Vec2 unbalance_dir = unbalance_at(d.angle_rad);
-    derivative(x, k, d, unbalance_dir, dxdt);
-    const int n = modal_count<L>(x);
-    ddx.resize(x.size());  // before any entry is written
-    ddx.template segment<2>(L::kRotorPos) = dxdt.template segment<2>(L::kRotorVel);
-    ddx.segment(L::kModal, n) = dxdt.tail(n);
-    ddx.template segment<2>(L::kRotorVel) = rotor->station_force_rate(*model, k, dxdt.template segment<2>(L::kRotorVel),
-                                                                      d, unbalance_dir, dxdt.tail(2 * n), ddx.tail(n)) *
-                                            model->inv_rotor_mass();
-    if constexpr (kStatorDof == 2) {
-      ddx.template segment<2>(L::kStatorPos) = dxdt.template segment<2>(L::kStatorVel);
-      ddx.template segment<2>(L::kStatorVel) =
-          model->stator_free_force_derivative(k, dxdt.template segment<2>(L::kStatorVel)) * model->inv_stator_mass();
-    }
-    return 1;  // one derivative evaluation; the jerk from the free forces' rates
-  }
-  // The unbalance's direction at the spin angle phi (StationModel::unbalance_dir).
-  Vec2 unbalance_at(double angle_rad) const { return model->unbalance_dir(angle_rad); }
-
- private:
-  void derivative(const State& x, const Kinematics& k, const DriveState& d, const Vec2& unbalance_dir,
-                  State& dxdt) const {
-    const int n = modal_count<L>(x);
-    dxdt.resize(x.size());
-    dxdt.segment(L::kModal, n) = x.tail(n);
-    const Vec2 rotor_force = rotor->station_force(*model, k, d, unbalance_dir, x.tail(2 * n), dxdt.tail(n));
-    dxdt.template segment<2>(L::kRotorPos) = k.rotor_vel;
-    if constexpr (kStatorDof == 2) dxdt.template segment<2>(L::kStatorPos) = k.stator_vel;
-    dxdt.template segment<2>(L::kRotorVel) = rotor_force * model->inv_rotor_mass();
-    if constexpr (kStatorDof == 2) {
-      dxdt.template segment<2>(L::kStatorVel) = model->stator_free_force(k) * model->inv_stator_mass();
-    }
-  }
-};
-
-template <int kStatorDof, bool kMotor, class Rotor>
-struct ContactSystem {
-  using L = ContactLayout<kStatorDof, kMotor, Rotor>;
-  using Dynamics = ConstrainedDynamics<kStatorDof, kMotor, Rotor>;
-  using Result = typename Dynamics::Result;
-  Dynamics dynamics;
-  SpeedSegment segment;
-  double* rhs_time_s = nullptr;  // profiling only
-  void operator()(const typename L::State& x, typename L::State& dxdt, double t) const {
-    ProfileScope scope(rhs_time_s);
-    dynamics.derivative(x, segment.at(t), dxdt);
-  }
-  // The derivative and the jerk in closed form (constrained_dynamics.hpp)
-  // at a step's end from one evaluation.
-  static constexpr bool kOwnEndDerivatives = !kMotor;
-  int end_derivatives(const typename L::State& x, double t, StepEnd /*end*/, typename L::State& dxdt,
-                      typename L::State& ddx) const {
-    ProfileScope scope(rhs_time_s);
-    const DriveState reference = segment.at(t);
-    const Result r = dynamics.evaluate(x, reference);
-    dynamics.derivative(x, r, reference, dxdt);
-    dynamics.second_derivative(x, r, reference, ddx);
-    return 1;  // one constrained-dynamics evaluation
-  }
-};
-
-enum class Regime { kFree, kContact };
-
-// The event functions, each an event when it rises through 0. Free flight:
-// kGap = delta - C. Contact: kGap = -F_n (lift-off), kSlipEnd = -s v_slide
-// (the sliding stops), kBreakaway = |F_t,stick| - f F_n (the stick force
-// leaves the cone). A function unused in the current regime is -infinity.
-enum EventFunction { kGap = 0, kSlipEnd = 1, kBreakaway = 2, kEventFunctions = 3 };
-
-struct EventValues {
-  std::array<double, kEventFunctions> value;
-  std::array<double, kEventFunctions> rate;  // d value / dt where known, else NaN
-  // In contact, the rate of the unbalance's angle in the contact frame,
-  // phi' - psi' [rad/s] (kMaxScanAngle_rad); NaN in free flight.
-  double forcing_rate_rad_per_s = std::numeric_limits<double>::quiet_NaN();
-};
 
 // kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
 // high-order pairs with Hermite dense output (dense_high_order.hpp):
@@ -159,7 +40,6 @@ struct EventValues {
 template <int kStatorDof, bool kMotor, class Rotor, Integrator kScheme>
 class SwitchingMethod final : public ContactMethod {
  public:
-  static constexpr bool kHighOrder = kScheme != Integrator::kDopri5;
   using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
   using CL = ContactLayout<kStatorDof, kMotor, Rotor>;
   template <class L>
@@ -295,7 +175,7 @@ class SwitchingMethod final : public ContactMethod {
       // An armed function already on its far side at the step's start
       // jumped there at a drive change: its event is now (a zero-length step).
       for (int k = 0; k < kEventFunctions; ++k) {
-        if (armed_[k] && values_end_.value[k] >= 0.0) {
+        if (watch_[k].armed && values_end_.value[k] >= 0.0) {
           valid_begin_ = valid_end_;
           on_event(static_cast<EventFunction>(k), valid_end_, events);
           return;
@@ -400,10 +280,6 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   static constexpr double kUnused = -std::numeric_limits<double>::infinity();
-  // A function starts "on its surface" when its value is what its rate
-  // would make in this time: the deflated bracket value / (t - t_start) is
-  // only sound there (elsewhere it is singular at t_start).
-  static constexpr double kOnSurface_s = 10.0 * kEventTimeTolerance_s;
 
   EventValues event_values(double t_s) const {
     EventValues v;
@@ -446,18 +322,10 @@ class SwitchingMethod final : public ContactMethod {
   double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
   // The earliest event of [t0, t1], checked at kScanPoints points spread
-  // evenly over the step and located with TOMS 748 on the dense
-  // output. Three ways to a crossing:
-  // * a sign change between two points, of a function that has been seen
-  //   strictly below zero since its regime began (armed);
-  // * a function that starts its regime on its surface (a rebound, a slip
-  //   from rest) with a known rate into its own side: the deflated function
-  //   value / (t - t_start) has the rate's sign at t_start, so the crossing
-  //   right after it is bracketed, however short the flight;
-  // * a crossing and back between two points where the function is negative
-  //   at both (a graze of the bore, a lift-off or breakaway that dips out and
-  //   back): its rate falls through zero in between (a maximum), located, and
-  //   the function at the maximum decides (crossing()).
+  // evenly over the step and located on the dense output: a sign change of
+  // an armed function, the deflated bracket right after a start on the
+  // surface, a crossing and back between two points (crossing(),
+  // event_scanner.hpp).
   void scan(double t0, double t1, std::vector<ContactEvent>& events) {
     ProfileScope scope(event_time_s_);
     valid_begin_ = t0;
@@ -468,15 +336,15 @@ class SwitchingMethod final : public ContactMethod {
     // its return never both fall between two points.
     const double first_point = t0 + (t1 - t0) / kScanPoints;
     const double probe_s = return_s_ + 0.5 * std::min(return_s_ - t0, first_point - return_s_);
-    const bool probe = t0 == regime_start_s_ && return_s_ > t0 && return_s_ < first_point && probe_s > t0;
+    const bool probe = t0 == regime_start_s() && return_s_ > t0 && return_s_ < first_point && probe_s > t0;
     for (int i = probe ? 0 : 1; i <= kScanPoints; ++i) {
-      const double ti = i == 0 ? probe_s : i == kScanPoints ? t1 : t0 + (t1 - t0) * i / kScanPoints;
+      const double ti = i == 0 ? probe_s : scan_point(t0, t1, i, kScanPoints);
       const EventValues cur = event_values(ti);
       double first_t = std::numeric_limits<double>::infinity();
       int first_k = -1;
       for (int k = 0; k < kEventFunctions; ++k) {
         if (cur.value[k] == kUnused) continue;
-        const double te = crossing(k, prev_t, prev, ti, cur);
+        const double te = crossing_of(k, prev_t, prev, ti, cur);
         if (te < first_t) {
           first_t = te;
           first_k = k;
@@ -491,8 +359,8 @@ class SwitchingMethod final : public ContactMethod {
       // starts at the tolerance (such a contact that grazed again) fires
       // later, never again at its own start.
       const double tol = penetration_tolerance_m_ + std::max(0.0, start_gap_m_);
-      if (first_k < 0 && !armed_[kGap] && regime_ == Regime::kFree && cur.value[kGap] > tol &&
-          (prev.value[kGap] < tol || prev_t > regime_start_s_)) {
+      if (first_k < 0 && !watch_[kGap].armed && regime_ == Regime::kFree && cur.value[kGap] > tol &&
+          (prev.value[kGap] < tol || prev_t > regime_start_s())) {
         auto beyond = [this, tol](double t) { return event_value(kGap, t) - tol; };
         first_t = prev.value[kGap] < tol
                       ? locate_event(beyond, prev_t, prev.value[kGap] - tol, ti, cur.value[kGap] - tol, stats_)
@@ -505,7 +373,7 @@ class SwitchingMethod final : public ContactMethod {
         return;
       }
       for (int k = 0; k < kEventFunctions; ++k) {
-        if (cur.value[k] < 0.0 && cur.value[k] != kUnused) armed_[k] = true;
+        if (cur.value[k] < 0.0 && cur.value[k] != kUnused) watch_[k].armed = true;
       }
       prev_t = ti;
       prev = cur;
@@ -514,42 +382,12 @@ class SwitchingMethod final : public ContactMethod {
     values_end_ = prev;
   }
 
-  // The crossing time of function k in [a, b], or +infinity.
-  double crossing(int k, double a, const EventValues& va, double b, const EventValues& vb) {
+  // The crossing time of function k in [a, b], or +infinity (event_scanner.hpp);
+  // without rates in closed form (a motor's contact forces), differenced.
+  double crossing_of(int k, double a, const EventValues& va, double b, const EventValues& vb) {
     auto f = [this, k](double t) { return event_value(k, t); };
-    if (armed_[k] && va.value[k] < 0.0 && vb.value[k] >= 0.0) {
-      return locate_event(f, a, va.value[k], b, vb.value[k], stats_);
-    }
-    if (!armed_[k] && a == regime_start_s_ && k == kSlipEnd && slip_from_breakaway_ && vb.value[k] >= 0.0) {
-      // A slip begun at a breakaway starts on its surface with no rate (the
-      // slip force equals the stick force there, v_slide' = 0) and departs
-      // quadratically: where the cone's edge was only touched, it can slide
-      // and stop again within the first scan interval, below the start's
-      // rounding for a deflated bracket. Probed at points nearer the start
-      // for the slip's side; from there the sign change (test_transitions.cpp).
-      for (const double fraction : {1e-3, 1e-2, 1e-1, 0.5}) {
-        const double t = a + fraction * (b - a), ft = f(t);
-        if (ft < 0.0) return locate_event(f, t, ft, b, vb.value[k], stats_);
-      }
-      return std::numeric_limits<double>::infinity();
-    }
-    if (!armed_[k] && a == regime_start_s_ && start_on_surface_[k] && vb.value[k] >= 0.0) {
-      auto h = [this, k](double t) { return event_value(k, t) / (t - regime_start_s_); };
-      return locate_event(h, a, start_rate_[k], b, vb.value[k] / (b - a), stats_);
-    }
-    if (!(armed_[k] && va.value[k] < 0.0 && vb.value[k] < 0.0)) return std::numeric_limits<double>::infinity();
-    if (std::isnan(va.rate[k]) || std::isnan(vb.rate[k])) {
-      // No rate in closed form (a motor's contact forces): a difference
-      // quotient on the dense output.
-      return locate_interior_crossing(f, a, va.value[k], b, vb.value[k], kInteriorRateStep * (b - a), stats_);
-    }
-    if (va.rate[k] > 0.0 && vb.rate[k] < 0.0) {
-      auto falling_rate = [this, k](double t) { return -event_values(t).rate[k]; };
-      const double tm = locate_event(falling_rate, a, -va.rate[k], b, -vb.rate[k], stats_);
-      const double gm = f(tm);
-      if (gm >= 0.0) return locate_event(f, a, va.value[k], tm, gm, stats_);
-    }
-    return std::numeric_limits<double>::infinity();
+    auto rate = [this, k](double t) { return event_values(t).rate[k]; };
+    return crossing(watch_[k], f, rate, a, va.value[k], va.rate[k], b, vb.value[k], vb.rate[k], stats_);
   }
 
   void on_event(EventFunction k, double te, std::vector<ContactEvent>& events) {
@@ -665,17 +503,18 @@ class SwitchingMethod final : public ContactMethod {
   // a breakaway has no such rate: crossing()).
   void begin_regime(double t_s, bool slip_from_breakaway = false) {
     values_end_ = event_values(t_s);
-    regime_start_s_ = t_s;
-    slip_from_breakaway_ = slip_from_breakaway;
     start_gap_m_ = regime_ == Regime::kFree ? values_end_.value[kGap] : 0.0;
     for (int k = 0; k < kEventFunctions; ++k) {
       const double value = values_end_.value[k], rate = values_end_.rate[k];
-      armed_[k] = value < 0.0 && value != kUnused;
-      start_on_surface_[k] = rate < 0.0 && std::abs(value) <= -rate * kOnSurface_s;
-      start_rate_[k] = rate;
+      EventWatch& w = watch_[k];
+      w.armed = value < 0.0 && value != kUnused;
+      w.regime_start_s = t_s;
+      w.on_surface = starts_on_surface(value, rate);
+      w.start_rate = rate;
+      w.on_surface_without_rate = k == kSlipEnd && slip_from_breakaway;
     }
     return_s_ = std::numeric_limits<double>::infinity();
-    if (regime_ == Regime::kFree && start_on_surface_[kGap]) {
+    if (regime_ == Regime::kFree && watch_[kGap].on_surface) {
       // A rebound at v_n < 0 pressed back at a_press returns after about
       // 2 |v_n| / a_press (a parabola over so short a flight): scan() probes
       // past it, on the bore's far side if it returned
@@ -702,12 +541,7 @@ class SwitchingMethod final : public ContactMethod {
     stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(s.penetration_m));
   }
 
-  // Points per step where the event functions are checked (the last at the
-  // step's end): two with dopri5, whose short steps leave at most one
-  // extremum of the gap between two points (the gap's rate locates a
-  // graze there: ShallowGraze.ContactShorterThanAStepIsFelt), four with
-  // rkf78 and dop853, whose steps turn the spin by up to about 3 rad.
-  static constexpr int kScanPoints = kHighOrder ? 4 : 2;
+  static constexpr int kScanPoints = scan_points(kScheme);
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
@@ -718,11 +552,8 @@ class SwitchingMethod final : public ContactMethod {
   double penetration_tolerance_m_;
   ChatterGuard guard_;
   Regime regime_ = Regime::kFree;
-  std::array<bool, kEventFunctions> armed_{};
-  std::array<double, kEventFunctions> start_rate_{};
-  std::array<bool, kEventFunctions> start_on_surface_{};
-  bool slip_from_breakaway_ = false;  // the current regime is a slip begun at a breakaway
-  double regime_start_s_ = 0.0;
+  std::array<EventWatch, kEventFunctions> watch_{};  // each function since its regime began
+  double regime_start_s() const { return watch_[0].regime_start_s; }
   double return_s_ = std::numeric_limits<double>::infinity();  // begin_regime(): a rebound's predicted return
   double start_gap_m_ = 0.0;  // the penetration a free flight starts with (<= 0 but at a graze)
   EventValues values_end_{};

@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-#include "methods/event_location.hpp"
+#include "methods/event_scanner.hpp"
 
 namespace rotor_rub::core {
 
@@ -98,7 +98,7 @@ class Shooter {
     while (t < t1) {
       // A held contact's events carry the unbalance at its angle in the
       // contact frame, phi - psi: a step turns it by at most
-      // kMaxScanAngle_rad (event_location.hpp), as in the methods.
+      // kMaxScanAngle_rad (event_scanner.hpp), as in the methods.
       const double dt_held = shot.regime == OrbitRegime::kFree
                                  ? dt_max
                                  : kMaxScanAngle_rad / (flow_.speed() + std::abs(flow_.angle_rate(shot.y)));
@@ -248,9 +248,9 @@ class Shooter {
   template <class G>
   static double crossing(G&& g, double ta, double ga, double tb, double gb) {
     RunStats stats;
-    if (ga < 0.0 && gb >= 0.0) return locate_event(g, ta, ga, tb, gb, stats);
-    if (ga < 0.0 && gb < 0.0) return locate_interior_crossing(g, ta, ga, tb, gb, kInteriorRateStep * (tb - ta), stats);
-    return std::numeric_limits<double>::infinity();
+    EventWatch w;  // the methods' scan (event_scanner.hpp), every function armed
+    w.armed = true;
+    return core::crossing(w, g, ta, ga, tb, gb, stats);
   }
 
   // The first event in (ta, tb], or +infinity.
