@@ -97,16 +97,7 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   add_diagnostic("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     diagnose_rate(*keyphasor_rate_, true, stat);
   });
-  if (!config_.record_bag.empty()) {
-    try {
-      bag_.open(config_.record_bag);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string("node parameter 'record_bag': ") + e.what() +
-                               "; accepted: a writable file path, or empty for none");
-    }
-    recording_ = true;
-    next_bag_flush_ = ros::WallTime::now() + ros::WallDuration(config_.record_flush_period_s);
-  }
+  if (!config_.record_bag.empty()) output_.open(config_.record_bag, config_.record_flush_period_s);
   restart_simulation();
 }
 
@@ -193,7 +184,7 @@ int SimNode::run() {
   const double chunk_s = std::max(1.0 / scene_.output_rate_hz, 1e-3);
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
-    flush_recording_if_due();
+    output_.flush_if_due(sim_->time());
     if (status_ != Status::kRunning) {
       const bool over = status_ == Status::kFinished || status_ == Status::kFailed;
       if (over && config_.end_action == EndAction::kExit) break;
@@ -227,15 +218,7 @@ int SimNode::run() {
   int exit_status = 0;
   if (sim_->failure()) exit_status = core::exit_status(sim_->failure()->failure_class);
   close_open_ramps("the node stopped");  // answered, and recorded, before the bag closes
-  if (recording_) {
-    try {
-      bag_.close();  // the index: the bag is complete, no reindex needed
-      ROS_INFO("recorded %lu messages into '%s'", static_cast<unsigned long>(bag_.messages_written()),
-               config_.record_bag.c_str());
-    } catch (const std::runtime_error& e) {
-      stop_recording(e.what(), sim_->time());
-    }
-  }
+  output_.close(sim_->time());
   if (ros::ok()) {
     // Let subscribers (a recorder) drain their queues before the
     // connections close: roscpp offers no delivery acknowledgement.
@@ -263,7 +246,7 @@ bool SimNode::lockstep_wait() {
   if (done % per != 0) return true;  // not at a boundary (a command or the end cut the chunk)
   lockstep_awaited_s_ = sim_->time();
   lockstep_replied_ = false;
-  publish(lockstep_pub_, state_msg_, sim_->time());  // the state at the boundary (just sampled)
+  output_.publish(lockstep_pub_, state_msg_, sim_->time());  // the state at the boundary (just sampled)
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(config_.lockstep_timeout_s);
   while (ros::ok() && !lockstep_replied_) {

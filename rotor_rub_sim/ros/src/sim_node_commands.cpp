@@ -99,7 +99,7 @@ void SimNode::answer(const std::vector<core::ChangeAnswer>& answers) {
       ROS_WARN("parameter change %u from %s refused at t = %.6f s, simulation unchanged: %s", a.id, a.source.c_str(),
                a.end_s, a.reason.c_str());
     }
-    publish(change_feedback_pub_, fb, sim_->time());
+    output_.publish(change_feedback_pub_, fb, sim_->time());
     applied = applied || a.accepted;
   }
   if (applied) {
@@ -109,7 +109,7 @@ void SimNode::answer(const std::vector<core::ChangeAnswer>& answers) {
 }
 
 void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg) {
-  record(command_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
+  output_.record(command_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
   const double t_cmd = msg->header.stamp.toSec();
   const core::SpeedAnswer a = schedule_.command_speed(*sim_, t_cmd, msg->target_speed, msg->acceleration_limit);
   rotor_rub_msgs::SpeedCommandFeedback fb;
@@ -136,11 +136,11 @@ void SimNode::on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg
     ROS_WARN_THROTTLE(1.0, "speed command rejected, simulation unchanged: %s (%lu rejected so far)", a.reason.c_str(),
                       static_cast<unsigned long>(commands_rejected_));
   }
-  publish(feedback_pub_, fb, sim_->time());
+  output_.publish(feedback_pub_, fb, sim_->time());
 }
 
 void SimNode::on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPtr& msg) {
-  record(change_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
+  output_.record(change_sub_.getTopic(), *msg, sim_->time());  // the inputs too, for replay
   std::map<std::string, std::string> changes;
   std::string refused;
   for (std::size_t i = 0; i < msg->keys.size() && i < msg->values.size(); ++i) {
@@ -178,7 +178,7 @@ double SimNode::schedule_fault(const rotor_rub_msgs::Fault& msg) {
 }
 
 void SimNode::on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg) {
-  record(fault_sub_.getTopic(), *msg, sim_->time());
+  output_.record(fault_sub_.getTopic(), *msg, sim_->time());
   try {
     schedule_fault(*msg);
   } catch (const std::exception& e) {  // invalid_argument: refused; anything else must not escape a callback
@@ -188,7 +188,7 @@ void SimNode::on_fault(const rotor_rub_msgs::Fault::ConstPtr& msg) {
 
 bool SimNode::on_inject_fault(rotor_rub_msgs::InjectFault::Request& req, rotor_rub_msgs::InjectFault::Response& res) {
   // Recorded as the topic's message would be: a bag shows every fault asked.
-  record(fault_sub_.getTopic(), req.fault, sim_->time());
+  output_.record(fault_sub_.getTopic(), req.fault, sim_->time());
   try {
     res.effective_time = schedule_fault(req.fault);
     res.accepted = true;

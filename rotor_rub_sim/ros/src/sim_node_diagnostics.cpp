@@ -31,7 +31,7 @@ void SimNode::add_diagnostic(const std::string& name,
 
 void SimNode::update_diagnostics(double t_s) {
   diagnostics_.force_update();
-  if (!recording_) return;
+  if (!output_.recording()) return;
   // diagnostic_updater publishes /diagnostics itself and offers no copy of
   // its message: the bag gets the statuses its tasks gave, named as it names
   // them ("<node>: <task>"), stamped with the simulated time.
@@ -41,7 +41,7 @@ void SimNode::update_diagnostics(double t_s) {
     array.status.push_back(status);
     array.status.back().name = ros::this_node::getName().substr(1) + ": " + name;
   }
-  record("/diagnostics", array, t_s);
+  output_.record("/diagnostics", array, t_s);
 }
 
 void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat) {

@@ -17,29 +17,11 @@
 
 namespace rotor_rub::ros_node {
 
-void SimNode::stop_recording(const std::string& why, double t_s) {
-  // Keep what is recorded (complete chunks stay readable) and say so once.
-  ROS_ERROR("recording to '%s' stopped at t = %.6f s: %s", config_.record_bag.c_str(), t_s, why.c_str());
-  recording_ = false;
-}
-
-void SimNode::flush_recording_if_due() {
-  if (!recording_) return;
-  const ros::WallTime now = ros::WallTime::now();
-  if (now < next_bag_flush_) return;
-  next_bag_flush_ = now + ros::WallDuration(config_.record_flush_period_s);
-  try {
-    bag_.flush();
-  } catch (const std::runtime_error& e) {
-    stop_recording(e.what(), sim_->time());
-  }
-}
-
 void SimNode::on_sample(const core::Sample& s) {
   last_sample_ = s;
   const auto index = static_cast<uint64_t>(std::llround(s.t_s * scene_.output_rate_hz));
   to_msg(s, index, config_.frame_id, state_msg_);
-  publish(state_pub_, state_msg_, s.t_s);
+  output_.publish(state_pub_, state_msg_, s.t_s);
   state_rate_->tick();
   ++states_published_;
   if (tf_pub_ && s.t_s >= next_tf_s_) {
@@ -53,7 +35,7 @@ void SimNode::on_sample(const core::Sample& s) {
   if (markers_) {
     markers_->add(s);
     if (s.t_s >= next_marker_s_) {
-      publish(marker_pub_, markers_->build(state_msg_.header.stamp), s.t_s);
+      output_.publish(marker_pub_, markers_->build(state_msg_.header.stamp), s.t_s);
       next_marker_s_ = next_tick(s.t_s, config_.marker_rate_hz);
     }
   }
@@ -69,7 +51,7 @@ void SimNode::on_sample(const core::Sample& s) {
 
 void SimNode::on_event(const core::ContactEvent& e) {
   to_msg(e, config_.frame_id, event_msg_);
-  publish(event_pub_, event_msg_, e.t_s);
+  output_.publish(event_pub_, event_msg_, e.t_s);
   ++events_published_;
 }
 
@@ -80,7 +62,7 @@ void SimNode::on_keyphasor(const core::Sample& s) {
   msg.time = s.t_s;
   msg.revolution = ++revolutions_;
   msg.speed = s.drive.speed_rad_per_s;
-  publish(keyphasor_pub_, msg, s.t_s);
+  output_.publish(keyphasor_pub_, msg, s.t_s);
   keyphasor_rate_->tick();
 }
 
@@ -94,7 +76,7 @@ void SimNode::on_probe_sample(const core::Sample& s) {
   msg.y = r.y_V;
   msg.x_displacement = r.x_m;
   msg.y_displacement = r.y_m;
-  publish(probes_pub_, msg, r.t_s);
+  output_.publish(probes_pub_, msg, r.t_s);
   probe_rate_->tick();
 }
 
@@ -105,10 +87,11 @@ void SimNode::on_shaft_sample(const core::ShaftSample& s) {
     shaft_msg_.nodes[i].x = s.node_displacement_m[i].x();
     shaft_msg_.nodes[i].y = s.node_displacement_m[i].y();
   }
-  publish(shaft_pub_, shaft_msg_, s.t_s);
+  output_.publish(shaft_pub_, shaft_msg_, s.t_s);
   if (markers_) {
-    publish(marker_pub_, shaft_markers(s, shaft_node_z_m_, shaft_msg_.station_node, config_, shaft_msg_.header.stamp),
-            s.t_s);
+    output_.publish(marker_pub_,
+                    shaft_markers(s, shaft_node_z_m_, shaft_msg_.station_node, config_, shaft_msg_.header.stamp),
+                    s.t_s);
   }
 }
 
@@ -131,7 +114,7 @@ void SimNode::publish_tf(const core::Sample& s) {
   msg.transforms[1].transform.translation.y = s.kin.rotor_pos.y();
   msg.transforms[1].transform.rotation.z = std::sin(0.5 * s.drive.angle_rad);
   msg.transforms[1].transform.rotation.w = std::cos(0.5 * s.drive.angle_rad);
-  publish(tf_pub_, msg, s.t_s);
+  output_.publish(tf_pub_, msg, s.t_s);
 }
 
 void SimNode::publish_clock(double t_s) {
@@ -139,7 +122,7 @@ void SimNode::publish_clock(double t_s) {
   if (!(t_s > 0.0)) return;
   rosgraph_msgs::Clock c;
   c.clock.fromSec(t_s);
-  publish(clock_pub_, c, t_s);
+  output_.publish(clock_pub_, c, t_s);
 }
 
 void SimNode::publish_stats() {
@@ -170,7 +153,7 @@ void SimNode::publish_stats() {
     msg.failure_class = core::to_string(f->failure_class);
     msg.failure_message = f->message;
   }
-  publish(stats_pub_, msg, sim_->time());
+  output_.publish(stats_pub_, msg, sim_->time());
 }
 
 // ---- Callbacks: messages and services become core calls --------------------

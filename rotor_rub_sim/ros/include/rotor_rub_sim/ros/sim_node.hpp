@@ -14,7 +14,8 @@
 // at the time reached, and a stamp already simulated is refused.
 //
 // Its definitions by job: sim_node.cpp (construction, the run loop, pacing
-// and lockstep), sim_node_output.cpp (topics, the bag, tf, /clock),
+// and lockstep), sim_node_output.cpp (topics, tf, /clock; publishing with
+// recording is NodeOutput's, node_output.hpp),
 // sim_node_commands.cpp (commands, changes, faults, services),
 // sim_node_diagnostics.cpp; their shared helpers in src/sim_node_io.hpp.
 #pragma once
@@ -49,9 +50,9 @@
 #include "rotor_rub_sim/core/probes.hpp"
 #include "rotor_rub_sim/core/scene_keys.hpp"
 #include "rotor_rub_sim/core/simulation.hpp"
-#include "rotor_rub_sim/ros/bag_appender.hpp"
 #include "rotor_rub_sim/ros/markers.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
+#include "rotor_rub_sim/ros/node_output.hpp"
 #include "rotor_rub_sim/ros/reconfigure_server.hpp"
 
 namespace rotor_rub::ros_node {
@@ -101,15 +102,6 @@ class SimNode : public core::SimulationObserver {
   double running_wall_time_s() const;
   void publish_stats();
   void publish_clock(double t_s);
-  // Publishes and, when recording, writes the message into the bag at the
-  // simulated time t_s (bags hold no time before 1 ns: t = 0 is filed there).
-  template <class Msg>
-  void publish(const ros::Publisher& pub, const Msg& msg, double t_s);
-  template <class Msg>
-  void record(const std::string& topic, const Msg& msg, double t_s, bool latching = false);
-  // Hands the recording to the kernel every record_flush_period_s of wall time.
-  void flush_recording_if_due();
-  void stop_recording(const std::string& why, double t_s);
 
   void on_speed_command(const rotor_rub_msgs::SpeedCommand::ConstPtr& msg);
   void on_parameter_change(const rotor_rub_msgs::ParameterChange::ConstPtr& msg);
@@ -139,12 +131,7 @@ class SimNode : public core::SimulationObserver {
 
   core::Scene scene_;
   NodeConfig config_;
-  BagAppender bag_;
-  bool recording_ = false;
-  // header.seq of each published topic, as roscpp numbers it on the wire
-  // (0, 1, ... per publisher), so that the bag's copy carries the same.
-  std::map<std::string, uint32_t> published_seq_;
-  ros::WallTime next_bag_flush_;
+  NodeOutput output_;  // publishing with recording
   std::unique_ptr<core::Simulation> sim_;
   Status status_ = Status::kRunning;
   core::CommandSchedule schedule_;  // speed commands, changes and faults by their stamps
