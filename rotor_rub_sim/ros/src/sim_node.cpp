@@ -63,11 +63,11 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   resume_srv_ = nh.advertiseService("resume", &SimNode::on_resume, this);
   step_srv_ = nh.advertiseService("step", &SimNode::on_step, this);
 
-  diagnostics_.setHardwareID(std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method));
-  add_diagnostic("solver", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_solver(stat); });
-  add_diagnostic("real-time factor",
-                 [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_pace(stat); });
-  add_diagnostic("contact", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_contact(stat); });
+  diagnostics_.set_hardware_id(std::string("rotor_rub_sim/") + core::to_string(scene_.solver.method));
+  diagnostics_.add("solver", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_solver(stat); });
+  diagnostics_.add("real-time factor",
+                   [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_pace(stat); });
+  diagnostics_.add("contact", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose_contact(stat); });
   // The rates expected of state, probes and keyphasor: the simulated rate
   // times the pace (under use_sim_time the updater's clock is the
   // simulated one: the pace is 1); as fast as possible, no bound.
@@ -79,13 +79,13 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
   };
   rates(scene_.output_rate_hz, state_rate_min_hz_, state_rate_max_hz_);
   state_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&state_rate_min_hz_, &state_rate_max_hz_, tolerance));
-  add_diagnostic("state topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  diagnostics_.add("state topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     diagnose_rate(*state_rate_, false, stat);
   });
   if (probes_pub_) {
     rates(scene_.probes.rate_hz, probe_rate_min_hz_, probe_rate_max_hz_);
     probe_rate_.emplace(diagnostic_updater::FrequencyStatusParam(&probe_rate_min_hz_, &probe_rate_max_hz_, tolerance));
-    add_diagnostic("probes topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    diagnostics_.add("probes topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       diagnose_rate(*probe_rate_, false, stat);
     });
   }
@@ -94,7 +94,7 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeSet
       pace > 0.0 ? scene_.speed.max_speed_rad_per_s / (2.0 * M_PI) * pace : std::numeric_limits<double>::infinity();
   keyphasor_rate_.emplace(
       diagnostic_updater::FrequencyStatusParam(&keyphasor_rate_min_hz_, &keyphasor_rate_max_hz_, tolerance));
-  add_diagnostic("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  diagnostics_.add("keyphasor topic status", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     diagnose_rate(*keyphasor_rate_, true, stat);
   });
   if (!config_.record_bag.empty()) output_.open(config_.record_bag, config_.record_flush_period_s);
@@ -190,7 +190,7 @@ int SimNode::run() {
       if (over && config_.end_action == EndAction::kExit) break;
       // Idle (paused, finished, failed): keep /diagnostics alive at the
       // updater's own period, so a monitor that connects late sees the state.
-      diagnostics_.update();
+      diagnostics_.update_if_due();
       queue.callAvailable(ros::WallDuration(0.05));
       continue;
     }
@@ -291,7 +291,7 @@ void SimNode::set_status(Status s) {
   status_ = s;
   if (s == Status::kRunning) anchor_pacing();
   publish_stats();
-  update_diagnostics(sim_->time());
+  diagnostics_.update(sim_->time(), output_);
 }
 
 void SimNode::anchor_pacing() {

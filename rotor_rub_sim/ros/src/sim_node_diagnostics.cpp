@@ -1,5 +1,5 @@
 // SimNode's diagnostics: the updater's tasks (solver, pace, contact, the
-// topics' rates), each status also recorded into the bag.
+// topics' rates); recording them is RecordedDiagnostics'.
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 
@@ -16,33 +16,6 @@
 #include "tf2_msgs/TFMessage.h"
 
 namespace rotor_rub::ros_node {
-
-void SimNode::add_diagnostic(const std::string& name,
-                             std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)> task) {
-  // Each task runs once per update (a frequency status's window moves when
-  // it runs): the updater runs it, and the bag records what it said.
-  recorded_diagnostics_.emplace_back(name, diagnostic_msgs::DiagnosticStatus());
-  const std::size_t slot = recorded_diagnostics_.size() - 1;
-  diagnostics_.add(name, [this, slot, task](diagnostic_updater::DiagnosticStatusWrapper& stat) {
-    task(stat);
-    recorded_diagnostics_[slot].second = stat;
-  });
-}
-
-void SimNode::update_diagnostics(double t_s) {
-  diagnostics_.force_update();
-  if (!output_.recording()) return;
-  // diagnostic_updater publishes /diagnostics itself and offers no copy of
-  // its message: the bag gets the statuses its tasks gave, named as it names
-  // them ("<node>: <task>"), stamped with the simulated time.
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = ros::Time().fromSec(std::max(t_s, 0.0));
-  for (const auto& [name, status] : recorded_diagnostics_) {
-    array.status.push_back(status);
-    array.status.back().name = ros::this_node::getName().substr(1) + ": " + name;
-  }
-  output_.record("/diagnostics", array, t_s);
-}
 
 void SimNode::diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   using diagnostic_msgs::DiagnosticStatus;

@@ -44,7 +44,7 @@ void SimNode::on_sample(const core::Sample& s) {
     next_stats_s_ = next_tick(s.t_s, config_.stats_rate_hz);
   }
   if (s.t_s >= next_diag_s_) {
-    update_diagnostics(s.t_s);
+    diagnostics_.update(s.t_s, output_);
     next_diag_s_ = next_tick(s.t_s, config_.diagnostics_rate_hz);
   }
 }

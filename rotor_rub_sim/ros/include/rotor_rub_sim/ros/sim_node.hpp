@@ -17,7 +17,9 @@
 // and lockstep), sim_node_output.cpp (topics, tf, /clock; publishing with
 // recording is NodeOutput's, node_output.hpp),
 // sim_node_commands.cpp (commands, changes, faults, services),
-// sim_node_diagnostics.cpp; their shared helpers in src/sim_node_io.hpp.
+// sim_node_diagnostics.cpp (its tasks; recording them is
+// RecordedDiagnostics', recorded_diagnostics.hpp); their shared helper in
+// src/sim_node_io.hpp.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -54,6 +56,7 @@
 #include "rotor_rub_sim/ros/node_config.hpp"
 #include "rotor_rub_sim/ros/node_output.hpp"
 #include "rotor_rub_sim/ros/reconfigure_server.hpp"
+#include "rotor_rub_sim/ros/recorded_diagnostics.hpp"
 
 namespace rotor_rub::ros_node {
 
@@ -117,10 +120,6 @@ class SimNode : public core::SimulationObserver {
   bool on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool on_step(rotor_rub_msgs::StepSimulation::Request& req, rotor_rub_msgs::StepSimulation::Response& res);
-  // Registers a diagnostic task with the updater; its statuses are recorded too.
-  void add_diagnostic(const std::string& name, std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)> task);
-  // Updates /diagnostics now and records the same statuses into the bag.
-  void update_diagnostics(double t_s);
   void diagnose_solver(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_pace(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnose_contact(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -156,9 +155,7 @@ class SimNode : public core::SimulationObserver {
   uint64_t lockstep_timeouts_ = 0;
   ros::Subscriber command_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, resume_srv_, step_srv_;
-  diagnostic_updater::Updater diagnostics_;
-  // Each diagnostic task's last status, in the order added (add_diagnostic).
-  std::vector<std::pair<std::string, diagnostic_msgs::DiagnosticStatus>> recorded_diagnostics_;
+  RecordedDiagnostics diagnostics_;  // the tasks are diagnose_*
   std::optional<MarkerBuilder> markers_;
 
   rotor_rub_msgs::RotorState state_msg_;  // reused: no allocation per sample
