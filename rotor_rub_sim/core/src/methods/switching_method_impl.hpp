@@ -77,8 +77,8 @@ class SwitchingMethod final : public ContactMethod {
     end_sample_valid_ = false;
     free_sys_.segment = contact_sys_.segment = segment;
     regime_ = Regime::kFree;
-    pending_ = false;
-    next_modal_ = modal;
+    pending_.due = false;
+    pending_.modal = modal;
     enter_free(t_s, k, initial_step_s_);
   }
 
@@ -87,12 +87,12 @@ class SwitchingMethod final : public ContactMethod {
     ProfileScope scope(restart_time_s_);
     free_sys_.segment = contact_sys_.segment = segment;
     ++stats_.restarts;
-    if (pending_) {
+    if (pending_.due) {
       // An event exactly here carries over (the state at an instant does not
       // depend on the drive ahead); one later in the step was found under the
       // old drive and is dropped (the caller drops its report).
-      if (pending_t_ <= t_s) return;
-      pending_ = false;
+      if (pending_.t_s <= t_s) return;
+      pending_.due = false;
     }
     if (regime_ == Regime::kFree) {
       typename FL::State x;
@@ -116,13 +116,13 @@ class SwitchingMethod final : public ContactMethod {
   void change_model(double t_s, const ModelParameters& p, std::vector<ContactEvent>& events) override {
     end_sample_valid_ = false;
     ProfileScope scope(restart_time_s_);
-    if (pending_) {
+    if (pending_.due) {
       // An event exactly here has happened (the state at t_s is its new
       // regime's); one later in the step was found under the old model.
-      if (pending_t_ <= t_s) {
+      if (pending_.t_s <= t_s) {
         apply_pending();
       } else {
-        pending_ = false;
+        pending_.due = false;
       }
     }
     Kinematics k;
@@ -131,43 +131,43 @@ class SwitchingMethod final : public ContactMethod {
       typename FL::State x;
       free_int_.state_at(t_s, x);
       k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-      next_modal_ = modal_of<FL>(x);
+      pending_.modal = modal_of<FL>(x);
     } else {
       typename CL::State x;
       contact_int_.state_at(t_s, x);
       k = contact_sys_.dynamics.kinematics(x);
-      next_modal_ = modal_of<CL>(x);
+      pending_.modal = modal_of<CL>(x);
     }
     const Vec2 old_frame = model_.frame_shift();
     model_ = StationModel(rotor_.adopt(p));
     k.rotor_pos += old_frame - model_.frame_shift();
-    pending_ = true;
-    pending_t_ = t_s;
-    next_kin_ = k;
-    next_regime_ = Regime::kFree;
+    pending_.due = true;
+    pending_.t_s = t_s;
+    pending_.kin = k;
+    pending_.regime = Regime::kFree;
     if (regime_ == Regime::kContact) {
       const DriveState d = free_sys_.segment.at(t_s);
       const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       if (g.penetration_m >= -penetration_tolerance_m_) {
-        typename CL::State x = contact_sys_.dynamics.reduce(k, next_modal_);
+        typename CL::State x = contact_sys_.dynamics.reduce(k, pending_.modal);
         const auto c = contact_sys_.dynamics.evaluate(x, d);
         if (c.normal_force_N > 0.0) {
-          next_regime_ = Regime::kContact;
-          next_mode_ =
+          pending_.regime = Regime::kContact;
+          pending_.mode =
               select_friction_mode(c.sliding_velocity_m_per_s, was_stick || !model_.has_friction(), c.stick_force_N,
                                    model_.parameters().friction_coefficient * c.stick_normal_force_N);
-          if (next_mode_.stick != was_stick) ++stats_.friction_transitions;
-          next_contact_state_ = x;
+          if (pending_.mode.stick != was_stick) ++stats_.friction_transitions;
+          pending_.contact_state = x;
         }
       }
-      if (next_regime_ == Regime::kFree) events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
+      if (pending_.regime == Regime::kFree) events.push_back({t_s, EventKind::kLiftoff, 0.0, 0.0});
     }
     apply_pending();  // the restart, counted there
   }
 
   void step(double t_limit_s, std::vector<ContactEvent>& events) override {
     end_sample_valid_ = false;
-    if (pending_) {
+    if (pending_.due) {
       ProfileScope scope(restart_time_s_);
       apply_pending();
     }
@@ -245,22 +245,22 @@ class SwitchingMethod final : public ContactMethod {
     const auto c = contact_sys_.dynamics.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
     const auto loads = motor_loads(c.kin, d, modal_of<CL>(x));
-    if (pending_ && next_regime_ == Regime::kFree && t_s >= pending_t_) {
+    if (pending_.due && pending_.regime == Regime::kFree && t_s >= pending_.t_s) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).
       return make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), 0.0, 0.0, true,
                          loads ? &*loads : nullptr);
     }
-    if (pending_ && t_s >= pending_t_) {
+    if (pending_.due && t_s >= pending_.t_s) {
       // A friction transition at this instant: the sample reports the new
       // regime's forces (a stick force that jumped out of the cone at a drive
       // change is not applied, the slip force is).
       ConstrainedDynamics<kStatorDof, kMotor, Rotor> next = contact_sys_.dynamics;
-      next.mode = next_mode_;
+      next.mode = pending_.mode;
       const auto cn = next.evaluate(x, reference);  // the reference: evaluate() applies the drive itself
       Sample s = make_sample(model_, t_s, cn.kin, d, model_.contact_geometry(cn.kin, d), cn.normal_force_N,
                              cn.tangential_force_N, true, loads ? &*loads : nullptr);
-      s.sticking = next_mode_.stick;
+      s.sticking = pending_.mode.stick;
       return s;
     }
     Sample s = make_sample(model_, t_s, c.kin, d, model_.contact_geometry(c.kin, d), c.normal_force_N,
@@ -392,18 +392,18 @@ class SwitchingMethod final : public ContactMethod {
 
   void on_event(EventFunction k, double te, std::vector<ContactEvent>& events) {
     guard_.record(te);
-    next_from_breakaway_ = false;
+    pending_.from_breakaway = false;
     const DriveState d = free_sys_.segment.at(te);
-    pending_t_ = te;
-    pending_ = true;
+    pending_.t_s = te;
+    pending_.due = true;
     if (regime_ == Regime::kContact) {
       typename CL::State x;
       contact_int_.state_at(te, x);
       if (k == kGap) {
         events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
-        next_kin_ = contact_sys_.dynamics.kinematics(x);
-        next_modal_ = modal_of<CL>(x);
-        next_regime_ = Regime::kFree;
+        pending_.kin = contact_sys_.dynamics.kinematics(x);
+        pending_.modal = modal_of<CL>(x);
+        pending_.regime = Regime::kFree;
         return;
       }
       // A friction transition: slip to stick or reversal at v_slide = 0, or
@@ -412,20 +412,20 @@ class SwitchingMethod final : public ContactMethod {
       const auto c = contact_sys_.dynamics.evaluate(x, d);
       const double cone = model_.parameters().friction_coefficient * c.stick_normal_force_N;
       if (k == kSlipEnd) {
-        next_mode_ = select_friction_mode(0.0, true, c.stick_force_N, cone);
+        pending_.mode = select_friction_mode(0.0, true, c.stick_force_N, cone);
       } else {
-        next_mode_.stick = false;
-        next_mode_.slip_sign = c.stick_force_N > 0.0 ? -1.0 : 1.0;
-        next_from_breakaway_ = true;
+        pending_.mode.stick = false;
+        pending_.mode.slip_sign = c.stick_force_N > 0.0 ? -1.0 : 1.0;
+        pending_.from_breakaway = true;
       }
-      next_contact_state_ = x;
-      next_regime_ = Regime::kContact;
+      pending_.contact_state = x;
+      pending_.regime = Regime::kContact;
       return;
     }
     typename FL::State x_at;
     free_int_.state_at(te, x_at);
     Kinematics k_at = kinematics_of<kStatorDof, kMotor, Rotor>(x_at);
-    next_modal_ = modal_of<FL>(x_at);
+    pending_.modal = modal_of<FL>(x_at);
     const DriveState d_at = model_.drive_at(k_at, d);
     const ContactGeometry g = model_.contact_geometry(k_at, d_at);
     ContactEvent e;
@@ -433,31 +433,31 @@ class SwitchingMethod final : public ContactMethod {
     bool settles = true, at_rest = false;
     const bool closing = closes(g, k_at);
     if (closing) {
-      const FreeLoads free = loads_at(rotor_, model_, k_at, d_at, next_modal_);
+      const FreeLoads free = loads_at(rotor_, model_, k_at, d_at, pending_.modal);
       const ImpactResult ir = apply_impact(model_, g, d_at, penetration_tolerance_m_, free, k_at);
       // A motor's spin jumps with the impact, and the block with it (dxi' = h_xi dw).
       if constexpr (kMotor) {
-        rotor_.add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, next_modal_.tail(rotor_.modal_size()));
+        rotor_.add_spin_share(free.unbalance_dir, ir.spin_jump_rad_per_s, pending_.modal.tail(rotor_.modal_size()));
       }
       settles = ir.settles;
       at_rest = ir.sliding_stopped;
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
       e.impulse_N_s = ir.normal_impulse_N_s;
     }
-    next_kin_ = k_at;
+    pending_.kin = k_at;
     bool sustained = false;
     if (settles) {
-      typename CL::State x = contact_sys_.dynamics.reduce(k_at, next_modal_);
+      typename CL::State x = contact_sys_.dynamics.reduce(k_at, pending_.modal);
       const auto c = contact_sys_.dynamics.evaluate(x, d);
       sustained = c.normal_force_N > 0.0;
       if (sustained) {
-        next_mode_ =
+        pending_.mode =
             select_friction_mode(c.sliding_velocity_m_per_s, at_rest || !model_.has_friction(), c.stick_force_N,
                                  model_.parameters().friction_coefficient * c.stick_normal_force_N);
-        next_contact_state_ = x;
+        pending_.contact_state = x;
       }
     }
-    next_regime_ = sustained ? Regime::kContact : Regime::kFree;
+    pending_.regime = sustained ? Regime::kContact : Regime::kFree;
     // At the bore, but neither closing (closes(), contact_law.hpp) nor
     // pressed: no contact, as in the iteration method. Such a crossing (the
     // gap's rounding right after a lift-off: under other last bits 4e-16 to
@@ -468,30 +468,30 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   void apply_pending() {
-    pending_ = false;
+    pending_.due = false;
     ++stats_.restarts;
     const double dt = regime_ == Regime::kFree ? free_int_.dt() : contact_int_.dt();
-    if (next_regime_ == Regime::kFree) {
+    if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
-      enter_free(pending_t_, next_kin_, dt);
+      enter_free(pending_.t_s, pending_.kin, dt);
       return;
     }
     regime_ = Regime::kContact;
-    contact_sys_.dynamics.mode = next_mode_;
-    typename CL::State x = next_contact_state_;
-    if (next_mode_.stick) {
+    contact_sys_.dynamics.mode = pending_.mode;
+    typename CL::State x = pending_.contact_state;
+    if (pending_.mode.stick) {
       // Rolling: v_slide = C psi' + w R_r = 0 exactly.
-      const double w = contact_sys_.dynamics.spin_speed(x, contact_sys_.segment.at(pending_t_));
+      const double w = contact_sys_.dynamics.spin_speed(x, contact_sys_.segment.at(pending_.t_s));
       x[CL::kAngleRate] = -w * model_.parameters().rotor_radius_m / model_.parameters().clearance_m;
     }
-    contact_int_.initialize(contact_sys_, x, pending_t_, dt, stats_);
-    begin_regime(pending_t_, next_from_breakaway_);
-    next_from_breakaway_ = false;
+    contact_int_.initialize(contact_sys_, x, pending_.t_s, dt, stats_);
+    begin_regime(pending_.t_s, pending_.from_breakaway);
+    pending_.from_breakaway = false;
   }
 
-  // From k and the modal block next_modal_.
+  // From k and the modal block pending_.modal.
   void enter_free(double t_s, const Kinematics& k, double dt) {
-    typename FL::State x = sized_state<FL>(next_modal_);
+    typename FL::State x = sized_state<FL>(pending_.modal);
     store_kinematics<kStatorDof, kMotor, Rotor>(k, x);
     free_int_.initialize(free_sys_, x, t_s, dt, stats_);
     begin_regime(t_s);
@@ -558,14 +558,19 @@ class SwitchingMethod final : public ContactMethod {
   double start_gap_m_ = 0.0;  // the penetration a free flight starts with (<= 0 but at a graze)
   EventValues values_end_{};
   double valid_begin_ = 0.0, valid_end_ = 0.0;
-  bool pending_ = false;
-  double pending_t_ = 0.0;
-  Regime next_regime_ = Regime::kFree;
-  Kinematics next_kin_;
-  ModalState next_modal_;  // with next_kin_: the rotor's block (a flexible rotor's [xi; xi'])
-  FrictionMode next_mode_;
-  bool next_from_breakaway_ = false;  // the pending slip begins at a breakaway (begin_regime)
-  typename CL::State next_contact_state_;
+  // The restart an event leaves due at its time (apply_pending), in the
+  // regime it enters.
+  struct PendingRestart {
+    bool due = false;
+    double t_s = 0.0;
+    Regime regime = Regime::kFree;
+    Kinematics kin;
+    ModalState modal;  // with kin: the rotor's block (a flexible rotor's [xi; xi'])
+    FrictionMode mode;
+    bool from_breakaway = false;  // a slip that begins at a breakaway (begin_regime)
+    typename CL::State contact_state;
+  };
+  PendingRestart pending_;
   RunStats stats_;
   double* event_time_s_ = nullptr;    // profiling only
   double* restart_time_s_ = nullptr;  // profiling only
