@@ -227,11 +227,11 @@ class IterationMethod final : public ContactMethod {
   double step_end() const override { return valid_end_; }
 
   Sample sample(double t_s) const override {
-    State x;
-    integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
-    const ContactGeometry g = model_.contact_geometry(k, d);
+    const DenseState at = dense_state(t_s);
+    const State& x = at.x;
+    const Kinematics& k = at.k;
+    const DriveState& d = at.d;
+    const ContactGeometry& g = at.g;
     // A copy of the solver: sampling must not move the warm start of the
     // integration's own solves, or the trajectory would depend on the output
     // rate.
@@ -279,12 +279,22 @@ class IterationMethod final : public ContactMethod {
     return loads_at(rotor_, model_, k, d, modal);
   }
 
-  ContactGeometry geometry_at(double t_s) const {
+  // The dense output's state at t and what the contact sees of it.
+  struct DenseState {
     State x;
-    integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    return model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(t_s)));
+    Kinematics k;
+    DriveState d;
+    ContactGeometry g;
+  };
+  DenseState dense_state(double t_s) const {
+    DenseState at;
+    integrator_.state_at(t_s, at.x);
+    at.k = kinematics_of<kStatorDof, kMotor, Rotor>(at.x);
+    at.d = model_.drive_at(at.k, system_.segment.at(t_s));
+    at.g = model_.contact_geometry(at.k, at.d);
+    return at;
   }
+  ContactGeometry geometry_at(double t_s) const { return dense_state(t_s).g; }
 
   // The largest penetration of the free step just taken, on its dense
   // output: at its midpoint and end and, where the gap's rate falls through
@@ -325,11 +335,11 @@ class IterationMethod final : public ContactMethod {
   // The friction event function of the engaged regime at t (an event when it
   // rises through 0): slip, -s v_slide; stick, |F_t,stick| - f F_n.
   double friction_event(double t_s) const {
-    State x;
-    integrator_.state_at(t_s, x);
-    const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
-    const ContactGeometry g = model_.contact_geometry(k, d);
+    const DenseState at = dense_state(t_s);
+    const State& x = at.x;
+    const Kinematics& k = at.k;
+    const DriveState& d = at.d;
+    const ContactGeometry& g = at.g;
     if (!system_.mode.stick) return -system_.mode.slip_sign * g.sliding_velocity_m_per_s;
     const ContactForceSolver probe = solver_;
     long unused = 0;
@@ -389,12 +399,10 @@ class IterationMethod final : public ContactMethod {
   // acceleration of the dense output's state placed on the bore, what the
   // step's end is judged by (end_engaged_step).
   double pressing_at(double t_s) const {
-    State x;
-    integrator_.state_at(t_s, x);
-    Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
-    project_to_bore(k, model_.contact_geometry(k, d));
-    return pressing_acceleration(model_, k, d, model_.contact_geometry(k, d), loads(k, modal_of<L>(x), d));
+    DenseState at = dense_state(t_s);
+    project_to_bore(at.k, at.g);
+    return pressing_acceleration(model_, at.k, at.d, model_.contact_geometry(at.k, at.d),
+                                 loads(at.k, modal_of<L>(at.x), at.d));
   }
 
   // Locates a lift-off inside the engaged step just taken, on its dense
