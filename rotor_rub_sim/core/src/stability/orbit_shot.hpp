@@ -43,6 +43,21 @@ void check_scene(const ModelParameters& p, double w_rad_per_s, const OrbitSettin
 // OrbitError for an orbit that passes closer to the bore than kGrazingGap.
 void check_grazing(double closest_miss);
 
+// The end of find_periodic_orbit's and find_turning_orbit's Newton loops:
+// the iterations, the residual and the shot's closest approaches into the
+// orbit (OrbitError for a grazing one, check_grazing).
+template <class Orbit>
+void finish_orbit(Orbit& orbit, const OrbitShot& shot, int iterations, double residual) {
+  orbit.newton_iterations = iterations;
+  orbit.residual = residual;
+  orbit.slowest_impact = shot.slowest_impact;
+  orbit.closest_miss = shot.closest_miss;
+  check_grazing(orbit.closest_miss);
+}
+// OrbitError "no WHAT near the guess" once Newton has taken its
+// max_iterations or its residual is no longer finite.
+void check_newton(const char* what, int iterations, int max_iterations, double residual);
+
 // A shooting residual this small (of C and C w) needs no Newton step: a
 // settled start meets the tolerance as it is (find_periodic_orbit,
 // find_turning_orbit).

@@ -37,6 +37,15 @@ void check_grazing(double closest_miss) {
   }
 }
 
+void check_newton(const char* what, int iterations, int max_iterations, double residual) {
+  if (iterations >= max_iterations || !std::isfinite(residual)) {
+    std::ostringstream msg;
+    msg << "no " << what << " near the guess: Newton's residual is " << residual << " of C after " << iterations
+        << " iterations";
+    throw OrbitError(msg.str());
+  }
+}
+
 void check_scene(const ModelParameters& p, double w, const OrbitSettings& s) {
   if (p.drive_model != DriveModel::kPrescribed) {
     throw std::invalid_argument(
@@ -130,19 +139,10 @@ PeriodicOrbit find_periodic_orbit(const ModelParameters& p, double w, const Eige
       orbit.monodromy = m;
       orbit.tangent_basis = basis;
       orbit.multipliers = sorted_eigenvalues(m);
-      orbit.newton_iterations = it;
-      orbit.residual = residual;
-      orbit.slowest_impact = shot.slowest_impact;
-      orbit.closest_miss = shot.closest_miss;
-      check_grazing(orbit.closest_miss);
+      finish_orbit(orbit, shot, it, residual);
       return orbit;
     }
-    if (it >= s.max_newton_iterations || !std::isfinite(residual)) {
-      std::ostringstream msg;
-      msg << "no periodic orbit near the guess: Newton's residual is " << residual << " of C after " << it
-          << " iterations";
-      throw OrbitError(msg.str());
-    }
+    check_newton("periodic orbit", it, s.max_newton_iterations, residual);
     const Eigen::MatrixXd a = m - Eigen::MatrixXd::Identity(m.rows(), m.cols());
     y += basis * a.fullPivLu().solve(-(basis.transpose() * r));
     if (in_contact) flow.project_to_bore(y);

@@ -180,19 +180,10 @@ PeriodicOrbit find_turning_orbit(const ModelParameters& p, double w, const Turni
       const Eigen::MatrixXd onto = Eigen::MatrixXd::Identity(n, n) - f * f.transpose() / f.squaredNorm();
       orbit.trivial_multiplier = f.dot(orbit.monodromy * f) / f.squaredNorm();
       orbit.multipliers = sorted_eigenvalues(across.transpose() * onto * orbit.monodromy * across);
-      orbit.newton_iterations = it;
-      orbit.residual = residual;
-      orbit.slowest_impact = shot.slowest_impact;
-      orbit.closest_miss = shot.closest_miss;
-      check_grazing(orbit.closest_miss);
+      finish_orbit(orbit, shot, it, residual);
       return orbit;
     }
-    if (it >= s.max_newton_iterations || !std::isfinite(residual)) {
-      std::ostringstream msg;
-      msg << "no turning-frame orbit near the guess: Newton's residual is " << residual << " of C after " << it
-          << " iterations";
-      throw OrbitError(msg.str());
-    }
+    check_newton("turning-frame orbit", it, s.max_newton_iterations, residual);
     Eigen::MatrixXd a(n + 1, n + 1);
     a.topLeftCorner(n, n) = back * shot.jacobian - Eigen::MatrixXd::Identity(n, n);
     a.topRightCorner(n, 1) = back * turning_field(flow, t0 + period, shot.end);
