@@ -112,8 +112,8 @@ void SimNode::restart_simulation() {
   last_sample_ = core::Sample{};
   revolutions_ = 0;
   if (scene_.probes.rate_hz > 0.0) probe_pair_.emplace(scene_.probes);  // the same noise again
-  run_wall_accum_s_ = run_sim_accum_s_ = 0.0;
-  anchor_pacing();
+  pacing_.clear();
+  pacing_.anchor(ros::WallTime::now().toSec(), sim_->time());
   if (markers_) {
     markers_->clear();
     markers_->set_model(scene_.model);
@@ -207,8 +207,7 @@ int SimNode::run() {
       t_next = std::min(t_next, boundary);
     }
     if (config_.real_time_factor > 0.0) {
-      const ros::WallTime due =
-          pace_wall_anchor_ + ros::WallDuration((t_next - pace_sim_anchor_s_) / config_.real_time_factor);
+      const ros::WallTime due(pacing_.due_wall_s(t_next, config_.real_time_factor));
       const ros::WallTime now = ros::WallTime::now();
       if (due > now) (due - now).sleep();
     }
@@ -247,6 +246,8 @@ bool SimNode::lockstep_wait() {
   lockstep_awaited_s_ = sim_->time();
   lockstep_replied_ = false;
   output_.publish(lockstep_pub_, state_msg_, sim_->time());  // the state at the boundary (just sampled)
+  // Wall time spent waiting is the controller's, not the simulator's.
+  pacing_.close_stretch(ros::WallTime::now().toSec(), sim_->time());
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(config_.lockstep_timeout_s);
   while (ros::ok() && !lockstep_replied_) {
@@ -261,8 +262,7 @@ bool SimNode::lockstep_wait() {
     }
     queue.callAvailable(ros::WallDuration(0.001));
   }
-  // Wall time spent waiting is the controller's, not the simulator's.
-  anchor_pacing();
+  pacing_.anchor(ros::WallTime::now().toSec(), sim_->time());
   return ros::ok();
 }
 
@@ -284,32 +284,19 @@ void SimNode::check_end_or_failure() {
 
 void SimNode::set_status(Status s) {
   const bool was_running = status_ == Status::kRunning;
-  if (was_running && s != Status::kRunning) {
-    run_wall_accum_s_ += (ros::WallTime::now() - pace_wall_anchor_).toSec();
-    run_sim_accum_s_ += sim_->time() - pace_sim_anchor_s_;
-  }
+  if (was_running && s != Status::kRunning) pacing_.close_stretch(ros::WallTime::now().toSec(), sim_->time());
   status_ = s;
-  if (s == Status::kRunning) anchor_pacing();
+  if (s == Status::kRunning) pacing_.anchor(ros::WallTime::now().toSec(), sim_->time());
   publish_stats();
   diagnostics_.update(sim_->time(), output_);
 }
 
-void SimNode::anchor_pacing() {
-  pace_wall_anchor_ = ros::WallTime::now();
-  pace_sim_anchor_s_ = sim_->time();
-}
-
 double SimNode::running_wall_time_s() const {
-  double w = run_wall_accum_s_;
-  if (status_ == Status::kRunning) w += (ros::WallTime::now() - pace_wall_anchor_).toSec();
-  return w;
+  return pacing_.running_wall_s(ros::WallTime::now().toSec(), status_ == Status::kRunning);
 }
 
 double SimNode::achieved_real_time_factor() const {
-  double sim = run_sim_accum_s_;
-  if (status_ == Status::kRunning) sim += sim_->time() - pace_sim_anchor_s_;
-  const double wall = running_wall_time_s();
-  return wall > 0.0 ? sim / wall : 0.0;
+  return pacing_.achieved_real_time_factor(ros::WallTime::now().toSec(), sim_->time(), status_ == Status::kRunning);
 }
 
 // ---- Observer: samples and events become messages --------------------------

@@ -55,6 +55,7 @@
 #include "rotor_rub_sim/ros/markers.hpp"
 #include "rotor_rub_sim/ros/node_config.hpp"
 #include "rotor_rub_sim/ros/node_output.hpp"
+#include "rotor_rub_sim/ros/pacing.hpp"
 #include "rotor_rub_sim/ros/reconfigure_server.hpp"
 #include "rotor_rub_sim/ros/recorded_diagnostics.hpp"
 
@@ -100,7 +101,6 @@ class SimNode : public core::SimulationObserver {
   void publish_tf(const core::Sample& s);
   void check_end_or_failure();
   void set_status(Status s);
-  void anchor_pacing();
   double achieved_real_time_factor() const;
   double running_wall_time_s() const;
   void publish_stats();
@@ -164,10 +164,7 @@ class SimNode : public core::SimulationObserver {
   uint64_t states_published_ = 0, events_published_ = 0, commands_rejected_ = 0;
   double next_clock_s_ = 0.0, next_stats_s_ = 0.0, next_diag_s_ = 0.0, next_marker_s_ = 0.0, next_tf_s_ = 0.0;
 
-  // Pacing and the achieved real-time factor (pauses and steps excluded).
-  ros::WallTime pace_wall_anchor_;
-  double pace_sim_anchor_s_ = 0.0;
-  double run_wall_accum_s_ = 0.0, run_sim_accum_s_ = 0.0;
+  Pacing pacing_;  // in ros::WallTime seconds and simulated time
 };
 
 }  // namespace rotor_rub::ros_node
