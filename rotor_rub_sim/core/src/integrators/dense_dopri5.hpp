@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "integrators/step_ends.hpp"
+#include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
@@ -28,6 +29,7 @@ class DenseDopri5 : public StepEnds<State> {
   using Ends::x_old_;
 
  public:
+  static constexpr Integrator kScheme = Integrator::kDopri5;
   using Stepper = boost::numeric::odeint::runge_kutta_dopri5<State, double, State, double,
                                                              boost::numeric::odeint::vector_space_algebra>;
   using ErrorChecker =

@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <type_traits>
 
+#include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
@@ -31,6 +32,7 @@ namespace rotor_rub::core {
 template <class State>
 class DenseRk4 {
  public:
+  static constexpr Integrator kScheme = Integrator::kRk4;
   static constexpr double kDivergenceBound = 1e3;  // |x| in m and m/s
   using Stepper =
       boost::numeric::odeint::runge_kutta4<State, double, State, double, boost::numeric::odeint::vector_space_algebra>;

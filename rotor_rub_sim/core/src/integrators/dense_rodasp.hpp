@@ -41,6 +41,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
@@ -108,6 +109,7 @@ struct RodaspTableau {
 template <class State>
 class DenseRodasp {
  public:
+  static constexpr Integrator kScheme = Integrator::kRosenbrock4;
   static constexpr int kSize = State::RowsAtCompileTime;
   static constexpr int kStages = RodaspTableau::kStages;
   // A flexible rotor's state is of dynamic size: its matrices are allocated

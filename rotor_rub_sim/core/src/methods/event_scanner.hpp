@@ -109,9 +109,9 @@ double crossing(const EventWatch& w, G&& g, Rate&& rate, double a, double ga, do
 // crossing() for a function with no rate in closed form.
 template <class G>
 double crossing(const EventWatch& w, G&& g, double a, double ga, double b, double gb, RunStats& stats) {
-  constexpr double kNoRate = std::numeric_limits<double>::quiet_NaN();
-  return crossing(
-      w, g, [](double) { return kNoRate; }, a, ga, kNoRate, b, gb, kNoRate, stats);
+  const double no_rate = std::numeric_limits<double>::quiet_NaN();
+  auto rate = [](double) { return std::numeric_limits<double>::quiet_NaN(); };
+  return crossing(w, g, rate, a, ga, no_rate, b, gb, no_rate, stats);
 }
 
 }  // namespace rotor_rub::core

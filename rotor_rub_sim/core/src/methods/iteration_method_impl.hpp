@@ -118,7 +118,7 @@ class IterationMethod final : public ContactMethod {
       const DriveState d = model_.drive_at(k, system_.segment.at(t_s));
       const ContactGeometry g = model_.contact_geometry(k, d);
       if (g.penetration_m >= -gap_tolerance_m_ && pressing_acceleration(model_, k, d, g, loads(k, modal, d)) > 0.0) {
-        project_to_bore(k, g);
+        model_.project_onto_bore(g, k);
         const FrictionMode mode = mode_at(k, modal, d, was_stick || !model_.has_friction(), t_s);
         if (mode.stick != was_stick) ++stats_.friction_transitions;
         apply(Pending{true, t_s, k, modal, true, mode, true});
@@ -216,7 +216,7 @@ class IterationMethod final : public ContactMethod {
     events.push_back(e);
     Pending next{true, valid_end_, k, modal, sustained, {}, true};
     if (sustained) {
-      project_to_bore(k, g);
+      model_.project_onto_bore(g, k);
       next.kin = k;
       next.mode = mode_at(k, modal, d, at_rest || !model_.has_friction(), valid_end_);
     }
@@ -400,7 +400,7 @@ class IterationMethod final : public ContactMethod {
   // step's end is judged by (end_engaged_step).
   double pressing_at(double t_s) const {
     DenseState at = dense_state(t_s);
-    project_to_bore(at.k, at.g);
+    model_.project_onto_bore(at.g, at.k);
     return pressing_acceleration(model_, at.k, at.d, model_.contact_geometry(at.k, at.d),
                                  loads(at.k, modal_of<L>(at.x), at.d));
   }
@@ -460,7 +460,7 @@ class IterationMethod final : public ContactMethod {
     State x;
     integrator_.state_at(te, x);
     Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
-    project_to_bore(k, model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(te))));
+    model_.project_onto_bore(model_.contact_geometry(k, model_.drive_at(k, system_.segment.at(te))), k);
     guard_.record(te);
     events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
     defer({true, te, k, modal_of<L>(x), false, {}});
@@ -477,7 +477,7 @@ class IterationMethod final : public ContactMethod {
     const ModalState modal = modal_of<L>(x);
     const DriveState d = model_.drive_at(k, system_.segment.at(te));
     const ContactGeometry g = model_.contact_geometry(k, d);
-    project_to_bore(k, g);
+    model_.project_onto_bore(g, k);
     FrictionMode next;
     const bool breakaway = system_.mode.stick;
     if (breakaway) {
@@ -485,7 +485,7 @@ class IterationMethod final : public ContactMethod {
       // out, as at a held step's end, so the slip starts on its surface
       // (locate_friction_transition) and not up to the drift on its far side
       // (test_transitions.cpp, iteration on dop853 at rtol 1e-4).
-      hold_rolling(k, model_.contact_geometry(k, d));
+      model_.hold_rolling(model_.contact_geometry(k, d), k);
       const ContactForceSolver probe = solver_;
       long unused = 0;
       const ContactForces f = probe.solve(k, d, g, loads(k, modal, d), system_.mode, true, te, unused);
@@ -517,7 +517,7 @@ class IterationMethod final : public ContactMethod {
     const DriveState d = model_.drive_at(k, system_.segment.at(valid_end_));
     const ContactGeometry g = model_.contact_geometry(k, d);
     Kinematics held = k;
-    project_to_bore(held, g);
+    model_.project_onto_bore(g, held);
     const ContactGeometry gh = model_.contact_geometry(held, d);
     if (pressing_acceleration(model_, held, d, gh, loads(held, modal, d)) <= 0.0) {
       // Lift-off at the step's end, a step that was not pressed at its
@@ -533,26 +533,8 @@ class IterationMethod final : public ContactMethod {
     stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(g.penetration_m));
     stats_.min_abs_sliding_velocity_m_per_s =
         std::min(stats_.min_abs_sliding_velocity_m_per_s, std::abs(gh.sliding_velocity_m_per_s));
-    if (system_.mode.stick) hold_rolling(held, model_.contact_geometry(held, d));
+    if (system_.mode.stick) model_.hold_rolling(model_.contact_geometry(held, d), held);
     defer({true, valid_end_, held, modal, true, system_.mode});
-  }
-
-  // Moves both bodies along n so that delta = C, and removes the normal
-  // relative velocity, each in inverse proportion to its mass (momentum is
-  // kept).
-  void project_to_bore(Kinematics& k, const ContactGeometry& g) const {
-    const double imr = model_.inv_rotor_mass(), ims = model_.inv_stator_mass(), im = imr + ims;
-    k.rotor_pos -= g.penetration_m * (imr / im) * g.normal;
-    k.stator_pos += g.penetration_m * (ims / im) * g.normal;
-    k.rotor_vel -= g.normal_velocity_m_per_s * (imr / im) * g.normal;
-    k.stator_vel += g.normal_velocity_m_per_s * (ims / im) * g.normal;
-  }
-
-  // In stick, removes the sliding velocity's drift the same way (v_slide = 0).
-  void hold_rolling(Kinematics& k, const ContactGeometry& g) const {
-    const double imr = model_.inv_rotor_mass(), ims = model_.inv_stator_mass(), im = imr + ims;
-    k.rotor_vel -= g.sliding_velocity_m_per_s * (imr / im) * g.tangent;
-    k.stator_vel += g.sliding_velocity_m_per_s * (ims / im) * g.tangent;
   }
 
   void defer(const Pending& p) { pending_ = p; }
@@ -565,7 +547,7 @@ class IterationMethod final : public ContactMethod {
       slip_from_breakaway_ = p.from_breakaway;
     }
     if (p.engaged && p.mode.stick) {
-      hold_rolling(p.kin, model_.contact_geometry(p.kin, model_.drive_at(p.kin, system_.segment.at(p.t_s))));
+      model_.hold_rolling(model_.contact_geometry(p.kin, model_.drive_at(p.kin, system_.segment.at(p.t_s))), p.kin);
     }
     restart_from(p.t_s, p.kin, p.modal, integrator_.dt());
   }

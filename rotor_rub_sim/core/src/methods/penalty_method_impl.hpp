@@ -209,14 +209,14 @@ class PenaltyMethod final : public ContactMethod {
   RunStats& mutable_stats() override { return stats_; }
 
  private:
-  // Interior points at which the edges are checked besides the step's end:
-  // a contact shorter than a step (a graze in free flight, where the
-  // integrator sees no force) is found if it spans one of them. An edge
-  // crossed and crossed back between two of them goes unseen (as in the
-  // switching method's scan): for that while the mode's extended law acts
-  // (a pressed mode's force slightly pulling, or none in free flight) where
-  // the samples report the clamped law.
-  static constexpr int kScanPoints = 2;
+  // Points at which the edges are checked (scan_points: two on dopri5,
+  // rosenbrock4 and rk4, the last the step's end): a contact shorter than a
+  // step (a graze in free flight, where the integrator sees no force) is
+  // found if it spans one of them. An edge crossed and crossed back between
+  // two of them goes unseen (as in the switching method's scan): for that
+  // while the mode's extended law acts (a pressed mode's force slightly
+  // pulling, or none in free flight) where the samples report the clamped law.
+  static constexpr int kScanPoints = scan_points(Integrator::kScheme);
   static constexpr double kNoProgress = 1e-9;  // of the step: an edge at its start
   static constexpr int kMaxEdgesInRow = 64;
 

@@ -205,6 +205,23 @@ class StationModel {
     return g;
   }
 
+  // Moves both bodies along n so that delta = C and removes the normal
+  // relative velocity, each in inverse proportion to its mass (momentum is
+  // kept): the iteration method's projection onto the bore.
+  void project_onto_bore(const ContactGeometry& g, Kinematics& k) const {
+    const double im = inv_rotor_mass_ + inv_stator_mass_;
+    k.rotor_pos -= g.penetration_m * (inv_rotor_mass_ / im) * g.normal;
+    k.stator_pos += g.penetration_m * (inv_stator_mass_ / im) * g.normal;
+    k.rotor_vel -= g.normal_velocity_m_per_s * (inv_rotor_mass_ / im) * g.normal;
+    k.stator_vel += g.normal_velocity_m_per_s * (inv_stator_mass_ / im) * g.normal;
+  }
+  // Removes the sliding velocity the same way (v_slide = 0: rolling held).
+  void hold_rolling(const ContactGeometry& g, Kinematics& k) const {
+    const double im = inv_rotor_mass_ + inv_stator_mass_;
+    k.rotor_vel -= g.sliding_velocity_m_per_s * (inv_rotor_mass_ / im) * g.tangent;
+    k.stator_vel += g.sliding_velocity_m_per_s * (inv_stator_mass_ / im) * g.tangent;
+  }
+
   // The contact force on the rotor for normal force F_n >= 0 and tangential
   // force F_t along t [N] (the stator gets the opposite).
   static Vec2 contact_force_on_rotor(const ContactGeometry& g, double normal_force_N, double tangential_force_N) {
