@@ -1,8 +1,8 @@
-// The scan of an accepted step for events, shared by the three methods: an
-// event function g is an event where it rises through zero; each method
-// checks its functions at scan points spread evenly over the step and finds
-// a crossing between two of them with crossing() (on the step's dense
-// output: event_location.hpp).
+// The scan of an accepted step for events, shared by the three methods, the
+// CVODE contender and the periodic orbits' shooting: an event function g is
+// an event where it rises through zero; each checks its functions at scan
+// points spread evenly over the step and finds a crossing between two of
+// them with crossing() (on the step's dense output: event_location.hpp).
 #pragma once
 
 #include <cmath>
@@ -14,7 +14,7 @@
 namespace rotor_rub::core {
 
 // Points per step where the event functions are checked (the last at the
-// step's end): two on dopri5 and rosenbrock4, whose short steps leave at
+// step's end): two on dopri5, rosenbrock4 and rk4, whose short steps leave at
 // most one extremum of the gap between two points (the gap's rate locates a
 // graze there: ShallowGraze.ContactShorterThanAStepIsFelt), four on rkf78
 // and dop853, whose steps turn the spin by up to about 3 rad.
