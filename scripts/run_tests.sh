@@ -14,9 +14,10 @@
 # ASan/UBSan at once: what the sanitizers run is built under them, every other
 # unit compiled without code generation or linking). The clang build runs
 # niced while the rostests, which mostly wait, use the other core; the
-# Slurm sweeps follow the rostests (they mostly wait on the scheduler), and
-# the sanitized tests run beside the package checks. Each phase's wall time
-# goes to $WS/phases.txt (docs/testing.md).
+# Slurm sweeps (which mostly wait on the scheduler) and the package, docs and
+# tools checks follow the rostests, still beside it, and the sanitized tests
+# run once it is done. Each phase's wall time goes to $WS/phases.txt
+# (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
@@ -71,17 +72,8 @@ grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep 
 ( timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
   > "$WS/slurm_stream.log" 2>&1 &
 SLURM_PID=$!
-CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
-if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
-else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
-  tail -n 15 "$WS/check_clang.log"; fi
-
-# Stream A, beside stream B: the core's tests under ASan and UBSan (their XML joins the results).
-( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
-  > "$WS/sanitize_stream.log" 2>&1 &
-SAN_PID=$!
-
-# Stream B: the package as others consume it, the tools and the docs.
+# The package as others consume it, the tools and the docs: beside the rest of
+# the clang++ build (niced) and the Slurm sweeps; they need the g++ build only.
 # ROS tools see both packages (the workspace environment, no master).
 BAG="$WS/tool_check.bag"
 tools_check() {
@@ -125,9 +117,6 @@ timed "checks: clang-format" check "clang-format: every C++ file as .clang-forma
 # The clang++ step's syntax check on a made-up build directory (its cases: test/tools/).
 timed "checks: clang syntax check's cases" check "scripts/clang_syntax_check.py: which units it checks, failures, exit codes" \
   bash -c "'$ROOT/test/tools/test_clang_syntax_check.sh' > '$WS/clang_syntax_check_test.log' 2>&1"
-# The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
-timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
-  bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
 # The docs' parameter and solver tables are the key tables' and the registry's (scripts/gen_param_tables.py).
 BIN="$WS/devel/lib/rotor_rub_sim"
 timed "checks: docs tables" check "docs: docs/node.md's parameter tables and docs/numerics.md's solver table match the key tables and the registry" \
@@ -180,6 +169,19 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
   && grep -q 'plot_full_rub: up runs in full rub' '$WS/bifurcation_check.log' \
   && grep -q 'plot_full_rub: the continuation turns back at 167.936 rad/s' '$WS/bifurcation_check.log'"
 
+CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
+if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
+else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
+  tail -n 15 "$WS/check_clang.log"; fi
+
+# The core's tests under ASan and UBSan once the clang++ build is done (their XML joins the results).
+( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
+  > "$WS/sanitize_stream.log" 2>&1 &
+SAN_PID=$!
+
+# The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
+timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
+  bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
 if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
 else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
 wait "$SLURM_PID"
