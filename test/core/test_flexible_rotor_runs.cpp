@@ -116,6 +116,13 @@ struct FileAgreement {
 FileAgreement file_agreement(const test::Solver& solver) {
   if (solver.method == core::Method::kIteration && solver.integrator == core::Integrator::kDop853)
     return {3e-9, 1e-8};  // the differenced jerk
+  // Switching's free flight on RODASP: the fixed-size and the block solve
+  // round differently, so a step accepted on one side and rejected on the
+  // other sends the runs on step paths of their own, which agree to the
+  // tolerance (the rigid stator's bouncing scene: 7.2e-9 m at rtol 1e-6,
+  // 1.9e-12 m at 1e-9, measured; the torque 2.8e-6 of its largest).
+  if (solver.method == core::Method::kSwitching && solver.integrator == core::Integrator::kRosenbrock4)
+    return {3e-8, 0.0, 1e-5};
   if (solver.integrator == core::Integrator::kRosenbrock4) return {1e-12, 0.0, 1e-7};
   return {1e-13, 1e-12};  // rounding
 }

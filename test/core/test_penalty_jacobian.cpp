@@ -1,10 +1,11 @@
-// The penalty method's closed-form Jacobian (penalty_system.hpp), which the
-// stiff integrator uses instead of differences, against central differences
-// of the same right-hand side: every mode of the law (free, pressed in the
-// linear range, slipping either way, the clamped law's fallback; the pressed
-// mode also in its polar coordinates), elastic and
-// rigid stators, gravity, friction 0 to 1, restitution 0 and 0.7, below and
-// far above the critical speed, at random states (fixed seed).
+// The closed-form Jacobians the stiff integrator uses instead of differences,
+// against central differences of the same right-hand side: the penalty
+// method's (penalty_system.hpp) in every mode of the law (free, pressed in
+// the linear range, slipping either way, the clamped law's fallback; the
+// pressed mode also in its polar coordinates), and the switching method's
+// free flight (switching_systems.hpp); elastic and rigid stators, gravity,
+// friction 0 to 1, restitution 0 and 0.7, below and far above the critical
+// speed, the Jeffcott and flexible rotors, at random states (fixed seed).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -15,6 +16,7 @@
 #include <string>
 
 #include "methods/penalty_system.hpp"
+#include "methods/switching_systems.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/scene_file.hpp"
@@ -167,6 +169,15 @@ struct Checker {
         EXPECT_LE(worst_ratio(sys, x, steps(), t, &where), 1.0)
             << c.name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
       }
+      // The switching method's free flight at the same state (it knows no
+      // contact: the penalty law's free mode without the law).
+      core::FreeFlightSystem<kStatorDof, false, core::JeffcottRotor> free;
+      free.model = &model;
+      free.rotor = &rotor;
+      free.segment = c.segment;
+      std::string where_free;
+      EXPECT_LE(worst_ratio(free, x, steps(), t, &where_free), 1.0)
+          << c.name << ", trial " << trial << ", free flight: " << where_free;
       // The clamped law: only where no difference step crosses an edge.
       sys.mode = PenaltyMode{};
       sys.mode.clamped = true;
@@ -369,6 +380,13 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
       EXPECT_LE(worst_ratio(sys, x, h, t, &where), 1.0)
           << name << ", trial " << trial << ", mode pressed " << m.pressed << " slip " << m.slip << ": " << where;
     }
+    core::FreeFlightSystem<kStatorDof, false, core::FlexibleRotor> free;
+    free.model = &model;
+    free.rotor = &rotor;
+    free.segment = segment;
+    std::string where_free;
+    EXPECT_LE(worst_ratio(free, x, h, t, &where_free), 1.0)
+        << name << ", trial " << trial << ", free flight: " << where_free;
     // The pressed mode in polar coordinates, the block beside them (steps:
     // PolarChecker's; the block's 1e-4 and 1e-1: every row is linear in the
     // block, so no step truncates). psi'' = (t . (a_r - a_s) - 2 delta'

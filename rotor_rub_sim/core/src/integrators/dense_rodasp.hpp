@@ -1,4 +1,5 @@
-// The stiff option (penalty method, integrator key rosenbrock4): RODASP,
+// The stiff option (integrator key rosenbrock4: the penalty method, the
+// switching method's free flight): RODASP,
 // Steinebach's L-stable, stiffly accurate Rosenbrock 4(3) with six stages and
 // a third-order continuous extension, on fixed-size Eigen types (a flexible
 // rotor's: dynamic within a fixed bound, below).
@@ -207,6 +208,10 @@ class DenseRodasp {
   double t_new() const { return t_new_; }
   double dt() const { return dt_; }
   void set_dt(double dt_s) { dt_ = dt_s; }
+  // Caps the next step's proposal, as StepEnds::limit_dt (a NaN cap: none).
+  void limit_dt(double max_dt_s) {
+    if (dt_ > max_dt_s) dt_ = max_dt_s;
+  }
 
  private:
   static const RodaspTableau& tableau() {

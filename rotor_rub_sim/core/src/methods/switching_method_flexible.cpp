@@ -11,5 +11,6 @@ std::unique_ptr<ContactMethod> make_switching_flexible(const Scene& scene) {
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kDopri5>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kRkf78>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kDop853>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kRosenbrock4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -17,6 +17,7 @@
 #include "contact/angle_pair.hpp"
 #include "integrators/dense_dopri5.hpp"
 #include "integrators/dense_high_order.hpp"
+#include "integrators/dense_rodasp.hpp"
 #include "methods/chatter_guard.hpp"
 #include "methods/constrained_dynamics.hpp"
 #include "methods/event_scanner.hpp"
@@ -31,9 +32,14 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: Dormand-Prince 5(4) (integrator dopri5), or one of the
-// high-order pairs with Hermite dense output (dense_high_order.hpp):
-// Runge-Kutta-Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853).
+// kScheme: Dormand-Prince 5(4) (integrator dopri5), one of the high-order
+// pairs with Hermite dense output (dense_high_order.hpp): Runge-Kutta-
+// Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853); or RODASP
+// (rosenbrock4, dense_rodasp.hpp) in free flight, whose Jacobian is in
+// closed form (switching_systems.hpp), with dop853 in contact, whose
+// constrained dynamics has none: a flexible rotor's modes kept set the
+// explicit schemes' steps by their stability, not by the tolerance
+// (docs/rotors.md, "Speed at many modes").
 // Rotor: the rotor model (rotor_model.hpp); its block is carried through
 // every regime and event unchanged (no impulse reaches it), but for a
 // motor's spin jump's share at an impact.
@@ -42,10 +48,16 @@ class SwitchingMethod final : public ContactMethod {
  public:
   using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
   using CL = ContactLayout<kStatorDof, kMotor, Rotor>;
-  template <class L>
+  static constexpr Integrator kContactScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
+  template <class L, Integrator I>
   using Dense = std::conditional_t<
-      kScheme == Integrator::kDop853, DenseDop853<L>,
-      std::conditional_t<kScheme == Integrator::kRkf78, DenseRkf78<L>, DenseDopri5<typename L::State>>>;
+      I == Integrator::kDop853, DenseDop853<L>,
+      std::conditional_t<I == Integrator::kRkf78, DenseRkf78<L>,
+                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<typename L::State>,
+                                            DenseDopri5<typename L::State>>>>;
+  using FreeIntegrator = Dense<FL, kScheme>;
+  using ContactIntegrator = Dense<CL, kContactScheme>;
+  static_assert(!is_implicit<ContactIntegrator>::value, "the constrained dynamics has no Jacobian in closed form");
 
   explicit SwitchingMethod(const Scene& scene)
       : rotor_(scene),
@@ -85,6 +97,7 @@ class SwitchingMethod final : public ContactMethod {
   void change_segment(double t_s, const SpeedSegment& segment) override {
     end_sample_valid_ = false;
     ProfileScope scope(restart_time_s_);
+    if (regime_ == Regime::kFree) end_free_step_at(t_s);  // under the old drive
     free_sys_.segment = contact_sys_.segment = segment;
     ++stats_.restarts;
     if (pending_.due) {
@@ -128,6 +141,7 @@ class SwitchingMethod final : public ContactMethod {
     Kinematics k;
     const bool was_stick = regime_ == Regime::kContact && contact_sys_.dynamics.mode.stick;
     if (regime_ == Regime::kFree) {
+      end_free_step_at(t_s);
       typename FL::State x;
       free_int_.state_at(t_s, x);
       k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
@@ -186,7 +200,7 @@ class SwitchingMethod final : public ContactMethod {
       free_int_.do_step(free_sys_, stats_);
       scan(free_int_.t_old(), std::min(free_int_.t_new(), t_limit_s), events);
     } else {
-      contact_int_.limit_dt(kScanPoints * kMaxScanAngle_rad / std::abs(values_end_.forcing_rate_rad_per_s));
+      contact_int_.limit_dt(kContactScanPoints * kMaxScanAngle_rad / std::abs(values_end_.forcing_rate_rad_per_s));
       contact_int_.do_step(contact_sys_, stats_);
       scan(contact_int_.t_old(), std::min(contact_int_.t_new(), t_limit_s), events);
       record_contact_quality(valid_end_);
@@ -321,7 +335,7 @@ class SwitchingMethod final : public ContactMethod {
   }
   double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
-  // The earliest event of [t0, t1], checked at kScanPoints points spread
+  // The earliest event of [t0, t1], checked at the regime's scan points spread
   // evenly over the step and located on the dense output: a sign change of
   // an armed function, the deflated bracket right after a start on the
   // surface, a crossing and back between two points (crossing(),
@@ -334,11 +348,12 @@ class SwitchingMethod final : public ContactMethod {
     // A rebound's return (return_s_) inside the first interval: one more
     // point past it and before the interval's end, so that the flight and
     // its return never both fall between two points.
-    const double first_point = t0 + (t1 - t0) / kScanPoints;
+    const int points = scan_points_now();
+    const double first_point = t0 + (t1 - t0) / points;
     const double probe_s = return_s_ + 0.5 * std::min(return_s_ - t0, first_point - return_s_);
     const bool probe = t0 == regime_start_s() && return_s_ > t0 && return_s_ < first_point && probe_s > t0;
-    for (int i = probe ? 0 : 1; i <= kScanPoints; ++i) {
-      const double ti = i == 0 ? probe_s : scan_point(t0, t1, i, kScanPoints);
+    for (int i = probe ? 0 : 1; i <= points; ++i) {
+      const double ti = i == 0 ? probe_s : scan_point(t0, t1, i, points);
       const EventValues cur = event_values(ti);
       double first_t = std::numeric_limits<double>::infinity();
       int first_k = -1;
@@ -422,6 +437,7 @@ class SwitchingMethod final : public ContactMethod {
       pending_.regime = Regime::kContact;
       return;
     }
+    end_free_step_at(te);
     typename FL::State x_at;
     free_int_.state_at(te, x_at);
     Kinematics k_at = kinematics_of<kStatorDof, kMotor, Rotor>(x_at);
@@ -541,13 +557,22 @@ class SwitchingMethod final : public ContactMethod {
     stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(s.penetration_m));
   }
 
-  static constexpr int kScanPoints = scan_points(kScheme);
+  // Each regime's scan points, its integrator's (event_scanner.hpp).
+  static constexpr int kFreeScanPoints = scan_points(kScheme);
+  static constexpr int kContactScanPoints = scan_points(kContactScheme);
+  int scan_points_now() const { return regime_ == Regime::kFree ? kFreeScanPoints : kContactScanPoints; }
+  // The implicit integrator restarts from a step's end, not from its
+  // continuous extension (DenseRodasp::end_step_at): free flight's state at
+  // an event or a change at t_s.
+  void end_free_step_at(double t_s) {
+    if constexpr (is_implicit<FreeIntegrator>::value) free_int_.end_step_at(free_sys_, t_s, stats_);
+  }
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
   ContactSystem<kStatorDof, kMotor, Rotor> contact_sys_;
-  Dense<FL> free_int_;
-  Dense<CL> contact_int_;
+  FreeIntegrator free_int_;
+  ContactIntegrator contact_int_;
   double initial_step_s_;
   double penetration_tolerance_m_;
   ChatterGuard guard_;

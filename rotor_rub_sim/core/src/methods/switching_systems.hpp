@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "integrators/dense_high_order.hpp"
 #include "methods/constrained_dynamics.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
@@ -26,6 +27,38 @@ struct FreeFlightSystem {
   const Rotor* rotor = nullptr;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
+  // The stiff integrator's hooks (dense_rodasp.hpp; integrator rosenbrock4,
+  // which runs free flight only). Under the prescribed drive free flight is
+  // linear: its Jacobian is the rotor model's free loads' (add_free_jacobian)
+  // and the stator's spring and damper, in closed form, and the positions'
+  // rows are [0 I] (the second-order solve, kFixedDof the positions before
+  // a block). Under a motor drive the spin couples every row, and the
+  // integrator differences. test_penalty_jacobian.cpp holds it against
+  // differences (ClosedFormMatchesDifferencesInEveryMode, FlexibleRotors...).
+  static constexpr bool kAnalyticJacobian = !kMotor;
+  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
+  static constexpr int kFixedDof = L::kDof;
+  static constexpr bool kOwnErrorNorm = false;
+  using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
+  void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
+    static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
+    static_assert(L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof, "[q, v] layout");
+    const DriveState d = segment.at(t);
+    const int n = modal_count<L>(x);
+    jac.setZero(x.size(), x.size());
+    dfdt.setZero(x.size());
+    jac.template block<2, 2>(L::kRotorPos, L::kRotorVel).setIdentity();
+    for (int i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
+    rotor->template add_free_jacobian<L>(*model, x, d, jac, dfdt);
+    if constexpr (kStatorDof == 2) {
+      const double ims = model->inv_stator_mass();
+      const ModelParameters& p = model->parameters();
+      const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
+      jac.template block<2, 2>(L::kStatorPos, L::kStatorVel) = eye;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) = -p.stator_stiffness_N_per_m * ims * eye;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = -p.stator_damping_N_s_per_m * ims * eye;
+    }
+  }
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);
     const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);

@@ -20,9 +20,14 @@ namespace rotor_rub::core {
 // rtol (faster than dopri5 on the stiff contact spring, at equal or better
 // accuracy). The figures: docs/benchmarks.md, "Timings the other pages rest
 // on".
+// Switching on rosenbrock4 takes RODASP in free flight only, dop853 in
+// contact (the constrained dynamics has no closed-form Jacobian): a flexible
+// rotor's highest mode kept bounds the explicit schemes' steps, not RODASP's
+// (docs/rotors.md, "Speed at many modes"); auto does not pick it, as it is
+// the slower below about 8 planar modes and on the Jeffcott.
 // Why the other pairs are not offered: the rigid methods locate events on a
-// dense output of their own (dopri5's, or the Hermite one of rkf78 and
-// dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
+// dense output of their own (dopri5's, RODASP's, or the Hermite one of rkf78
+// and dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
 // bore before lift-offs were located inside a step, and is not offered; the
 // penalty contact is stiff, so the explicit high-order schemes only waste
 // steps there.
@@ -70,6 +75,11 @@ const std::vector<SolverEntry>& solver_registry() {
        {0.0, 0.0},
        {&make_switching_jeffcott<I::kRkf78>, &make_switching_flexible<I::kRkf78>},
        "explicit 7(8), Hermite dense output: an independent high-order check"},
+      {M::kSwitching,
+       I::kRosenbrock4,
+       {0.0, 0.0},
+       {&make_switching_jeffcott<I::kRosenbrock4>, &make_switching_flexible<I::kRosenbrock4>},
+       "RODASP in free flight (its Jacobian in closed form), dop853 in contact: a flexible rotor with many modes"},
       {M::kIteration,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
