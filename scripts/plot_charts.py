@@ -63,8 +63,9 @@ def work_precision(rows, out, text, bench_rows=()):
         rs.sort(key=lambda r: -fnum(r, "rtol"))
         colour = METHOD_COLOURS.get(rs[0]["method"], "grey")
         ls = styles[i % len(styles)] if rs[0]["method"] in ("penalty", "cvode") else (
-            "--" if rs[0]["integrator"] == "dop853" else "-")
-        marker = {"dopri5": "o", "adams": "s", "bdf": "D", "rkf78": "^", "dop853": "v"}.get(rs[0]["integrator"], "^")
+            "--" if rs[0]["integrator"] == "dop853" else ":" if rs[0]["integrator"] == "rosenbrock4" else "-")
+        marker = {"dopri5": "o", "adams": "s", "bdf": "D", "rkf78": "^", "dop853": "v",
+                  "rosenbrock4": "P"}.get(rs[0]["integrator"], "^")
         for ax, xkey in zip(axes, ("wall_time_s", "rhs_evals")):
             ok = [r for r in rs if r["status"] in COMPLETED]
             ax.plot([fnum(r, xkey) for r in ok], [fnum(r, "max_rotor_err_m") for r in ok], ls, marker=marker,

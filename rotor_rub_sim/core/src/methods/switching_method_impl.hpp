@@ -437,7 +437,6 @@ class SwitchingMethod final : public ContactMethod {
       pending_.regime = Regime::kContact;
       return;
     }
-    end_free_step_at(te);
     typename FL::State x_at;
     free_int_.state_at(te, x_at);
     Kinematics k_at = kinematics_of<kStatorDof, kMotor, Rotor>(x_at);
@@ -561,9 +560,14 @@ class SwitchingMethod final : public ContactMethod {
   static constexpr int kFreeScanPoints = scan_points(kScheme);
   static constexpr int kContactScanPoints = scan_points(kContactScheme);
   int scan_points_now() const { return regime_ == Regime::kFree ? kFreeScanPoints : kContactScanPoints; }
-  // The implicit integrator restarts from a step's end, not from its
-  // continuous extension (DenseRodasp::end_step_at): free flight's state at
-  // an event or a change at t_s.
+  // At a speed segment's end or a live change at t_s, the implicit
+  // integrator's step is taken again to end there (DenseRodasp::end_step_at:
+  // its continuous extension amplifies unresolved stiff components between
+  // the step's ends). Not at an event: the state there is the dense
+  // output's at the located root, on the event's surface, as for the explicit
+  // schemes; a step taken again ends off it by its local error, and a graze
+  // restarted there fired again at once (the seal rotor at 16 planar modes
+  // chattered into a stall; Runs/GoldenRun.*switching_rosenbrock4 hold the runs).
   void end_free_step_at(double t_s) {
     if constexpr (is_implicit<FreeIntegrator>::value) free_int_.end_step_at(free_sys_, t_s, stats_);
   }
