@@ -15,9 +15,6 @@
 #include <type_traits>
 
 #include "contact/angle_pair.hpp"
-#include "integrators/dense_dopri5.hpp"
-#include "integrators/dense_high_order.hpp"
-#include "integrators/dense_rodasp.hpp"
 #include "methods/chatter_guard.hpp"
 #include "methods/constrained_dynamics.hpp"
 #include "methods/event_scanner.hpp"
@@ -32,14 +29,8 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: Dormand-Prince 5(4) (integrator dopri5), one of the high-order
-// pairs with Hermite dense output (dense_high_order.hpp): Runge-Kutta-
-// Fehlberg 7(8) (rkf78), Dormand-Prince 8(5,3) (dop853); or RODASP
-// (rosenbrock4, dense_rodasp.hpp) in free flight, whose Jacobian is in
-// closed form (switching_systems.hpp), with dop853 in contact, whose
-// constrained dynamics has none: a flexible rotor's modes kept set the
-// explicit schemes' steps by their stability, not by the tolerance
-// (docs/rotors.md, "Speed at many modes").
+// kScheme: the integrator key, each regime's integrator by it
+// (SwitchingIntegrators, switching_systems.hpp).
 // Rotor: the rotor model (rotor_model.hpp); its block is carried through
 // every regime and event unchanged (no impulse reaches it), but for a
 // motor's spin jump's share at an impact.
@@ -48,16 +39,9 @@ class SwitchingMethod final : public ContactMethod {
  public:
   using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
   using CL = ContactLayout<kStatorDof, kMotor, Rotor>;
-  static constexpr Integrator kContactScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
-  template <class L, Integrator I>
-  using Dense = std::conditional_t<
-      I == Integrator::kDop853, DenseDop853<L>,
-      std::conditional_t<I == Integrator::kRkf78, DenseRkf78<L>,
-                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<typename L::State>,
-                                            DenseDopri5<typename L::State>>>>;
-  using FreeIntegrator = Dense<FL, kScheme>;
-  using ContactIntegrator = Dense<CL, kContactScheme>;
-  static_assert(!is_implicit<ContactIntegrator>::value, "the constrained dynamics has no Jacobian in closed form");
+  using Integrators = SwitchingIntegrators<FL, CL, kScheme>;
+  using FreeIntegrator = typename Integrators::Free;
+  using ContactIntegrator = typename Integrators::Contact;
 
   explicit SwitchingMethod(const Scene& scene)
       : rotor_(scene),
@@ -200,7 +184,8 @@ class SwitchingMethod final : public ContactMethod {
       free_int_.do_step(free_sys_, stats_);
       scan(free_int_.t_old(), std::min(free_int_.t_new(), t_limit_s), events);
     } else {
-      contact_int_.limit_dt(kContactScanPoints * kMaxScanAngle_rad / std::abs(values_end_.forcing_rate_rad_per_s));
+      contact_int_.limit_dt(Integrators::kContactScanPoints * kMaxScanAngle_rad /
+                            std::abs(values_end_.forcing_rate_rad_per_s));
       contact_int_.do_step(contact_sys_, stats_);
       scan(contact_int_.t_old(), std::min(contact_int_.t_new(), t_limit_s), events);
       record_contact_quality(valid_end_);
@@ -556,18 +541,15 @@ class SwitchingMethod final : public ContactMethod {
     stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(s.penetration_m));
   }
 
-  // Each regime's scan points, its integrator's (event_scanner.hpp).
-  static constexpr int kFreeScanPoints = scan_points(kScheme);
-  static constexpr int kContactScanPoints = scan_points(kContactScheme);
-  int scan_points_now() const { return regime_ == Regime::kFree ? kFreeScanPoints : kContactScanPoints; }
-  // At a speed segment's end or a live change at t_s, the implicit
-  // integrator's step is taken again to end there (DenseRodasp::end_step_at:
-  // its continuous extension amplifies unresolved stiff components between
-  // the step's ends). Not at an event: the state there is the dense
-  // output's at the located root, on the event's surface, as for the explicit
-  // schemes; a step taken again ends off it by its local error, and a graze
-  // restarted there fired again at once (the seal rotor at 16 planar modes
-  // chattered into a stall; Runs/GoldenRun.*switching_rosenbrock4 hold the runs).
+  int scan_points_now() const {
+    return regime_ == Regime::kFree ? Integrators::kFreeScanPoints : Integrators::kContactScanPoints;
+  }
+  // At a segment's end or a live change the implicit integrator's step is
+  // taken again to end at t_s (DenseRodasp::end_step_at: its extension
+  // amplifies unresolved stiff components). Not at an event, whose state is
+  // the dense output's at the root, on the surface: a step taken again ends
+  // off it by its local error, and a graze fired again at once
+  // (FlexibleRotorRuns.SwitchingOnRosenbrock4RunsTheRingingSealRub).
   void end_free_step_at(double t_s) {
     if constexpr (is_implicit<FreeIntegrator>::value) free_int_.end_step_at(free_sys_, t_s, stats_);
   }

@@ -1,15 +1,19 @@
 // The switching method's two systems of equations, free flight and the rotor
-// held on the bore, and its event functions' values: what its class template
-// (switching_method_impl.hpp) integrates and scans. Private to that header's
+// held on the bore, each regime's integrator and its event functions' values:
+// what its class template (switching_method_impl.hpp) integrates and scans. Private to that header's
 // units, as it is (an unnamed namespace).
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
+#include "integrators/dense_dopri5.hpp"
 #include "integrators/dense_high_order.hpp"
+#include "integrators/dense_rodasp.hpp"
 #include "methods/constrained_dynamics.hpp"
+#include "methods/event_scanner.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 #include "run/cost_profiler.hpp"
@@ -151,6 +155,31 @@ struct ContactSystem {
     dynamics.second_derivative(x, r, reference, ddx);
     return 1;  // one constrained-dynamics evaluation
   }
+};
+
+// Each regime's integrator for the integrator key kScheme: Dormand-Prince
+// 5(4) (dopri5), one of the high-order pairs with Hermite dense output
+// (dense_high_order.hpp: Runge-Kutta-Fehlberg 7(8), rkf78; Dormand-Prince
+// 8(5,3), dop853); or RODASP (rosenbrock4, dense_rodasp.hpp) in free flight,
+// whose Jacobian is in closed form (FreeFlightSystem), with dop853 in
+// contact, whose constrained dynamics has none: a flexible rotor's modes
+// kept set the explicit schemes' steps by their stability, not by the
+// tolerance (docs/rotors.md, "Speed at many modes"). Each regime scans for
+// events at its own integrator's points (event_scanner.hpp).
+template <class FL, class CL, Integrator kScheme>
+struct SwitchingIntegrators {
+  static constexpr Integrator kContactScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
+  template <class L, Integrator I>
+  using Dense = std::conditional_t<
+      I == Integrator::kDop853, DenseDop853<L>,
+      std::conditional_t<I == Integrator::kRkf78, DenseRkf78<L>,
+                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<typename L::State>,
+                                            DenseDopri5<typename L::State>>>>;
+  using Free = Dense<FL, kScheme>;
+  using Contact = Dense<CL, kContactScheme>;
+  static_assert(!is_implicit<Contact>::value, "the constrained dynamics has no Jacobian in closed form");
+  static constexpr int kFreeScanPoints = scan_points(kScheme);
+  static constexpr int kContactScanPoints = scan_points(kContactScheme);
 };
 
 enum class Regime { kFree, kContact };
