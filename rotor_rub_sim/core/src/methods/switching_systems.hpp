@@ -1,7 +1,7 @@
 // The switching method's two systems of equations, free flight and the rotor
 // held on the bore, each regime's integrator and its event functions' values:
-// what its class template (switching_method_impl.hpp) integrates and scans. Private to that header's
-// units, as it is (an unnamed namespace).
+// what its class template (switching_method_impl.hpp) integrates and scans.
+// Private to that header's units, as it is (an unnamed namespace).
 #pragma once
 
 #include <array>

@@ -23,8 +23,9 @@ namespace rotor_rub::core {
 // Switching on rosenbrock4 takes RODASP in free flight only, dop853 in
 // contact (the constrained dynamics has no closed-form Jacobian): a flexible
 // rotor's highest mode kept bounds the explicit schemes' steps, not RODASP's
-// (docs/rotors.md, "Speed at many modes"); auto does not pick it, as it is
-// the slower below about 8 planar modes and on the Jeffcott.
+// (docs/rotors.md, "Speed at many modes"); auto does not pick it: it is the
+// slower on the Jeffcott, below about 8 planar modes and where the contact
+// rings the modes kept (the seal rub-up from 12).
 // Why the other pairs are not offered: the rigid methods locate events on a
 // dense output of their own (dopri5's, RODASP's, or the Hermite one of rkf78
 // and dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
