@@ -2,10 +2,11 @@
 // against central differences of the same right-hand side: the penalty
 // method's (penalty_system.hpp) in every mode of the law (free, pressed in
 // the linear range, slipping either way, the clamped law's fallback; the
-// pressed mode also in its polar coordinates), and the switching method's
-// free flight (switching_systems.hpp); elastic and rigid stators, gravity,
-// friction 0 to 1, restitution 0 and 0.7, below and far above the critical
-// speed, the Jeffcott and flexible rotors, at random states (fixed seed).
+// pressed mode also in its polar coordinates), and the switching and
+// iteration methods' free flight (switching_systems.hpp,
+// iteration_system.hpp); elastic and rigid stators, gravity, friction 0 to
+// 1, restitution 0 and 0.7, below and far above the critical speed, the
+// Jeffcott and flexible rotors, at random states (fixed seed).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -15,6 +16,7 @@
 #include <random>
 #include <string>
 
+#include "methods/iteration_system.hpp"
 #include "methods/penalty_system.hpp"
 #include "methods/switching_systems.hpp"
 #include "rotor/rotor_model.hpp"
@@ -178,6 +180,14 @@ struct Checker {
       std::string where_free;
       EXPECT_LE(worst_ratio(free, x, steps(), t, &where_free), 1.0)
           << c.name << ", trial " << trial << ", free flight: " << where_free;
+      // The iteration method's system out of contact (its free flight on
+      // rosenbrock4): the same free flight, in its own system.
+      core::IterationSystem<kStatorDof, false, core::JeffcottRotor> iteration;
+      iteration.model = &model;
+      iteration.rotor = &rotor;
+      iteration.segment = c.segment;
+      EXPECT_LE(worst_ratio(iteration, x, steps(), t, &where_free), 1.0)
+          << c.name << ", trial " << trial << ", the iteration method's free flight: " << where_free;
       // The clamped law: only where no difference step crosses an edge.
       sys.mode = PenaltyMode{};
       sys.mode.clamped = true;
@@ -387,6 +397,12 @@ void check_flexible(const std::string& name, core::Scene s, const core::SpeedSeg
     std::string where_free;
     EXPECT_LE(worst_ratio(free, x, h, t, &where_free), 1.0)
         << name << ", trial " << trial << ", free flight: " << where_free;
+    core::IterationSystem<kStatorDof, false, core::FlexibleRotor> iteration;
+    iteration.model = &model;
+    iteration.rotor = &rotor;
+    iteration.segment = segment;
+    EXPECT_LE(worst_ratio(iteration, x, h, t, &where_free), 1.0)
+        << name << ", trial " << trial << ", the iteration method's free flight: " << where_free;
     // The pressed mode in polar coordinates, the block beside them (steps:
     // PolarChecker's; the block's 1e-4 and 1e-1: every row is linear in the
     // block, so no step truncates). psi'' = (t . (a_r - a_s) - 2 delta'

@@ -204,6 +204,18 @@ class DenseRodasp {
     x = x_old_ + s * ((x_new_ - x_old_) + (s - 1.0) * h * (cont_c_ + s * cont_d_));
   }
 
+  // Undo the last accepted step and retry it with dt_s (a method's own
+  // rejection: the iteration method's free step that passed the bore).
+  void retreat(double dt_s, RunStats& stats) {
+    x_new_ = x_old_;
+    t_new_ = t_old_;
+    dt_ = dt_s;
+    --stats.steps;
+    ++stats.rejected_steps;
+  }
+
+  const State& x_old() const { return x_old_; }
+  const State& x_new() const { return x_new_; }
   double t_old() const { return t_old_; }
   double t_new() const { return t_new_; }
   double dt() const { return dt_; }

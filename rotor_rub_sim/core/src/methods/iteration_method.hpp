@@ -41,7 +41,7 @@ namespace rotor_rub::core {
 /// The iteration method on integrator I for a scene of the Jeffcott rotor, and of
 /// a flexible rotor, for the scene's stator and drive (the registry's
 /// factories: solver_registry.cpp). Instantiated for the integrators the
-/// registry offers with it (dopri5 and dop853); a registry row without its
+/// registry offers with it (dopri5, dop853, rosenbrock4); a registry row without its
 /// instantiation fails to link.
 template <Integrator I>
 std::unique_ptr<ContactMethod> make_iteration_jeffcott(const Scene& scene);

@@ -14,8 +14,6 @@
 #include <string>
 #include <type_traits>
 
-#include "integrators/dense_dopri5.hpp"
-#include "integrators/dense_high_order.hpp"
 #include "methods/chatter_guard.hpp"
 #include "methods/contact_force_solver.hpp"
 #include "methods/event_scanner.hpp"
@@ -30,8 +28,9 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: Dormand-Prince 5(4) (integrator dopri5) or 8(5,3) with the
-// Hermite dense output (dop853, dense_high_order.hpp). Rotor: the rotor
+// kScheme: Dormand-Prince 5(4) (integrator dopri5), 8(5,3) with the Hermite
+// dense output (dop853, dense_high_order.hpp), or RODASP in free flight and
+// dop853 engaged (rosenbrock4: IterationIntegrator). Rotor: the rotor
 // model (rotor_model.hpp), every free load of the station its (loads());
 // its block goes through projections, impacts and restarts unchanged (no
 // contact force or impulse reaches it; a motor's spin jump at an impact
@@ -41,7 +40,7 @@ class IterationMethod final : public ContactMethod {
  public:
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
-  using Dense = std::conditional_t<kScheme == Integrator::kDop853, DenseDop853<L>, DenseDopri5<State>>;
+  using Dense = IterationIntegrator<L, kScheme>;  // each regime's
 
   explicit IterationMethod(const Scene& scene)
       : rotor_(scene),
@@ -81,6 +80,7 @@ class IterationMethod final : public ContactMethod {
 
   void change_segment(double t_s, const SpeedSegment& segment) override {
     ProfileScope scope(restart_time_s_);
+    integrator_.end_free_step_at(system_, t_s, stats_);  // under the old drive
     system_.segment = segment;
     ++stats_.restarts;
     if (pending_.due) {
@@ -106,6 +106,7 @@ class IterationMethod final : public ContactMethod {
       pending_.due = false;
       if (pending_.t_s <= t_s) apply(pending_);
     }
+    integrator_.end_free_step_at(system_, t_s, stats_);
     State x;
     integrator_.state_at(t_s, x);
     Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
@@ -190,6 +191,10 @@ class IterationMethod final : public ContactMethod {
     DriveState d = model_.drive_at(k, reference);
     ContactGeometry g = model_.contact_geometry(k, d);
     if (g.penetration_m < -gap_tolerance_m_) return;  // free flight goes on
+    // Leaving the bore (a rebound's first step, shorter than the gap
+    // tolerance over v_n): free flight goes on; pressed back, it returns
+    // (RigidBounce's cascade).
+    if (opens(g, k)) return;
     // At the bore within tolerance: impact law, then engage if needed.
     ContactEvent e;
     e.t_s = valid_end_;
@@ -305,8 +310,8 @@ class IterationMethod final : public ContactMethod {
     const double t0 = integrator_.t_old(), t1 = integrator_.t_new();
     ContactGeometry prev = geometry_at(t0);
     double prev_t = t0, worst = -std::numeric_limits<double>::infinity();
-    for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = scan_point(t0, t1, i, kScanPoints);
+    for (int i = 1; i <= Dense::kFreeScanPoints; ++i) {
+      const double ti = scan_point(t0, t1, i, Dense::kFreeScanPoints);
       const ContactGeometry g = geometry_at(ti);
       worst = std::max(worst, g.penetration_m);
       if (prev.normal_velocity_m_per_s > 0.0 && g.normal_velocity_m_per_s < 0.0) {
@@ -378,13 +383,13 @@ class IterationMethod final : public ContactMethod {
     }
     auto f = [this](double t) { return friction_event(t); };
     // The midpoint and the end of the step: an excursion out of the regime
-    // and back between two of them would be missed (kScanPoints). A
+    // and back between two of them would be missed (scan_points()). A
     // breakaway out of the cone and back between two points (the forcing
     // turns the stick force within a step: the transitions sweep,
     // config/sweeps/transitions.yaml) is found by the function's maximum
     // between them, its rate a difference quotient.
-    for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = scan_point(t0, t1, i, kScanPoints);
+    for (int i = 1; i <= Dense::kEngagedScanPoints; ++i) {
+      const double ti = scan_point(t0, t1, i, Dense::kEngagedScanPoints);
       const double fi = friction_event(ti);
       const double te = crossing(w, f, prev_t, prev_f, ti, fi, stats_);
       if (te < kNone) return te;
@@ -423,8 +428,8 @@ class IterationMethod final : public ContactMethod {
     w.armed = true;
     w.interior = !Rotor::kStationOnly;
     auto releasing = [this](double t) { return -pressing_at(t); };
-    for (int i = 1; i <= kScanPoints; ++i) {
-      const double ti = scan_point(t0, t1, i, kScanPoints);
+    for (int i = 1; i <= Dense::kEngagedScanPoints; ++i) {
+      const double ti = scan_point(t0, t1, i, Dense::kEngagedScanPoints);
       const double pressing_i = pressing_at(ti);
       const double te = crossing(w, releasing, prev_t, -prev_p, ti, -pressing_i, stats_);
       if (te < kNone) return te;
@@ -559,9 +564,8 @@ class IterationMethod final : public ContactMethod {
     valid_begin_ = valid_end_ = t_s;
   }
 
-  static constexpr int kScanPoints = scan_points(kScheme);  // event_scanner.hpp
-  double mode_start_s_ = -1.0;                              // when the current friction regime began
-  bool slip_from_breakaway_ = false;                        // that regime is a slip begun at a breakaway
+  double mode_start_s_ = -1.0;        // when the current friction regime began
+  bool slip_from_breakaway_ = false;  // that regime is a slip begun at a breakaway
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   ContactForceSolver solver_;

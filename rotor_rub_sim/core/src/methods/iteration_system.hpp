@@ -1,13 +1,20 @@
 // The iteration method's one system of equations: the station under the
 // rotor's free loads and the contact force iterated at every evaluation
-// (contact_force_solver.hpp), and the jerk of its Hermite dense output. What
-// its class template (iteration_method_impl.hpp) integrates. Private to that
+// (contact_force_solver.hpp), the jerk of its Hermite dense output, and the
+// integrator of each regime. What its class template
+// (iteration_method_impl.hpp) integrates, and how. Private to that
 // header's units, as it is (an unnamed namespace).
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
+#include <type_traits>
 
+#include "integrators/dense_dopri5.hpp"
+#include "integrators/dense_high_order.hpp"
+#include "integrators/dense_rodasp.hpp"
 #include "methods/contact_force_solver.hpp"
+#include "methods/event_scanner.hpp"
 #include "rotor/rotor_model.hpp"
 #include "rotor_rub_sim/core/speed_profile.hpp"
 #include "run/cost_profiler.hpp"
@@ -39,6 +46,23 @@ struct IterationSystem {
   }
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const { derivative(x, dxdt, t); }
+
+  // The stiff integrator's hooks (dense_rodasp.hpp; integrator rosenbrock4,
+  // which runs free flight only: IterationIntegrators). Free, the system is
+  // the switching method's free flight, linear under the prescribed drive:
+  // its Jacobian in closed form (free_jacobian); under a motor the
+  // integrator differences (test_penalty_jacobian.cpp holds both systems').
+  static constexpr bool kAnalyticJacobian = !kMotor;
+  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
+  static constexpr int kFixedDof = L::kDof;
+  static constexpr bool kOwnErrorNorm = false;
+  using State = typename L::State;
+  using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
+  void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
+    static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
+    if (engaged) throw std::logic_error("IterationSystem::jacobian: the engaged system's force is a root, no Jacobian");
+    free_jacobian<L>(*rotor, *model, x, segment.at(t), jac, dfdt);
+  }
 
   // The derivative and its rate along the solution at a step's end: the
   // central difference of the derivative along (dxdt, 1) over
@@ -90,6 +114,102 @@ struct IterationSystem {
     free_derivative<L>(*model, k, reference, a, dxdt);
     return f.normal_N;
   }
+};
+
+// The integrator for the integrator key kScheme: Dormand-Prince 5(4)
+// (dopri5) or 8(5,3) with the Hermite dense output (dop853) in both regimes;
+// for rosenbrock4, RODASP in free flight, whose Jacobian is in closed form
+// (IterationSystem::jacobian), and dop853 engaged, whose iterated force has
+// none: a flexible rotor's highest mode kept sets an explicit scheme's free
+// steps by its stability (docs/rotors.md, "Speed at many modes"). The
+// regime's integrator is the one a restart initializes (the system's
+// engaged); each regime scans at its own integrator's points
+// (event_scanner.hpp).
+template <class L, Integrator kScheme>
+class IterationIntegrator {
+ public:
+  using State = typename L::State;
+  static constexpr Integrator kEngagedScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
+  template <Integrator I>
+  using Dense =
+      std::conditional_t<I == Integrator::kDop853, DenseDop853<L>,
+                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<State>, DenseDopri5<State>>>;
+  using Free = Dense<kScheme>;
+  using Engaged = Dense<kEngagedScheme>;
+  static constexpr bool kOne = std::is_same_v<Free, Engaged>;
+  static_assert(!is_implicit<Engaged>::value, "the iterated contact force has no Jacobian in closed form");
+  static constexpr int kFreeScanPoints = scan_points(kScheme);
+  static constexpr int kEngagedScanPoints = scan_points(kEngagedScheme);
+
+  IterationIntegrator(double atol, double rtol, double min_step_s, long max_steps)
+      : free_(atol, rtol, min_step_s, max_steps), engaged_(atol, rtol, min_step_s, max_steps) {}
+
+  // Starts the regime's integrator at x (the step proposal dt_s carried over).
+  template <class System>
+  void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
+    engaged_on_ = !kOne && sys.engaged;
+    on([&](auto& i) { i.initialize(sys, x, t_s, dt_s, stats); });
+  }
+  template <class System>
+  void do_step(System& sys, RunStats& stats) {
+    on([&](auto& i) { i.do_step(sys, stats); });
+  }
+  void retreat(double dt_s, RunStats& stats) {
+    on([&](auto& i) { i.retreat(dt_s, stats); });
+  }
+  // At a segment's end or a live change an implicit free step is taken again
+  // to end at t_s (DenseRodasp::end_step_at: its continuous extension
+  // amplifies unresolved stiff components); the explicit schemes' dense
+  // output is their step's.
+  template <class System>
+  void end_free_step_at(System& sys, double t_s, RunStats& stats) {
+    if constexpr (is_implicit<Free>::value) {
+      if (!engaged_on_) free_.end_step_at(sys, t_s, stats);
+    }
+  }
+  void state_at(double t_s, State& x) const {
+    on([&](const auto& i) { i.state_at(t_s, x); });
+  }
+  const State& x_old() const {
+    return on([](const auto& i) -> const State& { return i.x_old(); });
+  }
+  const State& x_new() const {
+    return on([](const auto& i) -> const State& { return i.x_new(); });
+  }
+  double t_old() const {
+    return on([](const auto& i) { return i.t_old(); });
+  }
+  double t_new() const {
+    return on([](const auto& i) { return i.t_new(); });
+  }
+  double dt() const {
+    return on([](const auto& i) { return i.dt(); });
+  }
+
+ private:
+  struct None {  // dopri5's and dop853's one integrator
+    None(double /*atol*/, double /*rtol*/, double /*min_step_s*/, long /*max_steps*/) {}
+  };
+  // f applied to the regime's integrator.
+  template <class F>
+  decltype(auto) on(F&& f) {
+    if constexpr (kOne) {
+      return f(free_);
+    } else {
+      return engaged_on_ ? f(engaged_) : f(free_);
+    }
+  }
+  template <class F>
+  decltype(auto) on(F&& f) const {
+    if constexpr (kOne) {
+      return f(free_);
+    } else {
+      return engaged_on_ ? f(engaged_) : f(free_);
+    }
+  }
+  Free free_;
+  std::conditional_t<kOne, None, Engaged> engaged_;  // rosenbrock4's dop853
+  bool engaged_on_ = false;
 };
 
 }  // namespace

@@ -99,29 +99,21 @@ struct PenaltySystem {
     const double radius_m = model->parameters().rotor_radius_m;
     const auto c = law.force_jacobian(g, k.rotor_vel - k.stator_vel, m, d.accel_rad_per_s2 * radius_m);
     const double imr = model->inv_rotor_mass();
-    const int n = modal_count<L>(x);
-    jac.setZero(x.size(), x.size());
-    dfdt.setZero(x.size());
-    jac.template block<2, 2>(L::kRotorPos, L::kRotorVel).setIdentity();
-    for (int i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
-    rotor->template add_free_jacobian<L>(*model, x, d, jac, dfdt);
+    free_jacobian<L>(*rotor, *model, x, d, jac, dfdt);
     jac.template block<2, 2>(L::kRotorVel, L::kRotorPos) += c.d_rel_pos * imr;
     jac.template block<2, 2>(L::kRotorVel, L::kRotorVel) += c.d_rel_vel * imr;
     dfdt.template segment<2>(L::kRotorVel) += c.d_time * imr;
     if constexpr (kStatorDof == 2) {
-      // The stator takes -F_c, a function of rel = r_r - r_s, and its own
-      // spring and damper.
+      // The stator takes -F_c, a function of rel = r_r - r_s (its own spring
+      // and damper are free_jacobian's).
       const double ims = model->inv_stator_mass();
-      const ModelParameters& p = model->parameters();
-      const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
-      jac.template block<2, 2>(L::kStatorPos, L::kStatorVel) = eye;
       jac.template block<2, 2>(L::kRotorVel, L::kStatorPos) = -c.d_rel_pos * imr;
       jac.template block<2, 2>(L::kRotorVel, L::kStatorVel) = -c.d_rel_vel * imr;
       jac.template block<2, 2>(L::kStatorVel, L::kRotorPos) = -c.d_rel_pos * ims;
       jac.template block<2, 2>(L::kStatorVel, L::kRotorVel) = -c.d_rel_vel * ims;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) = (c.d_rel_pos - p.stator_stiffness_N_per_m * eye) * ims;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = (c.d_rel_vel - p.stator_damping_N_s_per_m * eye) * ims;
-      dfdt.template segment<2>(L::kStatorVel) = -c.d_time * ims;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) += c.d_rel_pos * ims;
+      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) += c.d_rel_vel * ims;
+      dfdt.template segment<2>(L::kStatorVel) -= c.d_time * ims;
     }
   }
 };

@@ -46,22 +46,7 @@ struct FreeFlightSystem {
   using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
     static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
-    static_assert(L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof, "[q, v] layout");
-    const DriveState d = segment.at(t);
-    const int n = modal_count<L>(x);
-    jac.setZero(x.size(), x.size());
-    dfdt.setZero(x.size());
-    jac.template block<2, 2>(L::kRotorPos, L::kRotorVel).setIdentity();
-    for (int i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
-    rotor->template add_free_jacobian<L>(*model, x, d, jac, dfdt);
-    if constexpr (kStatorDof == 2) {
-      const double ims = model->inv_stator_mass();
-      const ModelParameters& p = model->parameters();
-      const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
-      jac.template block<2, 2>(L::kStatorPos, L::kStatorVel) = eye;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) = -p.stator_stiffness_N_per_m * ims * eye;
-      jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = -p.stator_damping_N_s_per_m * ims * eye;
-    }
+    free_jacobian<L>(*rotor, *model, x, segment.at(t), jac, dfdt);
   }
   void operator()(const State& x, State& dxdt, double t) const {
     ProfileScope scope(rhs_time_s);

@@ -205,6 +205,32 @@ FreeLoads derivative_loads(const Rotor& rotor, const StationModel& m, const Kine
   return rotor.loads(m, k, d, x.tail(2 * n), dxdt.tail(n));
 }
 
+/// The free system's Jacobian at x of layout L ([q, v] then a block's xi and
+/// xi') under the prescribed drive d: the positions' rows [0 I], the rotor's
+/// free loads (add_free_jacobian) and an elastic stator's spring and damper;
+/// their partial time rate into dfdt. Free flight's whole Jacobian (the
+/// switching and iteration methods' free integrator), the part of the penalty
+/// method's that the contact law adds to (test_penalty_jacobian.cpp).
+template <class L, class Rotor, class Matrix>
+void free_jacobian(const Rotor& rotor, const StationModel& m, const typename L::State& x, const DriveState& d,
+                   Matrix& jac, typename L::State& dfdt) {
+  static_assert(L::kRotorVel == L::kDof && L::kSize == 2 * L::kDof, "[q, v] layout (no spin)");
+  const int n = modal_count<L>(x);
+  jac.setZero(x.size(), x.size());
+  dfdt.setZero(x.size());
+  jac.template block<2, 2>(L::kRotorPos, L::kRotorVel).setIdentity();
+  for (int i = 0; i < n; ++i) jac(L::kModal + i, L::kModal + n + i) = 1.0;
+  rotor.template add_free_jacobian<L>(m, x, d, jac, dfdt);
+  if constexpr (L::kDof == 4) {  // an elastic stator
+    const double ims = m.inv_stator_mass();
+    const ModelParameters& p = m.parameters();
+    const Eigen::Matrix2d eye = Eigen::Matrix2d::Identity();
+    jac.template block<2, 2>(L::kStatorPos, L::kStatorVel) = eye;
+    jac.template block<2, 2>(L::kStatorVel, L::kStatorPos) = -p.stator_stiffness_N_per_m * ims * eye;
+    jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = -p.stator_damping_N_s_per_m * ims * eye;
+  }
+}
+
 /// The free loads of a state given as its kinematics k and block modal (an
 /// impact's, a sample's), xi'' discarded.
 template <class Rotor>

@@ -20,8 +20,9 @@ namespace rotor_rub::core {
 // rtol (faster than dopri5 on the stiff contact spring, at equal or better
 // accuracy). The figures: docs/benchmarks.md, "Timings the other pages rest
 // on".
-// Switching on rosenbrock4 takes RODASP in free flight only, dop853 in
-// contact (the constrained dynamics has no closed-form Jacobian): a flexible
+// Switching and iteration on rosenbrock4 take RODASP in free flight only,
+// dop853 in contact (neither the constrained dynamics nor the iterated force
+// has a closed-form Jacobian): a flexible
 // rotor's highest mode kept bounds the explicit schemes' steps, not RODASP's
 // (docs/rotors.md, "Speed at many modes"); auto does not pick it: it is the
 // slower on the Jeffcott, below about 8 planar modes and where the contact
@@ -91,6 +92,11 @@ const std::vector<SolverEntry>& solver_registry() {
        {kAnyRtol, kAnyRtol},
        {&make_iteration_jeffcott<I::kDopri5>, &make_iteration_flexible<I::kDopri5>},
        "explicit 5(4) with its own dense output, ode45's scheme (the paper's): loose tolerances"},
+      {M::kIteration,
+       I::kRosenbrock4,
+       {0.0, 0.0},
+       {&make_iteration_jeffcott<I::kRosenbrock4>, &make_iteration_flexible<I::kRosenbrock4>},
+       "RODASP in free flight (its Jacobian in closed form), dop853 engaged: a flexible rotor with many modes"},
   };
   return table;
 }

@@ -139,6 +139,10 @@ inline constexpr double kClosingRounding = 1e-12;
 inline bool closes(const ContactGeometry& g, const Kinematics& k) {
   return g.normal_velocity_m_per_s > kClosingRounding * (k.rotor_vel.norm() + k.stator_vel.norm());
 }
+// Whether the rotor leaves the bore: v_n below minus that rounding.
+inline bool opens(const ContactGeometry& g, const Kinematics& k) {
+  return g.normal_velocity_m_per_s < -kClosingRounding * (k.rotor_vel.norm() + k.stator_vel.norm());
+}
 
 struct ImpactResult {
   double normal_impulse_N_s = 0.0;
