@@ -440,4 +440,12 @@ struct is_implicit : std::false_type {};
 template <class State>
 struct is_implicit<DenseRodasp<State>> : std::true_type {};
 
+// Ends an implicit integrator's last step at t_s, at a speed segment's end or
+// a live change (DenseRodasp::end_step_at); an explicit scheme's dense output
+// is its step's own, and nothing is taken again.
+template <class Integrator, class System>
+void end_step_if_implicit(Integrator& integrator, System& sys, double t_s, RunStats& stats) {
+  if constexpr (is_implicit<Integrator>::value) integrator.end_step_at(sys, t_s, stats);
+}
+
 }  // namespace rotor_rub::core

@@ -157,15 +157,10 @@ class IterationIntegrator {
   void retreat(double dt_s, RunStats& stats) {
     on([&](auto& i) { i.retreat(dt_s, stats); });
   }
-  // At a segment's end or a live change an implicit free step is taken again
-  // to end at t_s (DenseRodasp::end_step_at: its continuous extension
-  // amplifies unresolved stiff components); the explicit schemes' dense
-  // output is their step's.
+  // At a segment's end or a live change (end_step_if_implicit).
   template <class System>
   void end_free_step_at(System& sys, double t_s, RunStats& stats) {
-    if constexpr (is_implicit<Free>::value) {
-      if (!engaged_on_) free_.end_step_at(sys, t_s, stats);
-    }
+    if (!engaged_on_) end_step_if_implicit(free_, sys, t_s, stats);
   }
   void state_at(double t_s, State& x) const {
     on([&](const auto& i) { i.state_at(t_s, x); });

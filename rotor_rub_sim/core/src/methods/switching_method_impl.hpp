@@ -40,8 +40,6 @@ class SwitchingMethod final : public ContactMethod {
   using FL = FreeLayout<kStatorDof, kMotor, Rotor>;
   using CL = ContactLayout<kStatorDof, kMotor, Rotor>;
   using Integrators = SwitchingIntegrators<FL, CL, kScheme>;
-  using FreeIntegrator = typename Integrators::Free;
-  using ContactIntegrator = typename Integrators::Contact;
 
   explicit SwitchingMethod(const Scene& scene)
       : rotor_(scene),
@@ -81,7 +79,11 @@ class SwitchingMethod final : public ContactMethod {
   void change_segment(double t_s, const SpeedSegment& segment) override {
     end_sample_valid_ = false;
     ProfileScope scope(restart_time_s_);
-    if (regime_ == Regime::kFree) end_free_step_at(t_s);  // under the old drive
+    // RODASP's step taken again to end here, under the old drive. Not at an
+    // event, whose state is the dense output's on the surface: taken again it
+    // ends off it by the local error, and a graze fires again at once
+    // (FlexibleRotorRuns.SwitchingOnRosenbrock4RunsTheRingingSealRub).
+    if (regime_ == Regime::kFree) end_step_if_implicit(free_int_, free_sys_, t_s, stats_);
     free_sys_.segment = contact_sys_.segment = segment;
     ++stats_.restarts;
     if (pending_.due) {
@@ -125,7 +127,7 @@ class SwitchingMethod final : public ContactMethod {
     Kinematics k;
     const bool was_stick = regime_ == Regime::kContact && contact_sys_.dynamics.mode.stick;
     if (regime_ == Regime::kFree) {
-      end_free_step_at(t_s);
+      end_step_if_implicit(free_int_, free_sys_, t_s, stats_);  // as at a segment's end
       typename FL::State x;
       free_int_.state_at(t_s, x);
       k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
@@ -544,21 +546,12 @@ class SwitchingMethod final : public ContactMethod {
   int scan_points_now() const {
     return regime_ == Regime::kFree ? Integrators::kFreeScanPoints : Integrators::kContactScanPoints;
   }
-  // At a segment's end or a live change the implicit integrator's step is
-  // taken again to end at t_s (DenseRodasp::end_step_at: its extension
-  // amplifies unresolved stiff components). Not at an event, whose state is
-  // the dense output's at the root, on the surface: a step taken again ends
-  // off it by its local error, and a graze fired again at once
-  // (FlexibleRotorRuns.SwitchingOnRosenbrock4RunsTheRingingSealRub).
-  void end_free_step_at(double t_s) {
-    if constexpr (is_implicit<FreeIntegrator>::value) free_int_.end_step_at(free_sys_, t_s, stats_);
-  }
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)
   FreeFlightSystem<kStatorDof, kMotor, Rotor> free_sys_;
   ContactSystem<kStatorDof, kMotor, Rotor> contact_sys_;
-  FreeIntegrator free_int_;
-  ContactIntegrator contact_int_;
+  typename Integrators::Free free_int_;
+  typename Integrators::Contact contact_int_;
   double initial_step_s_;
   double penetration_tolerance_m_;
   ChatterGuard guard_;
