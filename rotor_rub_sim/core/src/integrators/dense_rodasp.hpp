@@ -1,5 +1,5 @@
 // The stiff option (integrator key rosenbrock4: the penalty method, the
-// switching method's free flight): RODASP,
+// switching and iteration methods' free flight): RODASP,
 // Steinebach's L-stable, stiffly accurate Rosenbrock 4(3) with six stages and
 // a third-order continuous extension, on fixed-size Eigen types (a flexible
 // rotor's: dynamic within a fixed bound, below).
@@ -26,13 +26,13 @@
 //   y1 = y + h sum b_i K_i, the embedded y1^ = y + h sum bh_i K_i,
 //   y(t + s h) = y + s h sum K_i (b_i + (s - 1)(c_i + s d_i)).
 // The Jacobian J = df/dy and f_t = df/dt come from the system in closed form
-// where it gives them (kAnalyticJacobian: the penalty method under the
-// prescribed drive, a flexible rotor's too, penalty_system.hpp; 6
-// right-hand sides an accepted step, 5 a rejected one), else are forward
-// differences of the same right-hand side (jacobian()): n + 2 more a step
-// for n states (a motor drive's). A flexible rotor's
-// state is dynamic within a bound (model.hpp), and so are J and its LU: on
-// the stack, no allocation per step.
+// where it gives them (kAnalyticJacobian: under the prescribed drive, the
+// penalty method's, penalty_system.hpp, and free flight's, free_jacobian in
+// rotor_model.hpp; 6 right-hand sides an accepted step, 5 a rejected one),
+// else are forward differences of the same right-hand side (jacobian()): n +
+// 2 more a step for n states (a motor drive's). A flexible rotor's state is
+// dynamic within a bound (state_layout.hpp), J and its LU are allocated once
+// (initialize()): no allocation per step.
 #pragma once
 
 #include <Eigen/Dense>

@@ -40,7 +40,7 @@ class IterationMethod final : public ContactMethod {
  public:
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
-  using Dense = IterationIntegrator<L, kScheme>;  // each regime's
+  using Dense = IterationIntegrator<L, kScheme>;  // each regime's dense-output integrator
 
   explicit IterationMethod(const Scene& scene)
       : rotor_(scene),
@@ -191,10 +191,7 @@ class IterationMethod final : public ContactMethod {
     DriveState d = model_.drive_at(k, reference);
     ContactGeometry g = model_.contact_geometry(k, d);
     if (g.penetration_m < -gap_tolerance_m_) return;  // free flight goes on
-    // Leaving the bore (a rebound's first step, shorter than the gap
-    // tolerance over v_n): free flight goes on; pressed back, it returns
-    // (RigidBounce's cascade).
-    if (opens(g, k)) return;
+    if (opens(g, k)) return;                          // leaving: a rebound's first step (RigidBounce's cascade)
     // At the bore within tolerance: impact law, then engage if needed.
     ContactEvent e;
     e.t_s = valid_end_;
@@ -211,7 +208,7 @@ class IterationMethod final : public ContactMethod {
       e.normal_velocity_m_per_s = ir.closing_velocity_m_per_s;
       e.impulse_N_s = ir.normal_impulse_N_s;
     } else if (!(pressing_acceleration(model_, k, d, g, loads(k, modal, d)) > 0.0)) {
-      return;  // at the bore, but leaving and not pressed: nothing happens
+      return;  // at the bore, neither closing nor pressed: nothing happens
     }
     d = model_.drive_at(k, reference);  // a motor's spin took part in the impact
     g = model_.contact_geometry(k, d);
@@ -256,7 +253,10 @@ class IterationMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
+  void change_rotor(double t_s, std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    integrator_.end_free_step_at(system_, t_s, stats_);  // under the old rotor
+    rotor_.replace(std::move(rotor));
+  }
   ModalState modal_state(double t_s) const override {
     if (rotor_.modal_size() == 0) return ModalState();  // no block: nothing to interpolate
     State x;
@@ -382,8 +382,8 @@ class IterationMethod final : public ContactMethod {
       w.on_surface_without_rate = slip_from_breakaway_ && !w.on_surface;
     }
     auto f = [this](double t) { return friction_event(t); };
-    // The midpoint and the end of the step: an excursion out of the regime
-    // and back between two of them would be missed (scan_points()). A
+    // The scan points of the step: an excursion out of the regime and back
+    // between two of them would be missed (scan_points()). A
     // breakaway out of the cone and back between two points (the forcing
     // turns the stick force within a step: the transitions sweep,
     // config/sweeps/transitions.yaml) is found by the function's maximum

@@ -10,9 +10,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "integrators/dense_dopri5.hpp"
-#include "integrators/dense_high_order.hpp"
-#include "integrators/dense_rodasp.hpp"
+#include "integrators/dense_for.hpp"
 #include "methods/contact_force_solver.hpp"
 #include "methods/event_scanner.hpp"
 #include "rotor/rotor_model.hpp"
@@ -23,7 +21,7 @@ namespace rotor_rub::core {
 namespace {
 
 template <int kStatorDof, bool kMotor, class Rotor>
-struct IterationSystem {
+struct IterationSystem : FreeFlightJacobianHooks<FreeLayout<kStatorDof, kMotor, Rotor>, kMotor> {
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   // The jerk for the Hermite dense output (DenseHighOrder): a difference
   // (the contact force is a root, its rate no closed form), end_derivatives.
@@ -47,19 +45,13 @@ struct IterationSystem {
 
   void operator()(const typename L::State& x, typename L::State& dxdt, double t) const { derivative(x, dxdt, t); }
 
-  // The stiff integrator's hooks (dense_rodasp.hpp; integrator rosenbrock4,
-  // which runs free flight only: IterationIntegrators). Free, the system is
-  // the switching method's free flight, linear under the prescribed drive:
-  // its Jacobian in closed form (free_jacobian); under a motor the
-  // integrator differences (test_penalty_jacobian.cpp holds both systems').
-  static constexpr bool kAnalyticJacobian = !kMotor;
-  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
-  static constexpr int kFixedDof = L::kDof;
-  static constexpr bool kOwnErrorNorm = false;
+  // The stiff integrator's Jacobian (integrator rosenbrock4, which runs free
+  // flight only: IterationIntegrator): free, the system is the switching
+  // method's free flight (free_jacobian; test_penalty_jacobian.cpp).
   using State = typename L::State;
-  using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
+  using typename FreeFlightJacobianHooks<L, kMotor>::Matrix;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
-    static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
+    static_assert(!kMotor, "the motor drive's Jacobian is differenced");
     if (engaged) throw std::logic_error("IterationSystem::jacobian: the engaged system's force is a root, no Jacobian");
     free_jacobian<L>(*rotor, *model, x, segment.at(t), jac, dfdt);
   }
@@ -129,14 +121,11 @@ template <class L, Integrator kScheme>
 class IterationIntegrator {
  public:
   using State = typename L::State;
-  static constexpr Integrator kEngagedScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
-  template <Integrator I>
-  using Dense =
-      std::conditional_t<I == Integrator::kDop853, DenseDop853<L>,
-                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<State>, DenseDopri5<State>>>;
-  using Free = Dense<kScheme>;
-  using Engaged = Dense<kEngagedScheme>;
+  static constexpr Integrator kEngagedScheme = explicit_partner(kScheme);
+  using Free = DenseFor<L, kScheme>;
+  using Engaged = DenseFor<L, kEngagedScheme>;
   static constexpr bool kOne = std::is_same_v<Free, Engaged>;
+  static_assert(!std::is_void_v<Free>, "no dense-output integrator for this key (DenseFor)");
   static_assert(!is_implicit<Engaged>::value, "the iterated contact force has no Jacobian in closed form");
   static constexpr int kFreeScanPoints = scan_points(kScheme);
   static constexpr int kEngagedScanPoints = scan_points(kEngagedScheme);
@@ -182,7 +171,7 @@ class IterationIntegrator {
   }
 
  private:
-  struct None {  // dopri5's and dop853's one integrator
+  struct None {  // no engaged integrator: one runs both regimes (dopri5, dop853)
     None(double /*atol*/, double /*rtol*/, double /*min_step_s*/, long /*max_steps*/) {}
   };
   // f applied to the regime's integrator.

@@ -202,7 +202,10 @@ class PenaltyMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
+  void change_rotor(double t_s, std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    end_step_at(t_s);  // under the old rotor (Faults.BladeLossActsFromItsInstant)
+    rotor_.replace(std::move(rotor));
+  }
   ModalState modal_state(double t_s) const override { return modal_at(t_s); }
 
   const RunStats& stats() const override { return stats_; }

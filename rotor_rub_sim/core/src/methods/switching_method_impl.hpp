@@ -79,9 +79,8 @@ class SwitchingMethod final : public ContactMethod {
   void change_segment(double t_s, const SpeedSegment& segment) override {
     end_sample_valid_ = false;
     ProfileScope scope(restart_time_s_);
-    // RODASP's step taken again to end here, under the old drive. Not at an
-    // event, whose state is the dense output's on the surface: taken again it
-    // ends off it by the local error, and a graze fires again at once
+    // RODASP's step taken again to end here, under the old drive; not at an
+    // event, whose state is on its surface: taken again, a graze fired again
     // (FlexibleRotorRuns.SwitchingOnRosenbrock4RunsTheRingingSealRub).
     if (regime_ == Regime::kFree) end_step_if_implicit(free_int_, free_sys_, t_s, stats_);
     free_sys_.segment = contact_sys_.segment = segment;
@@ -94,13 +93,11 @@ class SwitchingMethod final : public ContactMethod {
       pending_.due = false;
     }
     if (regime_ == Regime::kFree) {
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       const double dt = free_int_.dt();
       free_int_.initialize(free_sys_, x, t_s, dt, stats_);
     } else {
-      typename CL::State x;
-      contact_int_.state_at(t_s, x);
+      const typename CL::State x = contact_state(t_s);
       const double dt = contact_int_.dt();
       contact_int_.initialize(contact_sys_, x, t_s, dt, stats_);
     }
@@ -128,13 +125,11 @@ class SwitchingMethod final : public ContactMethod {
     const bool was_stick = regime_ == Regime::kContact && contact_sys_.dynamics.mode.stick;
     if (regime_ == Regime::kFree) {
       end_step_if_implicit(free_int_, free_sys_, t_s, stats_);  // as at a segment's end
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       pending_.modal = modal_of<FL>(x);
     } else {
-      typename CL::State x;
-      contact_int_.state_at(t_s, x);
+      const typename CL::State x = contact_state(t_s);
       k = contact_sys_.dynamics.kinematics(x);
       pending_.modal = modal_of<CL>(x);
     }
@@ -206,16 +201,17 @@ class SwitchingMethod final : public ContactMethod {
   }
 
   const FlexibleRotorModel* flexible_rotor() const override { return rotor_.flexible(); }
-  void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) override { rotor_.replace(std::move(rotor)); }
+  void change_rotor(double t_s, std::shared_ptr<const FlexibleRotorModel> rotor) override {
+    if (regime_ == Regime::kFree) end_step_if_implicit(free_int_, free_sys_, t_s, stats_);  // under the old rotor
+    rotor_.replace(std::move(rotor));
+  }
   ModalState modal_state(double t_s) const override {
     if (rotor_.modal_size() == 0) return ModalState();  // no block: nothing to interpolate
     if (regime_ == Regime::kFree) {
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       return modal_of<FL>(x);
     }
-    typename CL::State x;
-    contact_int_.state_at(t_s, x);
+    const typename CL::State x = contact_state(t_s);
     return modal_of<CL>(x);
   }
 
@@ -234,15 +230,13 @@ class SwitchingMethod final : public ContactMethod {
   Sample station_sample(double t_s) const {
     const DriveState reference = free_sys_.segment.at(t_s);
     if (regime_ == Regime::kFree) {
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, reference);
       const auto loads = motor_loads(k, d, modal_of<FL>(x));
       return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), 0.0, 0.0, false, loads ? &*loads : nullptr);
     }
-    typename CL::State x;
-    contact_int_.state_at(t_s, x);
+    const typename CL::State x = contact_state(t_s);
     const auto c = contact_sys_.dynamics.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
     const auto loads = motor_loads(c.kin, d, modal_of<CL>(x));
@@ -288,16 +282,14 @@ class SwitchingMethod final : public ContactMethod {
     v.rate.fill(std::numeric_limits<double>::quiet_NaN());
     const DriveState d = free_sys_.segment.at(t_s);
     if (regime_ == Regime::kFree) {
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const ContactGeometry g = model_.contact_geometry(k, model_.drive_at(k, d));
       v.value[kGap] = g.penetration_m;
       v.rate[kGap] = g.normal_velocity_m_per_s;
       return v;
     }
-    typename CL::State x;
-    contact_int_.state_at(t_s, x);
+    const typename CL::State x = contact_state(t_s);
     const auto& dynamics = contact_sys_.dynamics;
     const auto c = dynamics.evaluate(x, d);
     const double f = model_.parameters().friction_coefficient;
@@ -399,8 +391,7 @@ class SwitchingMethod final : public ContactMethod {
     pending_.t_s = te;
     pending_.due = true;
     if (regime_ == Regime::kContact) {
-      typename CL::State x;
-      contact_int_.state_at(te, x);
+      const typename CL::State x = contact_state(te);
       if (k == kGap) {
         events.push_back({te, EventKind::kLiftoff, 0.0, 0.0});
         pending_.kin = contact_sys_.dynamics.kinematics(x);
@@ -424,8 +415,7 @@ class SwitchingMethod final : public ContactMethod {
       pending_.regime = Regime::kContact;
       return;
     }
-    typename FL::State x_at;
-    free_int_.state_at(te, x_at);
+    const typename FL::State x_at = free_state(te);
     Kinematics k_at = kinematics_of<kStatorDof, kMotor, Rotor>(x_at);
     pending_.modal = modal_of<FL>(x_at);
     const DriveState d_at = model_.drive_at(k_at, d);
@@ -521,8 +511,7 @@ class SwitchingMethod final : public ContactMethod {
       // 2 |v_n| / a_press (a parabola over so short a flight): scan() probes
       // past it, on the bore's far side if it returned
       // (ReboundCascade.EveryReturnIsFound).
-      typename FL::State x;
-      free_int_.state_at(t_s, x);
+      const typename FL::State x = free_state(t_s);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, free_sys_.segment.at(t_s));
       const ContactGeometry g = model_.contact_geometry(k, d);
@@ -543,6 +532,17 @@ class SwitchingMethod final : public ContactMethod {
     stats_.max_constraint_violation_m = std::max(stats_.max_constraint_violation_m, std::abs(s.penetration_m));
   }
 
+  // The dense output of the free regime's and the contact regime's integrator.
+  typename FL::State free_state(double t_s) const {
+    typename FL::State x;
+    free_int_.state_at(t_s, x);
+    return x;
+  }
+  typename CL::State contact_state(double t_s) const {
+    typename CL::State x;
+    contact_int_.state_at(t_s, x);
+    return x;
+  }
   int scan_points_now() const {
     return regime_ == Regime::kFree ? Integrators::kFreeScanPoints : Integrators::kContactScanPoints;
   }

@@ -9,9 +9,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "integrators/dense_dopri5.hpp"
-#include "integrators/dense_high_order.hpp"
-#include "integrators/dense_rodasp.hpp"
+#include "integrators/dense_for.hpp"
 #include "methods/constrained_dynamics.hpp"
 #include "methods/event_scanner.hpp"
 #include "rotor/rotor_model.hpp"
@@ -24,28 +22,21 @@ namespace {
 // Free flight: the station (model) under the rotor's free loads, and the
 // rotor's own block (rotor_model.hpp).
 template <int kStatorDof, bool kMotor, class Rotor>
-struct FreeFlightSystem {
+struct FreeFlightSystem : FreeFlightJacobianHooks<FreeLayout<kStatorDof, kMotor, Rotor>, kMotor> {
   using L = FreeLayout<kStatorDof, kMotor, Rotor>;
   using State = typename L::State;
   const StationModel* model;
   const Rotor* rotor = nullptr;
   SpeedSegment segment;
   double* rhs_time_s = nullptr;  // profiling only
-  // The stiff integrator's hooks (dense_rodasp.hpp; integrator rosenbrock4,
-  // which runs free flight only). Under the prescribed drive free flight is
-  // linear: its Jacobian is the rotor model's free loads' (add_free_jacobian)
-  // and the stator's spring and damper, in closed form, and the positions'
-  // rows are [0 I] (the second-order solve, kFixedDof the positions before
-  // a block). Under a motor drive the spin couples every row, and the
-  // integrator differences. test_penalty_jacobian.cpp holds it against
+  // The stiff integrator's Jacobian (integrator rosenbrock4, which runs free
+  // flight only): under the prescribed drive free flight is linear, its
+  // Jacobian the rotor model's free loads' and the stator's spring and
+  // damper (free_jacobian). test_penalty_jacobian.cpp holds it against
   // differences (ClosedFormMatchesDifferencesInEveryMode, FlexibleRotors...).
-  static constexpr bool kAnalyticJacobian = !kMotor;
-  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
-  static constexpr int kFixedDof = L::kDof;
-  static constexpr bool kOwnErrorNorm = false;
-  using Matrix = std::conditional_t<kHasModalBlock<State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
+  using typename FreeFlightJacobianHooks<L, kMotor>::Matrix;
   void jacobian(const State& x, double t, Matrix& jac, State& dfdt) const {
-    static_assert(kAnalyticJacobian, "the motor drive's Jacobian is differenced");
+    static_assert(!kMotor, "the motor drive's Jacobian is differenced");
     free_jacobian<L>(*rotor, *model, x, segment.at(t), jac, dfdt);
   }
   void operator()(const State& x, State& dxdt, double t) const {
@@ -153,15 +144,10 @@ struct ContactSystem {
 // events at its own integrator's points (event_scanner.hpp).
 template <class FL, class CL, Integrator kScheme>
 struct SwitchingIntegrators {
-  static constexpr Integrator kContactScheme = kScheme == Integrator::kRosenbrock4 ? Integrator::kDop853 : kScheme;
-  template <class L, Integrator I>
-  using Dense = std::conditional_t<
-      I == Integrator::kDop853, DenseDop853<L>,
-      std::conditional_t<I == Integrator::kRkf78, DenseRkf78<L>,
-                         std::conditional_t<I == Integrator::kRosenbrock4, DenseRodasp<typename L::State>,
-                                            DenseDopri5<typename L::State>>>>;
-  using Free = Dense<FL, kScheme>;
-  using Contact = Dense<CL, kContactScheme>;
+  static constexpr Integrator kContactScheme = explicit_partner(kScheme);
+  using Free = DenseFor<FL, kScheme>;
+  using Contact = DenseFor<CL, kContactScheme>;
+  static_assert(!std::is_void_v<Free>, "no dense-output integrator for this key (DenseFor)");
   static_assert(!is_implicit<Contact>::value, "the constrained dynamics has no Jacobian in closed form");
   static constexpr int kFreeScanPoints = scan_points(kScheme);
   static constexpr int kContactScanPoints = scan_points(kContactScheme);

@@ -39,6 +39,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 #include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/model.hpp"
@@ -230,6 +231,22 @@ void free_jacobian(const Rotor& rotor, const StationModel& m, const typename L::
     jac.template block<2, 2>(L::kStatorVel, L::kStatorVel) = -p.stator_damping_N_s_per_m * ims * eye;
   }
 }
+
+/// The stiff integrator's hooks (dense_rodasp.hpp) of a system whose
+/// Jacobian is free flight's (free_jacobian): in closed form under the
+/// prescribed drive, the positions' rows [0 I] (the second-order solve,
+/// kFixedDof the positions before a block); under a motor the spin couples
+/// every row and the integrator differences. The switching and iteration
+/// methods' free flight derive from it.
+template <class L, bool kMotor>
+struct FreeFlightJacobianHooks {
+  static constexpr bool kAnalyticJacobian = !kMotor;
+  static constexpr bool kSecondOrderJacobian = kAnalyticJacobian;
+  static constexpr int kFixedDof = L::kDof;
+  static constexpr bool kOwnErrorNorm = false;
+  using Matrix =
+      std::conditional_t<kHasModalBlock<typename L::State>, Eigen::MatrixXd, Eigen::Matrix<double, L::kSize, L::kSize>>;
+};
 
 /// The free loads of a state given as its kinematics k and block modal (an
 /// impact's, a sample's), xi'' discarded.

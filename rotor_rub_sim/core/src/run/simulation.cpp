@@ -189,7 +189,7 @@ void Simulation::change_parameters(const std::map<std::string, std::string>& cha
   scene_.model = next.model;
   if (next.rotor.loaded != scene_.rotor.loaded) {
     scene_.rotor.loaded = next.rotor.loaded;
-    method_->change_rotor(scene_.rotor.loaded->model);
+    method_->change_rotor(time_s_, scene_.rotor.loaded->model);
   }
   limits_ = InvariantLimits::for_scene(scene_, contact_radius_of(scene_));
   // Events found beyond time_s_ were found under the old parameters; the

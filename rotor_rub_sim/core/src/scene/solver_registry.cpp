@@ -81,7 +81,8 @@ const std::vector<SolverEntry>& solver_registry() {
        I::kRosenbrock4,
        {0.0, 0.0},
        {&make_switching_jeffcott<I::kRosenbrock4>, &make_switching_flexible<I::kRosenbrock4>},
-       "RODASP in free flight (its Jacobian in closed form), dop853 in contact: a flexible rotor with many modes"},
+       "RODASP in free flight (its Jacobian in closed form but under a motor), dop853 in contact: a flexible rotor "
+       "with many modes"},
       {M::kIteration,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
@@ -96,7 +97,8 @@ const std::vector<SolverEntry>& solver_registry() {
        I::kRosenbrock4,
        {0.0, 0.0},
        {&make_iteration_jeffcott<I::kRosenbrock4>, &make_iteration_flexible<I::kRosenbrock4>},
-       "RODASP in free flight (its Jacobian in closed form), dop853 engaged: a flexible rotor with many modes"},
+       "RODASP in free flight (its Jacobian in closed form but under a motor), dop853 engaged: a flexible rotor with "
+       "many modes"},
   };
   return table;
 }

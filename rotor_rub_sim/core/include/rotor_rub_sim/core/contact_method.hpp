@@ -54,11 +54,12 @@ class ContactMethod {
   virtual void change_model(double t_s, const ModelParameters& model, std::vector<ContactEvent>& events) = 0;
 
   /// A flexible rotor's new model of the same basis (its unbalances changed:
-  /// FlexibleRotorModel::with_unbalances), taking effect at the
-  /// change_model that follows (Simulation::change_parameters). The
-  /// Jeffcott's methods have no such rotor: std::logic_error (the rotor
-  /// model's replace).
-  virtual void change_rotor(std::shared_ptr<const FlexibleRotorModel> rotor) = 0;
+  /// FlexibleRotorModel::with_unbalances) from t_s, the time of the
+  /// change_model that follows (Simulation::change_parameters): the step
+  /// up to t_s is ended under the old model first (an implicit integrator
+  /// takes it again to end there). The Jeffcott's methods have no such
+  /// rotor: std::logic_error (the rotor model's replace).
+  virtual void change_rotor(double t_s, std::shared_ptr<const FlexibleRotorModel> rotor) = 0;
 
   /// One accepted step, valid on [step_begin(), step_end()]. An event ends a
   /// step early; so does t_limit_s (the next drive discontinuity or the end
