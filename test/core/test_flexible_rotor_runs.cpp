@@ -622,8 +622,10 @@ TEST(FlexibleRotorRuns, ScenesItCannotRunAreRefusedNamingTheKey) {
   // a sweep on a rotor whose unbalances are not a quarter turn apart (the
   // cross term a^T M^-1 b is not zero): the sweep's 1e-4 rad misses the
   // peak by (1e-4)^2 of it at most.
-  const core::FlexibleRotorModel unbalanced =
-      core::load_flexible_rotor({test::source_path("test/data/rotors/undamped_unbalanced_seal.yaml"), 6, -1});
+  core::RotorSettings settings;
+  settings.file = test::source_path("test/data/rotors/undamped_unbalanced_seal.yaml");
+  settings.planar_modes = 6;
+  const core::FlexibleRotorModel unbalanced = core::load_flexible_rotor(settings);
   const Eigen::LDLT<Eigen::MatrixXd> mass(unbalanced.rotor().matrices.M);
   double swept = 0.0;
   for (int i = 0; i < 62832; ++i) {

@@ -127,8 +127,9 @@ TEST(FullRubContinuation, FoldsAreWhereTheDiscriminantVanishes) {
       past_fold = past_fold || on_lower;
       const double n = on_lower ? lower : upper;
       EXPECT_NEAR(pt.rub.normal_force_N, n, kBranchTolerance * n) << pt.speed_rad_per_s;
-      if (std::abs(pt.speed_rad_per_s - fold) > kNearFold_rad_per_s)
+      if (std::abs(pt.speed_rad_per_s - fold) > kNearFold_rad_per_s) {
         EXPECT_EQ(pt.rub.stable(), !on_lower) << pt.speed_rad_per_s;
+      }
     }
     EXPECT_TRUE(past_fold);
     EXPECT_EQ(branch.end.rfind("the normal force's fall to 0 near", 0), 0u) << branch.end;

@@ -37,7 +37,7 @@ TEST(RunSummary, IsValidJsonAndReadsBackToTheSameRun) {
     tools::write_csv(os, recorder.samples);
     std::ofstream js(json);
     tools::write_summary_json(
-        js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure(), sim.time(), sim.contact_point()});
+        js, {odd_path, &scene, &recorder, sim.stats(), &sim.failure(), sim.time(), sim.contact_point(), {}});
   }
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);  // throws on invalid JSON
