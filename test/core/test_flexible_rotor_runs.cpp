@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstdio>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "methods/event_location.hpp"
