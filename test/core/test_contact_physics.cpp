@@ -663,3 +663,38 @@ TEST_P(ContactEvents, EveryGrazeCloses) {
 
 INSTANTIATE_TEST_SUITE_P(RigidMethods, ContactEvents, ::testing::ValuesIn(test::rigid_solvers()),
                          [](const auto& info) { return info.param.name(); });
+
+// Loose tolerances (atol 1e-9): switching on rosenbrock4 once stopped at the
+// paper scene's first graze with "chattering: 201 contact events within
+// 1 ms" at rtol 1e-2, and on the motor's run-up at its last lift-off, and
+// took 46 to 137 quiet restarts at rtol 1e-4 to 3e-3 (18 events at 1e-4
+// against the reference's 9). RODASP's dense output need not leave a step's
+// start along the state's velocity: with the long step carried into a flight
+// from the bore, the position crept beyond it by the penetration tolerance
+// per restart. Its flights now begin with the first trial step
+// (apply_pending). Every rigid solver ends ok, with at most two restarts
+// more than events (the quiet ones, switching_method_impl.hpp's on_event)
+// and, from rtol 1e-3, the reference's events give or take one.
+class LooseTolerance : public ::testing::TestWithParam<test::Solver> {};
+
+TEST_P(LooseTolerance, FlightsFromTheBoreRunAsTheOthers) {
+  for (const char* file : {"config/paper_runup.yaml", "config/machine_runup.yaml"}) {
+    const core::Scene s = core::load_scene(test::source_path(file));
+    const test::Run reference = test::run(test::with_method(s, test::Solver{}, 1e-10, 1e-13));
+    ASSERT_FALSE(reference.result.failure.has_value()) << file;
+    for (const double rtol : {1e-2, 1e-3, 1e-4}) {
+      const test::Run r = test::run(test::with_method(s, GetParam(), rtol, 1e-9));
+      ASSERT_FALSE(r.result.failure.has_value()) << file << " rtol " << rtol << ": " << r.result.failure->message;
+      const long events = static_cast<long>(r.out.events.size());
+      if (rtol <= 1e-3) {  // at 1e-2 the run-up's grazes come two or three more or fewer
+        EXPECT_LE(std::abs(events - static_cast<long>(reference.out.events.size())), 1) << file << " rtol " << rtol;
+      }
+      if (GetParam().method == core::Method::kSwitching) {
+        EXPECT_LE(r.result.stats.restarts, events + 2) << file << " rtol " << rtol;
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RigidMethods, LooseTolerance, ::testing::ValuesIn(test::rigid_solvers()),
+                         [](const auto& info) { return info.param.name(); });

@@ -1,9 +1,7 @@
 // The switching method's class template and its factory, included by one
-// translation unit per kind of rotor (switching_method_jeffcott.cpp and
-// switching_method_flexible.cpp): both in one unit made the build's longest
-// compile (docs/testing.md). Private to those two: its unnamed namespace
-// gives each its own copy, and they share nothing of it (the registry calls
-// each unit's factory, make_switching_jeffcott and make_switching_flexible).
+// unit per kind of rotor (switching_method_{jeffcott,flexible}.cpp: in one
+// unit the build's longest compile, docs/testing.md); its unnamed namespace
+// gives each unit its own copy (the registry calls each unit's factory).
 #pragma once
 
 #include <array>
@@ -101,10 +99,9 @@ class SwitchingMethod final : public ContactMethod {
       const double dt = contact_int_.dt();
       contact_int_.initialize(contact_sys_, x, t_s, dt, stats_);
     }
-    // Positions and velocities are continuous across a drive change, but the
-    // contact forces are not: the stick force and F_n hold m e A and A R_r
-    // terms, so an event function can jump across zero here. The arming
-    // carries over; the next step() fires such a jump at t_s.
+    // The contact forces jump with the drive (m e A and A R_r terms in the
+    // stick force and F_n), so an event function can jump across zero here:
+    // the arming carries over, the next step() fires such a jump at t_s.
     values_end_ = event_values(t_s);
     valid_begin_ = valid_end_ = t_s;
   }
@@ -450,10 +447,9 @@ class SwitchingMethod final : public ContactMethod {
       }
     }
     pending_.regime = sustained ? Regime::kContact : Regime::kFree;
-    // At the bore, but neither closing (closes(), contact_law.hpp) nor
-    // pressed: no contact, as in the iteration method. Such a crossing (the
-    // gap's rounding right after a lift-off: under other last bits 4e-16 to
-    // 1.2e-10 s after it) restarts the free flight, unrecorded.
+    // At the bore, neither closing (closes(), contact_law.hpp) nor pressed:
+    // no contact, as in the iteration method; the flight restarts unrecorded
+    // (the gap's rounding right after a lift-off: under other last bits).
     if (!sustained && !closing) return;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     events.push_back(e);
@@ -462,7 +458,11 @@ class SwitchingMethod final : public ContactMethod {
   void apply_pending() {
     pending_.due = false;
     ++stats_.restarts;
-    const double dt = regime_ == Regime::kFree ? free_int_.dt() : contact_int_.dt();
+    double dt = regime_ == Regime::kFree ? free_int_.dt() : contact_int_.dt();
+    // RODASP's dense output need not leave a step's start along the velocity:
+    // from the bore (a lift-off, a graze) on a long carried step the position
+    // crept beyond it, restart after restart (LooseTolerance.*).
+    if (kScheme == Integrator::kRosenbrock4 && pending_.regime == Regime::kFree) dt = std::min(dt, initial_step_s_);
     if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
       enter_free(pending_.t_s, pending_.kin, dt);
