@@ -188,7 +188,7 @@ TEST(YamlValues, ShippedFilesRead) {
   }
   for (const char* grid :
        {"config/sweeps/smoke.yaml", "config/sweeps/work_precision.yaml", "config/sweeps/paper_table2.yaml",
-        "config/sweeps/parameter_study.yaml", "config/sweeps/transitions.yaml"}) {
+        "config/sweeps/parameter_study.yaml", "config/sweeps/transitions.yaml", "config/sweeps/loose_tolerance.yaml"}) {
     EXPECT_NO_THROW(tools::expand_grid(tools::read_grid_file(test::source_path(grid)), {})) << grid;
   }
 }
