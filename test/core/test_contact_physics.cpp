@@ -664,33 +664,48 @@ TEST_P(ContactEvents, EveryGrazeCloses) {
 INSTANTIATE_TEST_SUITE_P(RigidMethods, ContactEvents, ::testing::ValuesIn(test::rigid_solvers()),
                          [](const auto& info) { return info.param.name(); });
 
-// Loose tolerances (atol 1e-9): switching on rosenbrock4 once stopped at the
-// paper scene's first graze with "chattering: 201 contact events within
-// 1 ms" at rtol 1e-2, and on the motor's run-up at its last lift-off, and
-// took 46 to 137 quiet restarts at rtol 1e-4 to 3e-3 (18 events at 1e-4
-// against the reference's 9). RODASP's dense output need not leave a step's
-// start along the state's velocity: with the long step carried into a flight
-// from the bore, the position crept beyond it by the penetration tolerance
-// per restart. Its flights now begin with the first trial step
-// (apply_pending). Every rigid solver ends ok, with at most two restarts
-// more than events (the quiet ones, switching_method_impl.hpp's on_event)
-// and, from rtol 1e-3, the reference's events give or take one.
+// Loose tolerances (atol 1e-9), config/sweeps/loose_tolerance.yaml's runs
+// (docs/numerics.md). A loose dense output need not move the position as its
+// velocity says (RODASP's need not even leave a step's start along it): on
+// the long step carried into a flight from the bore the position crept
+// beyond it by the penetration tolerance per quiet restart. Switching on
+// rosenbrock4 stopped at the paper scene's first graze at rtol 1e-2
+// ("chattering: 201 contact events within 1 ms") and at the motor run-up's
+// last lift-off, took 46 to 137 quiet restarts at rtol 1e-4 to 3e-3, and on
+// dopri5 under another libm (seed 2) 20 after a lift-off; such flights now
+// begin with the first trial step (apply_pending). The iteration method
+// ended 6 runs of the stick-slip scenes in invariant_violated at rtol 1e-3
+// to 1e-2: a stick judged before rolling was imposed began 19 % outside the
+// cone, which nothing ended (transition_at), and a held step's breakaway out
+// of the cone and back fell between two scan points (now bounded by
+// kMaxScanAngle_rad, as switching's). Every rigid solver ends ok; on the
+// run-ups switching restarts at most twice more than at events, and from
+// rtol 1e-3 every solver has the reference's events give or take one.
 class LooseTolerance : public ::testing::TestWithParam<test::Solver> {};
 
-TEST_P(LooseTolerance, FlightsFromTheBoreRunAsTheOthers) {
-  for (const char* file : {"config/paper_runup.yaml", "config/machine_runup.yaml"}) {
-    const core::Scene s = core::load_scene(test::source_path(file));
-    const test::Run reference = test::run(test::with_method(s, test::Solver{}, 1e-10, 1e-13));
-    ASSERT_FALSE(reference.result.failure.has_value()) << file;
-    for (const double rtol : {1e-2, 1e-3, 1e-4}) {
+TEST_P(LooseTolerance, EveryRunEnds) {
+  struct LooseScene {
+    const char* file;
+    bool same_events;  // the run-ups (the stick-slip scenes' events part at loose tolerances)
+  };
+  for (const LooseScene& c :
+       {LooseScene{"config/paper_runup.yaml", true}, LooseScene{"config/machine_runup.yaml", true},
+        LooseScene{"config/stick_slip_rub.yaml", false}, LooseScene{"config/dry_whirl_rundown.yaml", false}}) {
+    const core::Scene s = core::load_scene(test::source_path(c.file));
+    const long reference_events =
+        c.same_events
+            ? static_cast<long>(test::run(test::with_method(s, test::Solver{}, 1e-10, 1e-13)).out.events.size())
+            : 0;
+    for (const double rtol : {1e-2, 3e-3, 1e-3, 1e-4}) {
       const test::Run r = test::run(test::with_method(s, GetParam(), rtol, 1e-9));
-      ASSERT_FALSE(r.result.failure.has_value()) << file << " rtol " << rtol << ": " << r.result.failure->message;
+      ASSERT_FALSE(r.result.failure.has_value()) << c.file << " rtol " << rtol << ": " << r.result.failure->message;
+      if (!c.same_events) continue;
       const long events = static_cast<long>(r.out.events.size());
-      if (rtol <= 1e-3) {  // at 1e-2 the run-up's grazes come two or three more or fewer
-        EXPECT_LE(std::abs(events - static_cast<long>(reference.out.events.size())), 1) << file << " rtol " << rtol;
+      if (rtol <= 1e-3) {
+        EXPECT_LE(std::abs(events - reference_events), 1) << c.file << " rtol " << rtol;
       }
       if (GetParam().method == core::Method::kSwitching) {
-        EXPECT_LE(r.result.stats.restarts, events + 2) << file << " rtol " << rtol;
+        EXPECT_LE(r.result.stats.restarts, events + 2) << c.file << " rtol " << rtol;
       }
     }
   }

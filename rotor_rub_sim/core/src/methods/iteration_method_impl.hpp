@@ -1,9 +1,7 @@
 // The iteration method's class template and its factory, included by one
-// translation unit per kind of rotor (iteration_method_jeffcott.cpp and
-// iteration_method_flexible.cpp): both in one unit made the build's longest
-// compile (docs/testing.md). Private to those two: its unnamed namespace
-// gives each its own copy, and they share nothing of it (the registry calls
-// each unit's factory, make_iteration_jeffcott and make_iteration_flexible).
+// unit per kind of rotor (iteration_method_{jeffcott,flexible}.cpp: in one
+// unit the build's longest compile, docs/testing.md); its unnamed namespace
+// gives each unit its own copy (the registry calls each unit's factory).
 #pragma once
 
 #include <algorithm>
@@ -28,13 +26,12 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: Dormand-Prince 5(4) (integrator dopri5), 8(5,3) with the Hermite
-// dense output (dop853, dense_high_order.hpp), or RODASP in free flight and
-// dop853 engaged (rosenbrock4: IterationIntegrator). Rotor: the rotor
-// model (rotor_model.hpp), every free load of the station its (loads());
-// its block goes through projections, impacts and restarts unchanged (no
-// contact force or impulse reaches it; a motor's spin jump at an impact
-// takes it along).
+// kScheme: Dormand-Prince 5(4) (dopri5), 8(5,3) with the Hermite dense
+// output (dop853), or RODASP in free flight and dop853 engaged (rosenbrock4:
+// IterationIntegrator). Rotor: the rotor model (rotor_model.hpp), every free
+// load of the station its (loads()); its block goes through projections,
+// impacts and restarts unchanged (no contact force or impulse reaches it; a
+// motor's spin jump at an impact takes it along).
 template <int kStatorDof, bool kMotor, class Rotor, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:
@@ -138,6 +135,13 @@ class IterationMethod final : public ContactMethod {
       pending_.due = false;
       apply(pending_);
     }
+    // A held step turns phi - psi by at most kMaxScanAngle_rad per scan
+    // interval, as switching's: longer, a breakaway out of the cone and back
+    // fell between two points (LooseTolerance.*).
+    if (system_.engaged) {
+      const DenseState at = dense_state(valid_end_);
+      integrator_.limit_dt(Dense::kEngagedScanPoints * kMaxScanAngle_rad / forcing_rate_rad_per_s(at.k, at.d, at.g));
+    }
     for (;;) {
       integrator_.do_step(system_, stats_);
       if (system_.engaged) break;
@@ -152,12 +156,10 @@ class IterationMethod final : public ContactMethod {
     valid_end_ = std::min(integrator_.t_new(), t_limit_s);
     ProfileScope scope(event_time_s_);
     // A lift-off or a friction transition is located even in a step cut
-    // short by a drive change: after the restart it would no longer be seen
-    // as a crossing. The earlier of the two ends the step.
-    // At a lift-off F_n vanishes but the stick force rolling needs need not
-    // (ContactForceSolver::solve reads it there), so a breakaway just before
-    // the lift-off is located first; a transition at the lift-off's own
-    // instant is the lift-off.
+    // short by a drive change (after the restart it is no crossing); the
+    // earlier ends the step. A breakaway just before a lift-off is located
+    // first (the stick force rolling needs is read at F_n = 0: solve()); one
+    // at the lift-off's own instant is the lift-off.
     if (system_.engaged) {
       const double t_liftoff = locate_liftoff();
       if (t_liftoff < valid_end_) valid_end_ = t_liftoff;
@@ -303,9 +305,8 @@ class IterationMethod final : public ContactMethod {
 
   // The largest penetration of the free step just taken, on its dense
   // output: at its midpoint and end and, where the gap's rate falls through
-  // zero between two of them (a graze inside the step), at the located
-  // maximum. The end alone would let a graze inside a step pass through
-  // the bore.
+  // zero between two of them, at the located maximum (a graze inside the
+  // step, which the end alone would let pass through the bore).
   double max_free_penetration() {
     const double t0 = integrator_.t_old(), t1 = integrator_.t_new();
     ContactGeometry prev = geometry_at(t0);
@@ -382,10 +383,8 @@ class IterationMethod final : public ContactMethod {
       w.on_surface_without_rate = slip_from_breakaway_ && !w.on_surface;
     }
     auto f = [this](double t) { return friction_event(t); };
-    // The scan points of the step: an excursion out of the regime and back
-    // between two of them would be missed (scan_points()). A
-    // breakaway out of the cone and back between two points (the forcing
-    // turns the stick force within a step: the transitions sweep,
+    // The step's scan points (scan_points()); a breakaway out of the cone
+    // and back between two of them (the forcing turns the stick force:
     // config/sweeps/transitions.yaml) is found by the function's maximum
     // between them, its rate a difference quotient.
     for (int i = 1; i <= Dense::kEngagedScanPoints; ++i) {
@@ -439,14 +438,11 @@ class IterationMethod final : public ContactMethod {
     return kNone;
   }
 
-  // Redoes the engaged step just taken to end at t_s, a lift-off located
-  // inside it: past the lift-off the force is clamped at zero (a kink), so
-  // the step's interpolant across it is not the pressed motion; redone, the
-  // state there is integrated on the pressed side (Golden.
-  // OtherLibmIsInEffectWhenPreloaded holds the golden runs under other last
-  // bits). Returns false when error control cut the redone step short of
-  // t_s (it then ends where it got to). The first try counts as a rejected
-  // step (RunStats), as a method's own rejection does.
+  // Redoes the engaged step just taken to end at t_s, a lift-off inside it:
+  // past it the force is clamped at zero (a kink), so the interpolant there
+  // is not the pressed motion (Golden.OtherLibmIsInEffectWhenPreloaded).
+  // Returns false when error control cut the redone step short of t_s (it
+  // ends where it got to); the first try counts as a rejected step.
   bool redo_step_to(double t_s) {
     const double dt_s = t_s - integrator_.t_old();
     integrator_.retreat(dt_s, stats_);
@@ -496,7 +492,11 @@ class IterationMethod final : public ContactMethod {
       const ContactForces f = probe.solve(k, d, g, loads(k, modal, d), system_.mode, true, te, unused);
       next.slip_sign = f.stick_N > 0.0 ? -1.0 : 1.0;
     } else {
-      next = mode_at(k, modal, d, true, te);
+      // Stick is judged where it starts, rolling (apply()): judged before, a
+      // stick 19 % outside the cone began, which nothing ended.
+      Kinematics rolling = k;
+      model_.hold_rolling(model_.contact_geometry(k, d), rolling);
+      next = mode_at(rolling, modal, d, true, te);
     }
     defer({true, te, k, modal, true, next, true, breakaway});
     return true;

@@ -143,6 +143,9 @@ class IterationIntegrator {
   void do_step(System& sys, RunStats& stats) {
     on([&](auto& i) { i.do_step(sys, stats); });
   }
+  void limit_dt(double max_dt_s) {
+    on([&](auto& i) { i.limit_dt(max_dt_s); });
+  }
   void retreat(double dt_s, RunStats& stats) {
     on([&](auto& i) { i.retreat(dt_s, stats); });
   }

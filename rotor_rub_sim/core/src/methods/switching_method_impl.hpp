@@ -27,8 +27,7 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: the integrator key, each regime's integrator by it
-// (SwitchingIntegrators, switching_systems.hpp).
+// kScheme: the integrator key, each regime's by it (SwitchingIntegrators).
 // Rotor: the rotor model (rotor_model.hpp); its block is carried through
 // every regime and event unchanged (no impulse reaches it), but for a
 // motor's spin jump's share at an impact.
@@ -311,11 +310,10 @@ class SwitchingMethod final : public ContactMethod {
   }
   double event_value(int k, double t_s) const { return event_values(t_s).value[k]; }
 
-  // The earliest event of [t0, t1], checked at the regime's scan points spread
-  // evenly over the step and located on the dense output: a sign change of
-  // an armed function, the deflated bracket right after a start on the
-  // surface, a crossing and back between two points (crossing(),
-  // event_scanner.hpp).
+  // The earliest event of [t0, t1], checked at the regime's scan points and
+  // located on the dense output: a sign change of an armed function, the
+  // deflated bracket right after a start on the surface, a crossing and back
+  // between two points (crossing(), event_scanner.hpp).
   void scan(double t0, double t1, std::vector<ContactEvent>& events) {
     ProfileScope scope(event_time_s_);
     valid_begin_ = t0;
@@ -342,13 +340,10 @@ class SwitchingMethod final : public ContactMethod {
         }
       }
       // Free flight that has not opened the gap since the switch (a graze at
-      // the tangency, where the pressing force just changes sign), yet
-      // penetrates: contact, located where the penetration reaches the
-      // tolerance (the paper's remedy for the stall, located instead of at
-      // the step's end, which could lie far beyond the tolerance).
-      // The threshold counts from the flight's start, so a flight that
-      // starts at the tolerance (such a contact that grazed again) fires
-      // later, never again at its own start.
+      // the tangency, the pressing force just changing sign), yet penetrates:
+      // contact where the penetration reaches the tolerance (the paper's
+      // remedy for the stall, located, not at the step's end). The threshold
+      // counts from the flight's start: never again at its own start.
       const double tol = penetration_tolerance_m_ + std::max(0.0, start_gap_m_);
       if (first_k < 0 && !watch_[kGap].armed && regime_ == Regime::kFree && cur.value[kGap] > tol &&
           (prev.value[kGap] < tol || prev_t > regime_start_s())) {
@@ -383,7 +378,7 @@ class SwitchingMethod final : public ContactMethod {
 
   void on_event(EventFunction k, double te, std::vector<ContactEvent>& events) {
     guard_.record(te);
-    pending_.from_breakaway = false;
+    pending_.from_breakaway = pending_.quiet = false;
     const DriveState d = free_sys_.segment.at(te);
     pending_.t_s = te;
     pending_.due = true;
@@ -449,8 +444,9 @@ class SwitchingMethod final : public ContactMethod {
     pending_.regime = sustained ? Regime::kContact : Regime::kFree;
     // At the bore, neither closing (closes(), contact_law.hpp) nor pressed:
     // no contact, as in the iteration method; the flight restarts unrecorded
-    // (the gap's rounding right after a lift-off: under other last bits).
-    if (!sustained && !closing) return;
+    // (the gap's rounding after a lift-off; a loose dense output's, below).
+    pending_.quiet = !sustained && !closing;
+    if (pending_.quiet) return;
     e.kind = sustained ? EventKind::kTouchdown : EventKind::kGraze;
     events.push_back(e);
   }
@@ -459,10 +455,13 @@ class SwitchingMethod final : public ContactMethod {
     pending_.due = false;
     ++stats_.restarts;
     double dt = regime_ == Regime::kFree ? free_int_.dt() : contact_int_.dt();
-    // RODASP's dense output need not leave a step's start along the velocity:
-    // from the bore (a lift-off, a graze) on a long carried step the position
-    // crept beyond it, restart after restart (LooseTolerance.*).
-    if (kScheme == Integrator::kRosenbrock4 && pending_.regime == Regime::kFree) dt = std::min(dt, initial_step_s_);
+    // A loose dense output need not move the position as its velocity says:
+    // on a long carried step the position crept beyond the bore, quiet restart
+    // after restart (LooseTolerance.*). Such a flight, and every flight on
+    // RODASP (whose output need not leave a step's start along the velocity),
+    // begins with the first trial step.
+    const bool afresh = pending_.quiet || kScheme == Integrator::kRosenbrock4;
+    if (afresh && pending_.regime == Regime::kFree) dt = std::min(dt, initial_step_s_);
     if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
       enter_free(pending_.t_s, pending_.kin, dt);
@@ -572,6 +571,7 @@ class SwitchingMethod final : public ContactMethod {
     ModalState modal;  // with kin: the rotor's block (a flexible rotor's [xi; xi'])
     FrictionMode mode;
     bool from_breakaway = false;  // a slip that begins at a breakaway (begin_regime)
+    bool quiet = false;           // at the bore, neither closing nor pressed (on_event)
     typename CL::State contact_state;
   };
   PendingRestart pending_;

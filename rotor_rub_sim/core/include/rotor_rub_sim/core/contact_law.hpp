@@ -144,6 +144,13 @@ inline bool opens(const ContactGeometry& g, const Kinematics& k) {
   return g.normal_velocity_m_per_s < -kClosingRounding * (k.rotor_vel.norm() + k.stator_vel.norm());
 }
 
+// |phi' - psi'| [rad/s]: how fast the unbalance turns in the contact frame,
+// the spin less the whirl of the rotor about the stator (the rigid methods
+// bound a held step's scan interval by it: event_scanner.hpp).
+inline double forcing_rate_rad_per_s(const Kinematics& k, const DriveState& d, const ContactGeometry& g) {
+  return std::abs(d.speed_rad_per_s - (k.rotor_vel - k.stator_vel).dot(g.tangent) / g.distance_m);
+}
+
 struct ImpactResult {
   double normal_impulse_N_s = 0.0;
   double closing_velocity_m_per_s = 0.0;  // v_n before the impact
