@@ -8,6 +8,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "rotor_rub_sim/core/contact_law.hpp"
@@ -28,9 +29,13 @@ class ForceRoot {
   // r must increase with F; finds F in [lo, inf) with r(F) = 0 given r(lo) < 0,
   // to rtol of max(|F|, scale_N): a root at zero's rounding (a stick force
   // the state hardly needs) is found to rtol of its scale, not of itself,
-  // which no bracket from zero reaches.
+  // which no bracket from zero reaches. A bracket no wider than resolution_N
+  // (where r is its own rounding: resolution_N()) is a root too once the
+  // budget is spent: TOMS 748 can spend it narrowing a bracket on which r
+  // only steps by its rounding (ForceRoot.*, test_force_root.cpp).
   template <class R>
-  double solve(R&& r, double lo, double r_lo, double t_s, long& iterations, double scale_N = 0.0) const {
+  double solve(R&& r, double lo, double r_lo, double t_s, long& iterations, double scale_N = 0.0,
+               double resolution_N = 0.0) const {
     double step = std::max(std::abs(last_N_) * 2.0, 1e-3);
     double hi = std::max(lo, last_N_) + step;
     double r_hi = r(hi);
@@ -52,7 +57,7 @@ class ForceRoot {
     };
     const auto br = boost::math::tools::toms748_solve(r, lo, hi, r_lo, r_hi, tol, it);
     iterations += static_cast<long>(it);
-    if (static_cast<int>(it) >= max_iterations_ && !tol(br.first, br.second)) {
+    if (static_cast<int>(it) >= max_iterations_ && !tol(br.first, br.second) && br.second - br.first > resolution_N) {
       throw MethodFailure(FailureClass::kNotConverged, t_s, std::string(name_) + " iteration did not converge");
     }
     last_N_ = 0.5 * (br.first + br.second);
@@ -102,10 +107,10 @@ class ContactForceSolver {
     if (s0 == 0.0) return 0.0;
     if (s0 < 0.0) {
       return tangential_.solve([&](double ft) { return sliding_acceleration(k, d, g, free, fn, ft); }, 0.0, s0, t_s,
-                               iterations, fn);
+                               iterations, fn, resolution_N(free));
     }
     return -tangential_.solve([&](double ft) { return -sliding_acceleration(k, d, g, free, fn, -ft); }, 0.0, -s0, t_s,
-                              iterations, fn);
+                              iterations, fn, resolution_N(free));
   }
 
   // The forces for the state's free loads (the rotor model's); want_stick_force:
@@ -129,7 +134,7 @@ class ContactForceSolver {
     if (model_->motor()) return solve_with_spin(k, d, g, free, mode, want_stick_force, t_s, iterations);
     // delta'' falls as F_n grows: solve -delta''(F_n) = 0 from F_n = 0.
     f.normal_N = normal_.solve([&](double fn) { return -distance_acceleration(k, d, g, free, fn, 0.0); }, 0.0, -r0, t_s,
-                               iterations, normal_scale_N(free));
+                               iterations, normal_scale_N(free), resolution_N(free));
     if (mode.stick || want_stick_force) f.stick_N = stick_force(k, d, g, free, f.normal_N, t_s, iterations);
     if (mode.stick) {
       f.tangential_N = f.stick_N;
@@ -156,7 +161,9 @@ class ContactForceSolver {
     auto residual = [&](double fn) { return -distance_acceleration(k, d, g, free, fn, tangential_at(fn)); };
     const double r_lo = residual(0.0);
     ++iterations;
-    if (r_lo < 0.0) f.normal_N = normal_.solve(residual, 0.0, r_lo, t_s, iterations, normal_scale_N(free));
+    if (r_lo < 0.0) {
+      f.normal_N = normal_.solve(residual, 0.0, r_lo, t_s, iterations, normal_scale_N(free), resolution_N(free));
+    }
     f.tangential_N = tangential_at(f.normal_N);
     if (mode.stick) {
       f.stick_N = f.tangential_N;
@@ -175,6 +182,13 @@ class ContactForceSolver {
   // rotor-file twin drifted 1.2e-9 m apart where they had agreed to
   // 2.6e-10 m: test_flexible_rotor_runs).
   static double normal_scale_N(const Loads& free) { return 1e-6 * (free.rotor_N.norm() + free.stator_N.norm()); }
+  // How finely a contact force is defined by its residual: the accelerations'
+  // rounding (eps of the loads over a mass) over the residual's slope (one
+  // over a mass no larger), so about eps of the loads; 64 of them for the
+  // sums of terms as large.
+  static double resolution_N(const Loads& free) {
+    return 64.0 * std::numeric_limits<double>::epsilon() * (free.rotor_N.norm() + free.stator_N.norm());
+  }
 
   const StationModel* model_;
   ForceRoot normal_, tangential_;

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "contact/angle_pair.hpp"
 #include "methods/chatter_guard.hpp"
@@ -460,7 +460,7 @@ class SwitchingMethod final : public ContactMethod {
     // after restart (LooseTolerance.*). Such a flight, and every flight on
     // RODASP (whose output need not leave a step's start along the velocity),
     // begins with the first trial step.
-    const bool afresh = pending_.quiet || kScheme == Integrator::kRosenbrock4;
+    const bool afresh = std::exchange(pending_.quiet, false) || kScheme == Integrator::kRosenbrock4;
     if (afresh && pending_.regime == Regime::kFree) dt = std::min(dt, initial_step_s_);
     if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
