@@ -11,9 +11,9 @@ usage: rub_truncation.py RUNNER --scene FILE [--modes 1 2 4 8 16] [--tolerance 0
                          [--method M] [--set KEY=VALUE]... [--rate HZ] [--modal PATH] [--csv OUT]
 
 The reference is the rotor's full FE model when its planar modes (half its
-DOF) are 128 or fewer: with every mode kept, the Craig-Bampton reduction is
-exact. A rotor with more runs at most 128 (rotor_planar_modes' range): the
-reference is then 128 planar modes, the largest model the runner takes, and it
+DOF) are 512 or fewer: with every mode kept, the Craig-Bampton reduction is
+exact. A rotor with more runs at most 512 (rotor_planar_modes' range): the
+reference is then 512 planar modes, the largest model the runner takes, and it
 is called that, not the full model.
 
 Tolerance: the forces and the orbits relative to the reference's value; the
@@ -53,7 +53,7 @@ import numpy as np
 import yaml
 
 PROG = "rub_truncation.py"
-MAX_MODES = 128  # rotor_planar_modes' range: [1, 128]
+MAX_MODES = 512  # rotor_planar_modes' range: [1, 512]
 QUANTITIES = ("first_contact", "max_force", "orbit_station", "orbit_probe")
 DEFAULT_MODES = (1, 2, 4, 8, 16)
 
@@ -275,7 +275,7 @@ def main(argv=None):
     ap.add_argument("runner", metavar="RUNNER", help="rotor_rub_run (its path)")
     ap.add_argument("--scene", required=True, help="the scene file (with rotor_file)")
     ap.add_argument("--modes", type=mode_count, nargs="+", metavar="N",
-                    help="planar modes of the models to judge, integers in [1, 128] below the reference "
+                    help="planar modes of the models to judge, integers in [1, 511] below the reference "
                          "(default: 1 2 4 8 16, those below the reference)")
     ap.add_argument("--tolerance", type=number_in(0.0, 1.0, True, "relative; first contact: of a revolution"),
                     default=0.05,

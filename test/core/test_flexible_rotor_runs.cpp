@@ -652,7 +652,7 @@ TEST(FlexibleRotorRuns, ScenesItCannotRunAreRefusedNamingTheKey) {
   EXPECT_NE(refusal(too_many).find("rotor_planar_modes"), std::string::npos) << refusal(too_many);
   EXPECT_NE(refusal(too_many).find("1 to 2"), std::string::npos) << refusal(too_many);
   // The key itself: out of range named by set_scene_value.
-  EXPECT_THROW(core::set_scene_value(s, "rotor_planar_modes", "129"), core::SceneError);  // above kMaxPlanarModes
+  EXPECT_THROW(core::set_scene_value(s, "rotor_planar_modes", "513"), core::SceneError);  // above kMaxPlanarModes
 }
 
 // The probes read their node, not the rub station: a heavily damped rotor

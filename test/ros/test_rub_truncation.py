@@ -137,8 +137,8 @@ class BadInput(unittest.TestCase):
     def test_bad_arguments(self):
         self.one_line(tool("--scene", SEAL, "--tolerance", "2"), "--tolerance", "'2'", "(0, 1]")
         self.one_line(tool("--scene", SEAL, "--tolerance", "abc"), "--tolerance", "'abc'", "not a number")
-        self.one_line(tool("--scene", SEAL, "--modes", "129"), "--modes", "'129'", "[1, 127]")
-        self.one_line(tool("--scene", SEAL, "--modes", "128"), "--modes", "'128'", "[1, 127]")  # the same bound as 129
+        self.one_line(tool("--scene", SEAL, "--modes", "513"), "--modes", "'513'", "[1, 511]")
+        self.one_line(tool("--scene", SEAL, "--modes", "512"), "--modes", "'512'", "[1, 511]")  # the same bound as 513
         self.one_line(tool("--scene", SEAL, "--quantities", "force"), "--quantities", "'force'", "max_force")
         self.one_line(tool("--scene", SEAL, "--set", "rotor_planar_modes=3"), "--set", "--modes")
         self.one_line(tool("--scene", PAPER), "--scene", "no rotor_file")

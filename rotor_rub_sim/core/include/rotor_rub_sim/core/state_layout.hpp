@@ -31,19 +31,21 @@ struct SpinLayout {
 
 // A flexible rotor (flexible_rotor_model.hpp) carries its modal
 // coordinates xi and their rates after a layout's fixed part: at most
-// kMaxModalCoordinates of each (128 planar modes, the station's and 127 of
-// the shaft's, in x/y pairs: the full FE model of a rotor of 64 nodes), in a
-// state of dynamic size with that maximum (storage inside the vector, 4 kB:
-// no allocation per step, test_allocations; matrices of the state's size
-// are allocated once, dense_rodasp.hpp).
-inline constexpr int kMaxPlanarModes = 128;
+// kMaxModalCoordinates of each (512 planar modes, the station's and 511 of
+// the shaft's, in x/y pairs: the full FE model of a rotor of 256 nodes), in a
+// state of dynamic size with that maximum (storage inside the vector, 16 kB:
+// no allocation per step, test_allocations; Eigen copies only a state's
+// rows, so a small model does not pay for the room). The bound keeps a method's
+// call chain, a few tens of states on the stack, well inside a thread's
+// stack; matrices of the state's size are allocated once, dense_rodasp.hpp.
+inline constexpr int kMaxPlanarModes = 512;
 inline constexpr int kMaxModalCoordinates = 2 * (kMaxPlanarModes - 1);
 /// [xi; xi'] of a flexible rotor [sqrt(kg) m, sqrt(kg) m/s] (empty: the Jeffcott).
 using ModalState = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2 * kMaxModalCoordinates, 1>;
 
 // The state vector of a flexible rotor's layouts: every one is one type,
 // with room for the largest fixed part (an elastic stator under a motor: 11,
-// rounded up to 12 so that the 12 + 508 doubles are 16-byte aligned storage)
+// rounded up to 12 so that the 12 + 2044 doubles are 16-byte aligned storage)
 // and the modal block's maximum, so that a method's instances on one
 // integrator (each stator, each drive, free flight and contact) share one set
 // of Eigen and odeint instantiations, which shortens the flexible units'

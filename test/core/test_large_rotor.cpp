@@ -1,0 +1,119 @@
+// A rotor of more than 64 nodes at its full FE model, beyond the 128 planar
+// modes a state held before (kMaxPlanarModes, state_layout.hpp):
+// fine_damped_seal.yaml (73 nodes, 146 planar modes; with every mode kept the
+// reduction is exact) started from rest at a constant speed follows the full
+// FE model's transient in closed form, on rosenbrock4 (an explicit scheme's
+// step would be set by the model's highest mode). The other methods' free
+// flights at this size: test_allocations.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "rotor_rub_sim/core/fe_rotor.hpp"
+#include "rotor_rub_sim/core/rotor_file.hpp"
+#include "rotor_rub_sim/core/rotor_reduction.hpp"
+#include "test_support.hpp"
+
+using namespace rotor_rub;
+
+namespace {
+
+// The run's error against the closed form, relative to the largest
+// displacement over the window: the integration's at rtol 1e-6 (measured
+// 1.2e-8; the closed form's own rounding is below 1e-12).
+constexpr double kIntegrationTolerance = 1e-6;
+
+// The full FE model's response from rest to its unbalances at a constant
+// speed w (spin angle w t): with z = [q; q' / s], z' = A z + [0; M^-1 Re(F
+// e^{iwt}) / s], so z(t) = z_p(t) + e^{A t} (z(0) - z_p(0)), z_p the
+// unbalance response and z(0) = 0. Read at t = k dt, k = 0, 1, ... in turn.
+class FullModelTransient {
+ public:
+  FullModelTransient(const core::FeRotor& rotor, double w_rad_per_s, double dt_s) : w_(w_rad_per_s), dt_(dt_s) {
+    const core::RotorMatrices m = core::assemble(rotor);
+    const long n = m.M.rows();
+    steady_ = core::unbalance_response(m, rotor.unbalances, w_);
+    const Eigen::LLT<Eigen::MatrixXd> mass(m.M);
+    const Eigen::MatrixXd stiffness = mass.solve(m.K);
+    // The velocities divided by the highest frequency's bound, so that both
+    // halves of z are of one scale: unscaled, e^{A dt}'s rounding put 1e-7 of
+    // the largest displacement into the positions (the runs agreed to 1e-12
+    // with the scaled one at rtol 1e-10).
+    const double scale = std::sqrt(stiffness.cwiseAbs().rowwise().sum().maxCoeff());
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+    a.topRightCorner(n, n).setIdentity();
+    a.topRightCorner(n, n) *= scale;
+    a.bottomLeftCorner(n, n) = -stiffness / scale;
+    a.bottomRightCorner(n, n) = -mass.solve(m.C + w_ * m.G);
+    step_ = (a * dt_).exp();
+    homogeneous_.resize(2 * n);
+    homogeneous_ << -steady_.real(), -(std::complex<double>(0.0, w_) * steady_).real() / scale;
+  }
+
+  // q at the next instant k dt (the first call: t = 0).
+  Eigen::VectorXd next(double* t_s) {
+    *t_s = k_ * dt_;
+    const Eigen::VectorXd q =
+        (steady_ * std::exp(std::complex<double>(0.0, w_ * *t_s))).real() + homogeneous_.head(steady_.size());
+    homogeneous_ = step_ * homogeneous_;
+    ++k_;
+    return q;
+  }
+
+ private:
+  double w_, dt_;
+  long k_ = 0;
+  Eigen::VectorXcd steady_;
+  Eigen::MatrixXd step_;
+  Eigen::VectorXd homogeneous_;
+};
+
+}  // namespace
+
+TEST(LargeRotor, AFullModelOfMoreThan64NodesFollowsTheClosedFormTransient) {
+  const std::string file = test::source_path("test/data/rotors/fine_damped_seal.yaml");
+  const core::FeRotor rotor = core::load_rotor_file(file);
+  const int full = core::max_planar_modes(rotor);
+  ASSERT_EQ(full, 146);
+  // 0.6 of a revolution: the model's high modes, which the start from rest
+  // rings, hold rosenbrock4 to steps of about 1.5 us at this tolerance.
+  const double w = 300.0, rate_hz = 20000.0, end_s = 0.002;
+  core::Scene s;
+  s.rotor.file = file;
+  s.rotor.planar_modes = full;
+  s.solver.method = core::Method::kSwitching;
+  s.solver.integrator = core::Integrator::kRosenbrock4;
+  s.model.stator_model = core::StatorModel::kRigid;
+  s.model.clearance_m = 1e-3;  // never reached
+  s.speed.initial_speed_rad_per_s = s.speed.target_speed_rad_per_s = w;
+  s.speed.acceleration_rad_per_s2 = 0.0;
+  s.end_time_s = end_s;
+  s.output_rate_hz = rate_hz;
+  s.solver.rtol = 1e-6;
+  s.solver.atol = 1e-10;
+  const test::Run r = test::run(s);
+  ASSERT_FALSE(r.result.failure) << r.result.failure->message;
+  ASSERT_TRUE(r.out.events.empty());
+  ASSERT_GE(r.out.samples.size(), 40u);
+  FullModelTransient exact(rotor, w, 1.0 / rate_hz);
+  double largest_m = 0.0, station_err_m = 0.0, probe_err_m = 0.0;
+  for (const core::Sample& sample : r.out.samples) {
+    double t_s = 0.0;
+    const Eigen::VectorXd q = exact.next(&t_s);
+    ASSERT_NEAR(sample.t_s, t_s, 1e-12);
+    auto at = [&](int node) {
+      return core::Vec2(q(core::dof_index(node, core::kDofX)), q(core::dof_index(node, core::kDofY)));
+    };
+    for (int node = 0; node < rotor.nodes(); ++node) largest_m = std::max(largest_m, at(node).norm());
+    station_err_m = std::max(station_err_m, (sample.kin.rotor_pos - at(rotor.rub_station_node)).norm());
+    probe_err_m = std::max(probe_err_m, (sample.probe_displacement_m - at(rotor.probe_nodes.front())).norm());
+  }
+  std::printf("%zu samples, largest %.3g m, station %.3g, probe %.3g of it\n", r.out.samples.size(), largest_m,
+              station_err_m / largest_m, probe_err_m / largest_m);
+  EXPECT_LT(station_err_m, kIntegrationTolerance * largest_m);
+  EXPECT_LT(probe_err_m, kIntegrationTolerance * largest_m);
+}
