@@ -5,7 +5,9 @@ rotor_planar_modes, each run --repeats times by rotor_rub_run (the median
 wall time of its own integration timer), with the contact's quantities beside
 it, printed as a table. With several --method (METHOD or METHOD:INTEGRATOR),
 one column group per solver: its steps, its wall time and that time over its
-time at the first mode count. With --page, also written into
+time at the first mode count; METHOD[:INTEGRATOR]@N runs that solver up to N
+planar modes only (its cells above read "-": an explicit scheme at a large
+rotor's full model would take hours). With --page, also written into
 docs/benchmarks.md between <!-- BEGIN GENERATED: NAME --> and <!-- END
 GENERATED: NAME --> (--block, default flexible), with the date, the machine
 and the command (the page's figures are the last run's, never typed in).
@@ -16,7 +18,7 @@ run's largest distance from the dopri5 run's station on the samples beside
 it (with --page, into the block --block names: docs/benchmarks.md holds none
 of these).
 
-usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M[:I] ...]
+usage: bench_flexible.py RUNNER [--modes 1 2 4 ...] [--repeats N] [--method M[:I][@N] ...]
                          [--penalty-stiffness K ...] [--scene FILE]
                          [--page docs/benchmarks.md] [--block NAME]"""
 import csv
@@ -77,9 +79,19 @@ def penalty_rows(a):
 
 
 def solver_sets(solver):
-    """--set arguments of METHOD or METHOD:INTEGRATOR."""
-    method, _, integrator = solver.partition(":")
+    """--set arguments of METHOD or METHOD:INTEGRATOR (an @N bound aside)."""
+    method, _, integrator = solver.partition("@")[0].partition(":")
     return ["method=" + method] + (["integrator=" + integrator] if integrator else [])
+
+
+def solver_bound(solver):
+    """The most planar modes METHOD[:INTEGRATOR]@N runs (None: no bound)."""
+    _, at, bound = solver.partition("@")
+    if not at:
+        return None
+    if not bound.isdigit() or int(bound) < 1:
+        sys.exit("bench_flexible: --method %s: the bound after @ must be an integer >= 1" % solver)
+    return int(bound)
 
 
 def solvers_rows(a):
@@ -92,16 +104,22 @@ def solvers_rows(a):
     print(head, flush=True)
     first = {}
     for m in a.modes:
-        line = None
+        touchdowns = None
+        cells = []
         for solver in a.method:
+            bound = solver_bound(solver)
+            if bound is not None and m > bound:
+                cells.append(" | %10s %10s %7s" % ("-", "-", "-"))
+                continue
             sets = ["rotor_planar_modes=%d" % m] + solver_sets(solver)
             runs = [run(a.runner, a.scene, sets) for _ in range(a.repeats)]
             s = runs[0]
             wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
             first.setdefault(solver, wall_ms)
-            if line is None:
-                line = "%6d %5d %11d" % (m, 2 * m, s["stats"]["touchdowns"])
-            line += " | %10d %10.1f %6.0fx" % (s["stats"]["steps"], wall_ms, wall_ms / first[solver])
+            if touchdowns is None:
+                touchdowns = s["stats"]["touchdowns"]
+            cells.append(" | %10d %10.1f %6.0fx" % (s["stats"]["steps"], wall_ms, wall_ms / first[solver]))
+        line = "%6d %5d %11s" % (m, 2 * m, "-" if touchdowns is None else touchdowns) + "".join(cells)
         lines.append(line)
         print(line, flush=True)
     return lines
@@ -109,7 +127,7 @@ def solvers_rows(a):
 
 def mode_rows(a):
     """The method's run at each number of planar modes."""
-    if len(a.method) > 1:
+    if len(a.method) > 1 or solver_bound(a.method[0]) is not None:
         return solvers_rows(a)
     head = "%6s %5s %10s %10s %9s %11s %9s %11s %14s" % ("modes", "coord", "steps", "rhs", "wall_ms", "first_s",
                                                        "max_Fn_N", "touchdowns", "last_end_s")
@@ -132,8 +150,9 @@ def main(argv=None):
     ap.add_argument("--scene", default=os.path.join(ROOT, "config", "seal_rub_runup.yaml"))
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 2, 4, 8, 12, 16, 20])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--method", nargs="+", default=["switching"], metavar="M[:I]",
-                    help="solvers: a method, or method:integrator; several give one column group each")
+    ap.add_argument("--method", nargs="+", default=["switching"], metavar="M[:I][@N]",
+                    help="solvers: a method, or method:integrator; several give one column group each; "
+                         "@N: up to N planar modes only")
     ap.add_argument("--penalty-stiffness", type=float, nargs="+", metavar="K",
                     help="the penalty method on dopri5 and rosenbrock4 at these contact stiffnesses [N/m]")
     ap.add_argument("--page", help="write the table into this page (docs/benchmarks.md)")
@@ -141,6 +160,8 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
+    for solver in a.method:
+        solver_bound(solver)
     if a.penalty_stiffness and any(not (k > 0.0) for k in a.penalty_stiffness):
         sys.exit("bench_flexible: --penalty-stiffness must be > 0")
     if a.penalty_stiffness and a.page and not a.block:

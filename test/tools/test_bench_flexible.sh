@@ -2,8 +2,8 @@
 # scripts/bench_flexible.py on a stand-in runner (a script that writes the
 # summary a run of rotor_rub_run would, its cost a function of the modes and
 # the solver): one method's table, several solvers' column groups with each
-# one's cost over its first mode count's, the page's block and its command,
-# bad input. Each case prints "ok: ..." or "FAILED: ..."; exits 1 on any failure.
+# one's cost over its first mode count's, a solver bounded to some modes, the
+# page's block and its command, bad input. Each case prints "ok: ..." or "FAILED: ..."; exits 1 on any failure.
 #   test/tools/test_bench_flexible.sh
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -34,6 +34,14 @@ expect "the page's block holds the table" grep -qE '^ +2 +4 +2 \| +200 +4\.0 +4x
 expect "the block names the scene, the solvers and the block in its command" \
   grep -qF -- '--scene config/ross_rig_rub.yaml --method switching penalty:rosenbrock4 --modes 1 2 4 --block rig --page docs/benchmarks.md' "$T/page.md"
 expect "the rest of the page is kept" bash -c "head -1 '$T/page.md' | grep -qx before && tail -1 '$T/page.md' | grep -qx after && ! grep -qx old '$T/page.md'"
+"${BENCH[@]}" --repeats 1 --method switching@2 penalty:rosenbrock4 --modes 1 2 4 > "$T/bound.txt"
+expect "a solver bounded by @N runs up to N planar modes, its cells above read -" \
+  grep -qE '^ +4 +8 +4 \| +- +- +- \| +400 +14\.0 +1x$' "$T/bound.txt"
+expect "below its bound it runs" grep -qE '^ +2 +4 +2 \| +200 +4\.0 +4x \| +200 +12\.0 +1x$' "$T/bound.txt"
+"${BENCH[@]}" --repeats 1 --method switching@1 --modes 1 2 > "$T/bound_all.txt"
+expect "a row no solver runs reads - throughout" grep -qE '^ +2 +4 +- \| +- +- +-$' "$T/bound_all.txt"
+expect "a bound that is no integer is refused, naming the solver" \
+  fails_with "--method switching@x: the bound after @ must be an integer >= 1" "${BENCH[@]}" --method switching@x
 "${BENCH[@]}" --repeats 1 --method switching --modes 1 3 > "$T/one.txt"
 expect "one method: the contact's quantities beside the cost" grep -qE '^ +3 +6 +300 +3000 +9\.0 +1\.000000 +19\.000 +3 +2\.000000$' "$T/one.txt"
 expect "a mode count below 1 is refused" fails_with "--repeats and --modes must be >= 1" "${BENCH[@]}" --modes 0
