@@ -7,7 +7,8 @@ it, printed as a table. With several --method (METHOD or METHOD:INTEGRATOR),
 one column group per solver: its steps, its wall time and that time over its
 time at the first mode count; METHOD[:INTEGRATOR]@N runs that solver up to N
 planar modes only (its cells above read "-": an explicit scheme at a large
-rotor's full model would take hours). With --page, also written into
+rotor's full model would take hours); the touchdowns are then the first
+unbounded solver's. With --page, also written into
 docs/benchmarks.md between <!-- BEGIN GENERATED: NAME --> and <!-- END
 GENERATED: NAME --> (--block, default flexible), with the date, the machine
 and the command (the page's figures are the last run's, never typed in).
@@ -103,6 +104,9 @@ def solvers_rows(a):
     lines = [head]
     print(head, flush=True)
     first = {}
+    # The touchdowns column: the first unbounded solver's (else the first that
+    # ran in the row), so that its source stays one solver where it can.
+    counter = next((solver for solver in a.method if solver_bound(solver) is None), None)
     for m in a.modes:
         touchdowns = None
         cells = []
@@ -116,7 +120,7 @@ def solvers_rows(a):
             s = runs[0]
             wall_ms = 1e3 * statistics.median(r["stats"]["wall_time_s"] for r in runs)
             first.setdefault(solver, wall_ms)
-            if touchdowns is None:
+            if solver == counter or (touchdowns is None and counter is None):
                 touchdowns = s["stats"]["touchdowns"]
             cells.append(" | %10d %10.1f %6.0fx" % (s["stats"]["steps"], wall_ms, wall_ms / first[solver]))
         line = "%6d %5d %11s" % (m, 2 * m, "-" if touchdowns is None else touchdowns) + "".join(cells)
@@ -161,7 +165,9 @@ def main(argv=None):
     if a.repeats < 1 or any(m < 1 for m in a.modes):
         sys.exit("bench_flexible: --repeats and --modes must be >= 1")
     for solver in a.method:
-        solver_bound(solver)
+        bound = solver_bound(solver)
+        if bound is not None and bound < min(a.modes):
+            sys.exit("bench_flexible: --method %s: the bound is below every --modes count (%d)" % (solver, min(a.modes)))
     if a.penalty_stiffness and any(not (k > 0.0) for k in a.penalty_stiffness):
         sys.exit("bench_flexible: --penalty-stiffness must be > 0")
     if a.penalty_stiffness and a.page and not a.block:
