@@ -67,11 +67,13 @@ constexpr long kMaxSteps = 10;
 constexpr double kOrderTol = 0.45;
 
 struct Dopri5Case {
+  static constexpr bool kAdaptive = true;
   static constexpr const char* kName = "dopri5";
   static constexpr double kStepOrder = 5, kDenseOrder = 4;  // its own dense output is of order 4
   static core::DenseDopri5<State> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
 };
 struct Rkf78Case {
+  static constexpr bool kAdaptive = true;
   static constexpr const char* kName = "rkf78";
   // odeint's Fehlberg 7(8) propagates the 8th-order solution. The dense
   // output (dense_high_order.hpp): each position the degree-7 Hermite
@@ -81,17 +83,20 @@ struct Rkf78Case {
   static core::DenseRkf78<OscillatorLayout> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
 };
 struct Dop853Case {
+  static constexpr bool kAdaptive = true;
   static constexpr const char* kName = "dop853";
   static constexpr double kStepOrder = 8, kDenseOrder = 6;  // the same Hermite output as rkf78's
   static core::DenseDop853<OscillatorLayout> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
 };
 struct RodaspCase {
+  static constexpr bool kAdaptive = true;
   static constexpr const char* kName = "rosenbrock4";
   // RODASP: order 4; its continuous extension is of order 3.
   static constexpr double kStepOrder = 4, kDenseOrder = 3;
   static core::DenseRodasp<State> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
 };
 struct Rk4Case {
+  static constexpr bool kAdaptive = false;
   static constexpr const char* kName = "rk4";
   // Classic RK4; the cubic Hermite between its ends is of order 3.
   static constexpr double kStepOrder = 4, kDenseOrder = 3;
@@ -184,6 +189,55 @@ TYPED_TEST(DenseIntegrator, BeforeItsFirstStepItAnswersTheInitialState) {
   State x;
   integ.state_at(t0, x);
   EXPECT_EQ(x, Forced::exact(t0)) << TypeParam::kName;
+}
+
+// x'' = -w^2 x with w = 1e60: a first step of 1e-3 s (w h = 1e57) overflows
+// in an explicit scheme's stages. Each adaptive integrator rejects the
+// non-finite trial and cuts the step until one ends finite (a long step
+// carried over from another integrator: step_ends.hpp). A right-hand side
+// that is never finite is a divergence once the cuts reach min_step_s. RK4's
+// fixed step has nothing to cut (test_fixed_step).
+constexpr double kAcceptedStepTolerance = 1e-4;
+struct Stiff {
+  static constexpr bool kAnalyticJacobian = false, kSecondOrderJacobian = false, kOwnErrorNorm = false;
+  static constexpr bool kOwnEndDerivatives = false;
+  static constexpr double kOmega = 1e60;
+  bool poisoned = false;  // the right-hand side NaN everywhere
+  void operator()(const State& x, State& dx, double) const {
+    dx[0] = poisoned ? std::nan("") : x[1];
+    dx[1] = -kOmega * kOmega * x[0];
+  }
+};
+
+TYPED_TEST(DenseIntegrator, ANonFiniteTrialIsRejectedAndTheStepCut) {
+  if constexpr (!TypeParam::kAdaptive) {
+    GTEST_SKIP() << "a fixed step";
+  } else {
+    using Integ = decltype(TypeParam::make(0.0));
+    // rtol 1e-6, min_step_s 1e-300, a budget far beyond the ~90 cuts from 1e-3 s to w h ~ 1.
+    Integ integ(1e-12, 1e-6, 1e-300, 100000);
+    core::RunStats stats;
+    Stiff sys;
+    integ.initialize(sys, State(1.0, 0.0), 0.0, 1e-3, stats);
+    ASSERT_NO_THROW(integ.do_step(sys, stats)) << TypeParam::kName;
+    EXPECT_GT(integ.t_new(), 0.0);
+    // The accepted step is right: x = cos(w t) to a hundred times rtol (one
+    // step's error is within the tolerance, up to the controller's safety).
+    EXPECT_NEAR(integ.x_new()[0], std::cos(Stiff::kOmega * integ.t_new()), kAcceptedStepTolerance) << TypeParam::kName;
+    EXPECT_GT(stats.rejected_steps, 0) << TypeParam::kName;
+
+    Integ poisoned_integ(1e-12, 1e-6, 1e-12, 100000);
+    Stiff poisoned;
+    core::RunStats poisoned_stats;
+    poisoned_integ.initialize(poisoned, State(1.0, 0.0), 0.0, 1e-3, poisoned_stats);
+    poisoned.poisoned = true;
+    try {
+      poisoned_integ.do_step(poisoned, poisoned_stats);
+      ADD_FAILURE() << TypeParam::kName << ": a NaN right-hand side stepped";
+    } catch (const core::MethodFailure& f) {
+      EXPECT_EQ(f.failure_class, core::FailureClass::kDiverged) << TypeParam::kName << ": " << f.what();
+    }
+  }
 }
 
 }  // namespace

@@ -66,7 +66,9 @@ class DenseDopri5 : public StepEnds<State> {
   }
 
   // One accepted step from the current end. Throws MethodFailure (stalled)
-  // when the step size falls below the minimum or the step budget is spent.
+  // when the step size falls below the minimum or the step budget is spent,
+  // (diverged) when every trial down to the minimum ended non-finite (odeint
+  // accepts such a trial: its error is NaN; StepEnds rejects it).
   template <class System>
   void do_step(System& sys, RunStats& stats) {
     x_old_ = x_new_;
@@ -75,16 +77,14 @@ class DenseDopri5 : public StepEnds<State> {
     double t = t_new_;
     for (;;) {
       check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
+      const double t_try = t, h = dt_;
       const auto result = controlled_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dxdt_new_, dt_);
       stats.rhs_evals += 6;  // dopri5's FSAL: six new stages per attempt
-      if (result == boost::numeric::odeint::success) break;
+      if (!Ends::rejected_as_non_finite(t_try, h, t) && result == boost::numeric::odeint::success) break;
       ++stats.rejected_steps;
     }
     t_new_ = t;
     ++stats.steps;
-    if (!x_new_.allFinite()) {
-      throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
-    }
   }
 
   // Undo the last accepted step and retry it with dt_s (a method's own rejection).

@@ -154,14 +154,14 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
     double t = t_new_;
     for (;;) {
       check_step_budget(stats, max_steps_, dt_, min_step_s_, t);
+      const double t_try = t, h = dt_;
       const bool accepted = engine_.try_step(sys, x_old_, dxdt_old_, t, x_new_, dt_);
       stats.rhs_evals += kStagesPerAttempt;
-      if (accepted) break;
+      if (!Ends::rejected_as_non_finite(t_try, h, t) && accepted) break;
       ++stats.rejected_steps;
     }
     t_new_ = t;
     ++stats.steps;
-    if (!x_new_.allFinite()) throw MethodFailure(FailureClass::kDiverged, t_new_, "non-finite state");
     // The dense output's end derivatives; the first is the next step's first stage.
     stats.rhs_evals += end_derivatives(sys, x_new_, t_new_, StepEnd::kEnd, dxdt_new_, ddx_new_);
     polynomial();

@@ -42,6 +42,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "integrators/step_ends.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 #include "rotor_rub_sim/core/run_types.hpp"
 
@@ -153,9 +154,9 @@ class DenseRodasp {
       const State x1 = x_old_ + step_;
       if (!(e <= 1.0) || !x1.allFinite()) {
         ++stats.rejected_steps;
-        // A non-finite trial shrinks as far as a rejection can.
-        const double shrink = std::isfinite(e) && x1.allFinite() ? std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0) : 0.2;
-        dt_ = h * shrink;
+        // A non-finite trial shrinks as far as a rejection can (step_ends.hpp).
+        dt_ = std::isfinite(e) && x1.allFinite() ? h * std::clamp(0.9 * std::pow(e, -0.25), 0.2, 1.0)
+                                                 : step_after_non_finite(h, min_step_s_, t);
         last_rejected_ = true;
         continue;
       }

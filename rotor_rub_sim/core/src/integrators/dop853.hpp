@@ -169,15 +169,10 @@ class Dop853 {
     if (!(denominator > 0.0)) denominator = 1.0;
     const double err = std::abs(h) * err5 / std::sqrt(denominator * static_cast<double>(x.size()));
 
-    // A non-finite end state is let through (as odeint lets a NaN error
-    // through): the caller reports it as diverged; rejecting it would shrink
-    // the step until the run stalled, hiding what happened. A non-finite
-    // error with a finite end rejects at the smallest factor.
-    if (!x_out.allFinite()) {
-      t = t_end;
-      return true;
-    }
-    if (!std::isfinite(err)) {
+    // A non-finite end or error rejects at the smallest factor (the dense
+    // integrator cuts a non-finite trial further and reports a collapse to
+    // min_step_s as divergence: StepEnds::rejected_as_non_finite).
+    if (!std::isfinite(err) || !x_out.allFinite()) {
       rejected_ = true;
       dt = h * kMinFactor;
       return false;

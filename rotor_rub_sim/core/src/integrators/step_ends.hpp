@@ -5,9 +5,26 @@
 // its own reasons (the iteration method, on penetration).
 #pragma once
 
+#include <cmath>
+
 #include "rotor_rub_sim/core/run_types.hpp"
 
 namespace rotor_rub::core {
+
+// A trial step whose end is not finite is rejected and the next trial cut to
+// kNonFiniteShrink of it, in every adaptive integrator: a step far beyond an
+// explicit scheme's stability, such as a long step carried over from another
+// integrator, overflows where a shorter one need not
+// (DenseIntegrator.ANonFiniteTrialIsRejectedAndTheStepCut). Cut this way
+// below min_step_s, the run diverged: throws MethodFailure.
+inline constexpr double kNonFiniteShrink = 0.2;
+inline double step_after_non_finite(double h_s, double min_step_s, double t_s) {
+  const double next = h_s * kNonFiniteShrink;
+  if (!(std::abs(next) >= min_step_s)) {
+    throw MethodFailure(FailureClass::kDiverged, t_s, "non-finite state on every trial step down to min_step_s");
+  }
+  return next;
+}
 
 template <class State>
 class StepEnds {
@@ -24,6 +41,15 @@ class StepEnds {
 
  protected:
   StepEnds(double min_step_s, long max_steps) : min_step_s_(min_step_s), max_steps_(max_steps) {}
+
+  // After an attempt from t_try with step h: true when its end is not
+  // finite and it is rejected here (t back to t_try, step_after_non_finite).
+  bool rejected_as_non_finite(double t_try_s, double h_s, double& t_s) {
+    if (x_new_.allFinite()) return false;
+    t_s = t_try_s;
+    dt_ = step_after_non_finite(h_s, min_step_s_, t_s);
+    return true;
+  }
 
   // Undo the last accepted step and retry it with dt_s: the ends and the
   // counts (a step less, a rejection more); the derived integrator restores

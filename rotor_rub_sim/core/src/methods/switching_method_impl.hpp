@@ -454,14 +454,14 @@ class SwitchingMethod final : public ContactMethod {
     pending_.due = false;
     ++stats_.restarts;
     double dt = regime_ == Regime::kFree ? free_int_.dt() : contact_int_.dt();
-    // A loose dense output need not move the position as its velocity says: on
-    // a long carried step the position crept beyond the bore, quiet restart after
-    // restart (LooseTolerance.*). Such a flight, every flight on RODASP (whose
-    // output need not leave a step's start along the velocity) and dop853's
-    // contact after RODASP's flight (whose step knows nothing of an explicit
-    // scheme's stability: LargeRotor.*) begin with the first trial step.
+    // A loose dense output need not move the position as its velocity says: on a long carried step the
+    // position crept beyond the bore, quiet restart after restart (LooseTolerance.*). Such a flight, every
+    // flight on RODASP (whose output need not leave a step's start along the velocity) and dop853's contact
+    // after RODASP's flight (RODASP's step knows nothing of dop853's stability:
+    // LargeRotor.SwitchingOnRosenbrock4TouchesDownAfterALongFlight) begin with the first trial step.
     const bool afresh = std::exchange(pending_.quiet, false) || kScheme == Integrator::kRosenbrock4;
-    if (afresh && (pending_.regime == Regime::kFree || regime_ == Regime::kFree)) dt = std::min(dt, initial_step_s_);
+    const bool from_rodasp = kScheme == Integrator::kRosenbrock4 && regime_ == Regime::kFree;
+    if ((afresh && pending_.regime == Regime::kFree) || from_rodasp) dt = std::min(dt, initial_step_s_);
     if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
       enter_free(pending_.t_s, pending_.kin, dt);
