@@ -33,9 +33,10 @@ std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const cor
   std::vector<int> counts;
   for (int m = 1; m < core::max_planar_modes(rotor); m *= 2) counts.push_back(m);
   counts.push_back(core::max_planar_modes(rotor));
+  const core::RotorReduction reduction(rotor, full, study.station_node, counts.back());
   std::vector<TruncationRow> rows;
   for (const int m : counts) {
-    const core::ReducedRotor r = core::reduce_rotor(rotor, full, study.station_node, m);
+    const core::ReducedRotor r = reduction.reduce(m);
     TruncationRow row;
     row.planar_modes = m;
     row.station_mass_kg = r.station_mass_kg;

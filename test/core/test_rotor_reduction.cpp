@@ -276,3 +276,36 @@ TEST(RotorReduction, AnisotropicBearingsConvergeToTheFullModel) {
   }
   EXPECT_LT(worst_error(core::reduce_rotor(rotor, full, station, 20)), 1e-5);
 }
+
+// One basis built for the most modes reduces to every smaller count exactly
+// as that count's own reduction does (bitwise: the shapes of n planar modes
+// are the first n of a larger count's), on the anisotropic rig and on the
+// cross-coupled seal rotor, so rotor_planar_modes auto and the truncation
+// study may build it once; a count above the one built for is refused.
+TEST(RotorReduction, OneBasisReducesToEveryCountAsItsOwnReductionDoes) {
+  for (const std::string path : {"test/data/rotors/anisotropic_rig.yaml", "config/rotors/seal_rub.yaml"}) {
+    const core::FeRotor rotor = core::load_rotor_file(test::source_path(path));
+    const core::RotorMatrices full = core::assemble(rotor);
+    const int most = core::max_planar_modes(rotor);
+    const core::RotorReduction reduction(rotor, full, rotor.rub_station_node, most);
+    EXPECT_EQ(reduction.most_planar_modes(), most);
+    for (int n : {1, 2, 3, 8, most - 1, most}) {
+      const core::ReducedRotor own = core::reduce_rotor(rotor, full, rotor.rub_station_node, n);
+      const core::ReducedRotor shared = reduction.reduce(n);
+      ASSERT_EQ(shared.planar_modes, n) << path;
+      EXPECT_EQ(shared.expansion, own.expansion) << path << " at " << n;
+      EXPECT_EQ(shared.matrices.K, own.matrices.K) << path << " at " << n;
+      EXPECT_EQ(shared.matrices.C, own.matrices.C) << path << " at " << n;
+      EXPECT_EQ(shared.matrices.G, own.matrices.G) << path << " at " << n;
+      EXPECT_EQ(shared.station_mass_kg, own.station_mass_kg) << path << " at " << n;
+      EXPECT_EQ(shared.unit_weight_kg, own.unit_weight_kg) << path << " at " << n;
+    }
+    const core::RotorReduction few(rotor, full, rotor.rub_station_node, 4);
+    try {
+      few.reduce(5);
+      ADD_FAILURE() << "5 planar modes from a reduction built for 4";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("5 is out of range; accepted: 1 to 4"), std::string::npos) << e.what();
+    }
+  }
+}

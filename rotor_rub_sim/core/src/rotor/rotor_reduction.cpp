@@ -35,7 +35,8 @@ Planes planes_of(int nodes) {
 
 }  // namespace
 
-ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int station_node, int planar_modes) {
+RotorReduction::RotorReduction(const FeRotor& rotor, const RotorMatrices& m, int station_node, int planar_modes)
+    : station_node_(station_node), m_(m) {
   const int nodes = rotor.nodes();
   if (station_node < 0 || station_node >= nodes) {
     throw std::invalid_argument("rub station: node " + std::to_string(station_node) +
@@ -51,6 +52,10 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
                                 std::to_string(rotor.dofs()) + ": not assembled from it");
   }
   const Planes planes = planes_of(nodes);
+  x_plane_ = planes.x_plane;
+  y_plane_ = planes.y_plane;
+  twin_sign_ = planes.twin_sign;
+  for (int node = 0; node < nodes; ++node) node_z_m_.push_back(rotor.node_z_m(node));
   const int np = static_cast<int>(planes.x_plane.size());
   // Each plane's stiffness and mass in planar indices (the y-z plane's with
   // its twin signs), symmetric: a static shape is the symmetric part's.
@@ -153,16 +158,18 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   // eigensolver's rounding, about 1e-12 of the mode, and any difference a
   // bearing makes is orders above 1e-8.
   constexpr double kNewShare = 1e-8;
-  std::vector<Eigen::VectorXd> kept;
+  // Each kept shape u with M_ii u beside it: u . M_ii v = (M_ii u) . v.
+  std::vector<Eigen::VectorXd> kept, m_kept;
   for (const Candidate& c : candidates) {
     if (static_cast<int>(kept.size()) == planar_modes - 1) break;
     Eigen::VectorXd v = c.shape;
     for (int pass = 0; pass < 2; ++pass) {
-      for (const auto& u : kept) v -= u.dot(m_ii * v) * u;
+      for (std::size_t k = 0; k < kept.size(); ++k) v -= m_kept[k].dot(v) * kept[k];
     }
     const double after = std::sqrt(std::max(0.0, v.dot(m_ii * v)));
     if (!(after > kNewShare * c.scale)) continue;
     kept.push_back(v / after);
+    m_kept.push_back(m_ii * kept.back());
   }
   if (static_cast<int>(kept.size()) != planar_modes - 1) {  // the modes of one plane alone span the interior
     throw std::runtime_error("rub station: the interior shapes do not span the rotor's planar DOFs");
@@ -170,13 +177,24 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   for (int k_shape = 1; k_shape < planar_modes; ++k_shape) {
     for (int a = 0; a < ni; ++a) planar(interior[a], k_shape) = kept[k_shape - 1](a);
   }
+  planar_ = std::move(planar);
+}
+
+ReducedRotor RotorReduction::reduce(int planar_modes) const {
+  if (planar_modes < 1 || planar_modes > most_planar_modes()) {
+    throw std::invalid_argument("retained modes: " + std::to_string(planar_modes) +
+                                " is out of range; accepted: 1 to " + std::to_string(most_planar_modes()) +
+                                " (the count this reduction was built for)");
+  }
+  const RotorMatrices& m = m_;
+  const int np = static_cast<int>(planar_.rows());
   // Both planes: columns [x shape, y twin] per planar shape.
   const int n = static_cast<int>(m.M.rows()), size = 2 * planar_modes;
   Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(n, size);
   for (int k = 0; k < planar_modes; ++k) {
     for (int a = 0; a < np; ++a) {
-      psi(planes.x_plane[a], 2 * k) = planar(a, k);
-      psi(planes.y_plane[a], 2 * k + 1) = planes.twin_sign[a] * planar(a, k);
+      psi(x_plane_[a], 2 * k) = planar_(a, k);
+      psi(y_plane_[a], 2 * k + 1) = twin_sign_[a] * planar_(a, k);
     }
   }
   const Eigen::MatrixXd m_cb = psi.transpose() * m.M * psi;
@@ -187,9 +205,9 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
         -m_cb.bottomRightCorner(size - 2, size - 2).llt().solve(m_cb.bottomLeftCorner(size - 2, 2));
   }
   ReducedRotor r;
-  r.station_node = station_node;
+  r.station_node = station_node_;
   r.planar_modes = planar_modes;
-  for (int node = 0; node < nodes; ++node) r.node_z_m.push_back(rotor.node_z_m(node));
+  r.node_z_m = node_z_m_;
   r.expansion = psi * t;
   auto project = [&](const Eigen::MatrixXd& x) { return Eigen::MatrixXd(r.expansion.transpose() * x * r.expansion); };
   r.matrices.M = project(m.M);
@@ -198,7 +216,7 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   r.matrices.G = project(m.G);
   r.station_mass_kg = r.matrices.M(ReducedRotor::kStationX, ReducedRotor::kStationX);
   Eigen::VectorXd rigid_y = Eigen::VectorXd::Zero(m.M.rows());
-  for (int node = 0; node < nodes; ++node) rigid_y(dof_index(node, kDofY)) = 1.0;
+  for (std::size_t node = 0; node < node_z_m_.size(); ++node) rigid_y(dof_index(static_cast<int>(node), kDofY)) = 1.0;
   r.unit_weight_kg = r.expansion.transpose() * (m.M * rigid_y);
   // The promised M = diag(m_st, m_st, I) holds when the two planes are twins
   // (an axisymmetric rotor in [x, y, alpha, beta] per node); matrices from
@@ -207,11 +225,15 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
   want(0, 0) = want(1, 1) = r.station_mass_kg;
   if (!((r.matrices.M - want).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, r.station_mass_kg))) {
     throw std::invalid_argument(
-        "rub station: node " + std::to_string(station_node) +
+        "rub station: node " + std::to_string(station_node_) +
         ": the rotor's mass is not the same in its x-z and y-z planes (M's y, alpha rows are not the x, -beta rows: "
         "matrices in another DOF order, or of a rotor that is not axisymmetric)");
   }
   return r;
+}
+
+ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int station_node, int planar_modes) {
+  return RotorReduction(rotor, m, station_node, planar_modes).reduce(planar_modes);
 }
 
 std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count) {

@@ -65,6 +65,31 @@ struct ReducedRotor {
 /// The most planar modes a rotor has: its planar DOFs (x, beta per node).
 inline int max_planar_modes(const FeRotor& rotor) { return 2 * rotor.nodes(); }
 
+/// The reduction of one assembled rotor at one station, its shapes built
+/// once up to most_planar_modes (the held rotor's two eigensolves and the
+/// orthonormalisation: the cost), then reduced to any count up to that. The
+/// shapes of n planar modes are the first n of any larger count's, so
+/// reduce(n) is reduce_rotor(..., n) to the bit (test_rotor_reduction,
+/// OneBasisReducesToEveryCountAsItsOwnReductionDoes): a search over counts
+/// (rotor_planar_modes auto, the truncation study) pays the eigensolves once.
+class RotorReduction {
+ public:
+  /// Throws as reduce_rotor, most_planar_modes the count judged.
+  RotorReduction(const FeRotor& rotor, const RotorMatrices& m, int station_node, int most_planar_modes);
+  /// The rotor reduced to planar_modes in [1, most_planar_modes()];
+  /// std::invalid_argument naming the value and the range outside it.
+  ReducedRotor reduce(int planar_modes) const;
+  int most_planar_modes() const { return static_cast<int>(planar_.cols()); }
+
+ private:
+  int station_node_;
+  RotorMatrices m_;
+  std::vector<double> node_z_m_;
+  std::vector<int> x_plane_, y_plane_;  // the planar indices' full DOFs: (x, beta) and their twins (y, alpha)
+  std::vector<double> twin_sign_;       // a twin's value is twin_sign times its planar shape's
+  Eigen::MatrixXd planar_;              // the planar shapes (x, beta per node), in order
+};
+
 /// Reduces the assembled rotor m (of `rotor`) at station_node to planar_modes
 /// per plane, in [1, max_planar_modes(rotor)]. Throws std::invalid_argument
 /// naming the value and the accepted range (a station on no node, a count
