@@ -256,7 +256,7 @@ int main(int argc, char** argv) {
                   md.natural_frequency_rad_per_s, md.damping_ratio, core::to_string(md.whirl));
     }
     if (const int real = core::overdamped_roots(m, 0.0); real > 0) {
-      std::printf("  (and %d overdamped roots, real: no modes, left out)\n", real);
+      std::printf("  (and %d overdamped roots: no modes, left out)\n", real);
     }
     if (criticals) {
       std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);

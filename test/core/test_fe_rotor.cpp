@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <complex>
 #include <fstream>
 #include <sstream>
 
@@ -419,6 +420,46 @@ TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
   EXPECT_NEAR(md.front().damped_frequency_rad_per_s, 181.77, 0.01);
   for (const auto& mode : md) EXPECT_LT(mode.damping_ratio, 0.05) << mode.damped_frequency_rad_per_s;
   EXPECT_GT(core::overdamped_roots(m, 0.0), 100);
+}
+
+// An overdamped pair that the spin turns complex is no mode. A disk's tilt
+// with damping c_t: I_d l^2 + (c_t - i Omega I_p) l + k_t = 0 (forward; the
+// backward roots are the conjugates' mirror), both roots with
+// Im l / |Re l| = Omega I_p / c_t for c_t^2 >> 4 I_d k_t: at Omega I_p / c_t
+// = 0.01 they decay by exp(2 pi / 0.01) in a cycle. Only the translation,
+// sqrt(k / m) forward and backward, is a mode. On ROSS's damped rig at 1000
+// rad/s such pairs sit at 23 rad/s, below every shaft mode: the lowest
+// modes listed are the shaft's (as at rest, lightly damped), and the first
+// critical speed is found (181.4 rad/s, its mode at 181.8 at rest; with the
+// pairs taken for modes, none was).
+TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
+  const double m = 10.0, k = 1e6, id = 0.1, kt = 2e4, ip = 0.2, ct = 1000.0, speed = 0.01 * ct / ip;
+  core::RotorMatrices mat;
+  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
+  mat.K = Eigen::Vector4d(k, k, kt, kt).asDiagonal();
+  mat.C = Eigen::Vector4d(0.0, 0.0, ct, ct).asDiagonal();
+  mat.G = Eigen::Matrix4d::Zero();
+  mat.G(core::kDofAlpha, core::kDofBeta) = ip;
+  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const std::complex<double> b(ct, -speed * ip);
+  const std::complex<double> root = std::sqrt(b * b - 4.0 * id * kt);
+  for (const std::complex<double> tilt : {(-b + root) / (2.0 * id), (-b - root) / (2.0 * id)}) {
+    EXPECT_NEAR(std::abs(tilt.imag() / tilt.real()), 0.01, 1e-3) << tilt;  // the closed form's premise
+  }
+  const auto md = core::modes(mat, speed, 4);
+  ASSERT_EQ(md.size(), 2u);
+  for (const auto& mode : md) EXPECT_NEAR(mode.damped_frequency_rad_per_s, std::sqrt(k / m), 1e-9);
+  EXPECT_EQ(core::overdamped_roots(mat, speed), 2);
+
+  const core::RotorMatrices rig =
+      core::assemble(core::load_rotor_file(test::source_path("config/rotors/ross_rub_rig.yaml")));
+  const auto at_speed = core::modes(rig, 1000.0, 4);
+  ASSERT_EQ(at_speed.size(), 4u);
+  EXPECT_GT(at_speed.front().damped_frequency_rad_per_s, 150.0);
+  for (const auto& mode : at_speed) EXPECT_LT(mode.damping_ratio, 0.05) << mode.damped_frequency_rad_per_s;
+  const auto critical = core::critical_speeds(rig, 1, 200.0, 4);
+  ASSERT_EQ(critical.size(), 1u);
+  EXPECT_NEAR(critical[0].speed_rad_per_s, 185.0, 10.0);
 }
 
 // A rigid disk on a bearing, as matrices: its tilt, I_d theta'' -+ Omega I_p

@@ -304,17 +304,24 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
 
 namespace {
 
-// A root is oscillatory (a mode) when Im lambda > 1e-6 |lambda|: a real root
-// (an overdamped pair, or a multiple root such as the rigid-body ones under
-// mass-proportional damping) can leave the QR with a small imaginary part,
-// about eps times the largest eigenvalue for a simple root and sqrt(eps) =
-// 1.5e-8 of itself for a double one (a pair at critical damping: ROSS's
-// damped rig, config/rotors/ross_rub_rig.yaml, has one at 1.05e5 rad/s with
-// Im 0.0015); a mode below the bound would have a damping ratio within 5e-13
-// of 1 (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio,
-// NearlyCriticalPairsAreNoModes).
+// A root is oscillatory (a mode) when it completes a cycle before decaying
+// below double rounding: its amplitude falls by exp(2 pi |Re| / Im) in a
+// period 2 pi / Im, so Im > 2 pi / ln(1 / eps) |Re| = 0.174 |Re| (a damping
+// ratio below 0.985). Above that no oscillation can be seen: an overdamped
+// pair's two real roots, turned into a complex pair by the gyroscopic
+// coupling at speed (ROSS's damped rig, config/rotors/ross_rub_rig.yaml:
+// its stiffness-proportional damping overdamps the shaft modes above
+// 1e5 rad/s, and at 1000 rad/s they are pairs at 23 rad/s with a damping
+// ratio of 1 - 3e-8, below every shaft mode). And Im > 1e-6 |lambda|: a real
+// root can leave the QR with a small imaginary part, about eps times the
+// largest eigenvalue for a simple root and sqrt(eps) = 1.5e-8 of itself for
+// a double one, also when undamped (test_fe_rotor,
+// RayleighShaftDampingGivesEachModeItsClosedFormRatio,
+// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes).
 bool oscillatory(std::complex<double> lambda) {
-  return lambda.imag() > 1e-6 * std::abs(lambda) && std::abs(lambda) > 1e-6;
+  const double cycle_decay_bound = 2.0 * M_PI / std::log(1.0 / std::numeric_limits<double>::epsilon());
+  return lambda.imag() > 1e-6 * std::abs(lambda) && lambda.imag() > cycle_decay_bound * std::abs(lambda.real()) &&
+         std::abs(lambda) > 1e-6;
 }
 
 // The oscillatory roots of the first-order matrix a by damped frequency, the

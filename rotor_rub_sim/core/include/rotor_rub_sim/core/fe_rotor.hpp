@@ -154,8 +154,11 @@ struct Mode {
 
 /// The modes at speed Omega, by damped frequency ascending (eigenvalues of
 /// the first-order system [[0, I], [-M^-1 K, -M^-1 (C + Omega G)]] with
-/// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s and real
-/// roots, overdamped, are left out).
+/// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s and
+/// overdamped roots are left out: real ones, and complex ones that decay by
+/// more than 1 / eps in a cycle, Im lambda <= 0.174 |Re lambda|, a damping
+/// ratio above 0.985: an overdamped pair the spin's gyroscopic coupling
+/// turned complex).
 /// Whirl from each node's orbit: y leading x by a quarter turn's sign
 /// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
 /// straight line counts as forward), a mode forward or backward when every
@@ -170,8 +173,9 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
 /// the contact's linearisation among them: rk4_stability.hpp).
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 
-/// How many real roots (overdamped pairs, Im lambda >= 0, not rigid-body)
-/// the first-order system has at speed Omega: left out of modes().
+/// How many overdamped roots (Im lambda >= 0, not rigid-body, as modes()
+/// judges them) the first-order system has at speed Omega: left out of
+/// modes().
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 
 /// Critical speeds: where a mode's damped frequency equals the speed
