@@ -423,12 +423,13 @@ TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
 }
 
 // An overdamped pair that the spin turns complex is no mode. A disk's tilt
-// with damping c_t: I_d l^2 + (c_t - i Omega I_p) l + k_t = 0 (forward; the
-// backward roots are the conjugates' mirror), both roots with
-// Im l / |Re l| = Omega I_p / c_t for c_t^2 >> 4 I_d k_t: at Omega I_p / c_t
-// = 0.01 they decay by exp(2 pi / 0.01) in a cycle. Only the translation,
-// sqrt(k / m) forward and backward, is a mode. On ROSS's damped rig at 1000
-// rad/s such pairs sit at 23 rad/s, below every shaft mode: the lowest
+// with damping c_t, in z = alpha + i beta: I_d l^2 + (c_t - i Omega I_p) l
+// + k_t = 0; the real system's roots are these two and their conjugates,
+// one of each pair with Im > 0. For c_t^2 >> 4 I_d k_t both have
+// Im l / |Re l| = Omega I_p / c_t: at 0.01 they decay by exp(2 pi / 0.01)
+// in a cycle. Only the translation, sqrt(k / m) forward and backward, is a
+// mode. On ROSS's damped rig at 1000 rad/s such pairs sit at 23 rad/s,
+// below every shaft mode: the lowest
 // modes listed are the shaft's (as at rest, lightly damped), and the first
 // critical speed is found (181.4 rad/s, its mode at 181.8 at rest; with the
 // pairs taken for modes, none was).

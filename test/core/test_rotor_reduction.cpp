@@ -294,6 +294,8 @@ TEST(RotorReduction, OneBasisReducesToEveryCountAsItsOwnReductionDoes) {
       const core::ReducedRotor shared = reduction.reduce(n);
       ASSERT_EQ(shared.planar_modes, n) << path;
       EXPECT_EQ(shared.expansion, own.expansion) << path << " at " << n;
+      EXPECT_EQ(shared.matrices.M, own.matrices.M) << path << " at " << n;
+      EXPECT_EQ(shared.node_z_m, own.node_z_m) << path << " at " << n;
       EXPECT_EQ(shared.matrices.K, own.matrices.K) << path << " at " << n;
       EXPECT_EQ(shared.matrices.C, own.matrices.C) << path << " at " << n;
       EXPECT_EQ(shared.matrices.G, own.matrices.G) << path << " at " << n;

@@ -304,24 +304,26 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
 
 namespace {
 
-// A root is oscillatory (a mode) when it completes a cycle before decaying
-// below double rounding: its amplitude falls by exp(2 pi |Re| / Im) in a
-// period 2 pi / Im, so Im > 2 pi / ln(1 / eps) |Re| = 0.174 |Re| (a damping
-// ratio below 0.985). Above that no oscillation can be seen: an overdamped
-// pair's two real roots, turned into a complex pair by the gyroscopic
-// coupling at speed (ROSS's damped rig, config/rotors/ross_rub_rig.yaml:
-// its stiffness-proportional damping overdamps the shaft modes above
-// 1e5 rad/s, and at 1000 rad/s they are pairs at 23 rad/s with a damping
-// ratio of 1 - 3e-8, below every shaft mode). And Im > 1e-6 |lambda|: a real
-// root can leave the QR with a small imaginary part, about eps times the
-// largest eigenvalue for a simple root and sqrt(eps) = 1.5e-8 of itself for
-// a double one, also when undamped (test_fe_rotor,
-// RayleighShaftDampingGivesEachModeItsClosedFormRatio,
-// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes).
+// A decaying root is oscillatory (a mode) when it completes a cycle before
+// decaying below double rounding: its amplitude falls by exp(2 pi |Re| / Im)
+// in a period 2 pi / Im, so Im > 2 pi / ln(1 / eps) (-Re) = 0.174 (-Re), a
+// damping ratio below 0.985. Above that no oscillation can be seen: an
+// overdamped pair's two real roots, turned into a complex pair by the
+// gyroscopic coupling at speed (ROSS's damped rig,
+// config/rotors/ross_rub_rig.yaml, whose stiffness-proportional damping
+// overdamps its highest shaft modes: at 1000 rad/s they are pairs at 23
+// rad/s with a damping ratio of 1 - 3e-8, below every shaft mode), and a
+// real root that leaves the QR with a small imaginary part (about eps times
+// the largest eigenvalue for a simple root, sqrt(eps) = 1.5e-8 of itself
+// for a double one). A root that does not decay (Re >= 0: undamped, or
+// growing, an instability) is a mode when Im > 1e-6 |lambda|, the same
+// rounding's bound. (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio,
+// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes.)
 bool oscillatory(std::complex<double> lambda) {
+  if (!(std::abs(lambda) > 1e-6)) return false;
   const double cycle_decay_bound = 2.0 * M_PI / std::log(1.0 / std::numeric_limits<double>::epsilon());
-  return lambda.imag() > 1e-6 * std::abs(lambda) && lambda.imag() > cycle_decay_bound * std::abs(lambda.real()) &&
-         std::abs(lambda) > 1e-6;
+  if (lambda.real() < 0.0) return lambda.imag() > cycle_decay_bound * -lambda.real();
+  return lambda.imag() > 1e-6 * std::abs(lambda);
 }
 
 // The oscillatory roots of the first-order matrix a by damped frequency, the
@@ -418,7 +420,7 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
   int real = 0;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (!oscillatory(lambda) && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
+    if (!oscillatory(lambda) && lambda.real() < 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
   }
   return real;
 }

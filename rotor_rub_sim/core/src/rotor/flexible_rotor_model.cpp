@@ -166,18 +166,18 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
   // One basis for every count tried: the search pays its eigensolves once.
   const RotorReduction reduction(rotor, full, rotor.rub_station_node, static_cast<int>(automatic ? most : count));
   if (automatic) {
-    // The most modes first: a tolerance they miss (below the full model's
-    // rounding, or beyond kMaxPlanarModes) is refused without a search.
-    const double at_most = reference.error(reduction.reduce(static_cast<int>(most)));
-    if (!(at_most <= settings.truncation_tolerance)) {
+    double best = std::numeric_limits<double>::infinity();
+    for (count = 1; count <= most; ++count) {
+      const double error = reference.error(reduction.reduce(static_cast<int>(count)));
+      best = std::min(best, error);
+      if (error <= settings.truncation_tolerance) break;
+    }
+    if (count > most) {
       std::ostringstream os;
       os << "value auto finds no model of 1 to " << most
-         << " planar modes within rotor_truncation_tolerance = " << settings.truncation_tolerance << " (" << most
-         << " planar modes: " << at_most << "); accepted for '" << settings.file << "': 1 to " << most;
+         << " planar modes within rotor_truncation_tolerance = " << settings.truncation_tolerance
+         << " (the best: " << best << "); accepted for '" << settings.file << "': 1 to " << most;
       refuse_key("rotor_planar_modes", os.str());
-    }
-    for (count = 1; count < most; ++count) {
-      if (reference.error(reduction.reduce(static_cast<int>(count))) <= settings.truncation_tolerance) break;
     }
   }
   const ReducedRotor reduced = reduction.reduce(static_cast<int>(count));

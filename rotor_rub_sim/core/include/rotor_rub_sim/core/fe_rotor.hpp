@@ -155,10 +155,11 @@ struct Mode {
 /// The modes at speed Omega, by damped frequency ascending (eigenvalues of
 /// the first-order system [[0, I], [-M^-1 K, -M^-1 (C + Omega G)]] with
 /// Im lambda > 0; rigid-body modes with |lambda| <= 1e-6 rad/s and
-/// overdamped roots are left out: real ones, and complex ones that decay by
-/// more than 1 / eps in a cycle, Im lambda <= 0.174 |Re lambda|, a damping
-/// ratio above 0.985: an overdamped pair the spin's gyroscopic coupling
-/// turned complex).
+/// overdamped roots are left out: decaying roots that decay by more than
+/// 1 / eps in a cycle, Im lambda <= 0.174 (-Re lambda), a damping ratio
+/// above 0.985: real ones, and an overdamped pair the spin's gyroscopic
+/// coupling turned complex; a root that does not decay is a mode unless it
+/// is real, Im lambda <= 1e-6 |lambda|).
 /// Whirl from each node's orbit: y leading x by a quarter turn's sign
 /// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
 /// straight line counts as forward), a mode forward or backward when every
@@ -173,9 +174,10 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
 /// the contact's linearisation among them: rk4_stability.hpp).
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 
-/// How many overdamped roots (Im lambda >= 0, not rigid-body, as modes()
-/// judges them) the first-order system has at speed Omega: left out of
-/// modes().
+/// How many overdamped roots (decaying, Im lambda >= 0, not rigid-body, as
+/// modes() judges them) the first-order system has at speed Omega: left out
+/// of modes(). A real root counts once each (an overdamped pair at rest
+/// twice), a complex pair once (its Im > 0 member).
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 
 /// Critical speeds: where a mode's damped frequency equals the speed

@@ -74,10 +74,14 @@ inline int max_planar_modes(const FeRotor& rotor) { return 2 * rotor.nodes(); }
 /// (rotor_planar_modes auto, the truncation study) pays the eigensolves once.
 class RotorReduction {
  public:
-  /// Throws as reduce_rotor, most_planar_modes the count judged.
+  /// Throws std::invalid_argument naming the value and the accepted range
+  /// (a station on no node, most_planar_modes out of [1,
+  /// max_planar_modes(rotor)]) or when the rotor with its station held
+  /// cannot stand.
   RotorReduction(const FeRotor& rotor, const RotorMatrices& m, int station_node, int most_planar_modes);
-  /// The rotor reduced to planar_modes in [1, most_planar_modes()];
-  /// std::invalid_argument naming the value and the range outside it.
+  /// The rotor reduced to planar_modes in [1, most_planar_modes()].
+  /// std::invalid_argument naming the value and the range outside it, or
+  /// when the reduced mass is not diag(m_st, m_st, I) (reduce_rotor).
   ReducedRotor reduce(int planar_modes) const;
   int most_planar_modes() const { return static_cast<int>(planar_.cols()); }
 
