@@ -1,25 +1,34 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the core's gtests, the runner's and
-# sweep's CLI tests, the node's gtests and rostests; every unit through
-# clang++, the core's tests built under ASan/UBSan and run; the chart and
-# bifurcation commands on small grids; the ROS tools on both packages;
-# catkin_lint; the install space with a downstream package built against it;
-# the docs' generated tables; the README's quick start, verbatim; sweeps on a
-# throwaway Slurm cluster. Ends with the line "N passed, N failed" counted
-# from the test results; exits non-zero on any failure (catkin_make run_tests
-# alone exits 0 even then).
+# sweep's CLI tests, the node's gtests and rostests; the core library's units
+# through clang++ without code generation; the chart and bifurcation commands on
+# small grids; the ROS tools on both packages; catkin_lint; the install space
+# with a downstream package built against it; the docs' generated tables; the
+# README's quick start, verbatim; sweeps on a throwaway Slurm cluster. Ends
+# with the line "N passed, N failed" counted from the test results; exits
+# non-zero on any failure (catkin_make run_tests alone exits 0 even then).
+#   scripts/run_tests.sh [--sanitize]
+# --sanitize also builds the core's tests under ASan/UBSan with clang++ and
+# runs them (about 15 more minutes on 2 cores: docs/testing.md, "The
+# sanitized run"); the CI's command (.ci/run) is the default, which fits the
+# 20-minute bound.
 #
-# Two builds, one per configuration: g++ Release (the product: the tests,
-# the install space, the tools' checks) and clang++ (the second compiler and
-# ASan/UBSan at once: what the sanitizers run is built under them, every other
-# unit compiled without code generation or linking). The clang build runs
-# niced while the rostests, which mostly wait, use the other core; the
-# Slurm sweeps (which mostly wait on the scheduler) and the package, docs and
-# tools checks follow the rostests, still beside it, and the sanitized tests
-# run once it is done. Each phase's wall time goes to $WS/phases.txt
+# The g++ Release build is the product: the tests, the install space, the
+# tools' checks. The clang++ syntax check (or, with --sanitize, the clang++
+# build that serves the second compiler and ASan/UBSan at once) runs niced
+# while the tests, which mostly wait on ROS, use the other core; the Slurm
+# sweeps (which mostly wait on the scheduler) and the package, docs and tools
+# checks follow the tests, still beside it, and the sanitized tests run once
+# that build is done. Each phase's wall time goes to $WS/phases.txt
 # (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+SANITIZE=0
+case "${1:-}" in
+"") ;;
+--sanitize) SANITIZE=1 ;;
+*) echo "usage: scripts/run_tests.sh [--sanitize] (got: $*)" >&2; exit 2 ;;
+esac
 source "$ROOT/scripts/workspace.sh"
 START=$(date +%s)
 mkdir -p "$WS"
@@ -59,13 +68,23 @@ timed "build: g++ Release, tests" catkin_make --force-cmake tests -DCMAKE_BUILD_
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test_build.log" 2>&1 \
   || { tail -n 40 "$WS/test_build.log"; echo "0 passed, 1 failed"; exit 1; }
 
-# The clang++/sanitizer build, niced, beside the tests (which mostly wait on ROS).
-# Not beside the tests' g++ build: there it slowed that build by more than it
-# gained (docs/testing.md).
-( timed "build: clang++ ASan/UBSan + syntax" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
+# The clang++ check (with --sanitize, build), niced, beside the tests (which
+# mostly wait on ROS). Not beside the tests' g++ build: there it slowed that
+# build by more than it gained (docs/testing.md).
+if [ "$SANITIZE" -eq 1 ]; then
+  CLANG_STEP=clang CLANG_PHASE="build: clang++ ASan/UBSan + syntax"
+  CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
+else
+  CLANG_STEP=clang-syntax CLANG_PHASE="checks: clang++ syntax"
+  CLANG_CHECK="clang++ -std=c++17: every unit of the core library compiled -fsyntax-only (not linked)"
+fi
+( timed "$CLANG_PHASE" nice -n 19 "$ROOT/scripts/check_package.sh" "$CLANG_STEP" ) \
   > "$WS/clang_stream.log" 2>&1 &
 CLANG_PID=$!
-timed "tests: gtests and rostests" catkin_make run_tests -DCMAKE_BUILD_TYPE=Release \
+# Four test targets at a time, whatever the load: the rostests mostly wait on
+# their nodes, each with a master of its own (catkin_make's default, -l of
+# the cores, ran them one by one beside the clang++ step).
+timed "tests: gtests and rostests" catkin_make run_tests -j4 -l100 -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
 # Sweeps on a real, throwaway single-node Slurm cluster (its cases join the
@@ -171,21 +190,22 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
   && grep -q 'plot_full_rub: up runs in full rub' '$WS/bifurcation_check.log' \
   && grep -q 'plot_full_rub: the continuation turns back at 167.936 rad/s' '$WS/bifurcation_check.log'"
 
-CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
 if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
 else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
-  tail -n 15 "$WS/check_clang.log"; fi
+  tail -n 15 "$WS/check_$CLANG_STEP.log"; fi
 
-# The core's tests under ASan and UBSan once the clang++ build is done (their XML joins the results).
-( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
-  > "$WS/sanitize_stream.log" 2>&1 &
-SAN_PID=$!
-
-# The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
-timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
-  bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
-if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
-else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
+: > "$WS/sanitize_stream.log"
+if [ "$SANITIZE" -eq 1 ]; then
+  # The core's tests under ASan and UBSan once the clang++ build is done (their XML joins the results).
+  ( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
+    > "$WS/sanitize_stream.log" 2>&1 &
+  SAN_PID=$!
+  # The sanitized build's flags: UBSan still on the project's code, ASan inside Eigen's (test/tools/).
+  timed "checks: sanitizer flags' cases" check "sanitized build: UBSan reports in the project's code, ASan in Eigen's" \
+    bash -c "'$ROOT/test/tools/test_sanitizer_flags.sh' '$WS/build_clang' > '$WS/sanitizer_flags_test.log' 2>&1"
+  if wait "$SAN_PID"; then echo "[  OK  ] sanitizers: every sanitized binary exited 0" | tee -a "$CHECKS"
+  else echo "[FAILED] sanitizers: a sanitized binary failed (scripts/run_sanitizers.sh)" | tee -a "$CHECKS"; fi
+fi
 wait "$SLURM_PID"
 # A Slurm test killed before it wrote its results would otherwise count as nothing.
 [ -s "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ] \
