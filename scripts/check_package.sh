@@ -3,18 +3,18 @@
 # counts each as a test):
 #   lint        catkin_lint -W2 --strict on both packages (with the rosdep rules of
 #               scripts/setup_deps.sh): no error, warning or notice
-#   clang-syntax  the core library's C++ units through clang++ (-std=c++17, as
-#               CMakeLists.txt sets) in $WS/build_clang without code generation or
-#               linking (scripts/clang_syntax_check.py): the second compiler, in the
-#               test command's default
-#   clang       every C++ unit through clang++: the targets scripts/run_sanitizers.sh
-#               runs built under ASan and UBSan (-O1 -g1), every other unit (the ROS
-#               layer, the tools, the tests no sanitizer runs) syntax-checked: the
-#               second compiler and the sanitizers in one build (run_tests.sh --sanitize)
+#   clang       every C++ unit through clang++ (-std=c++17, as CMakeLists.txt sets) in
+#               $WS/build_clang: the targets scripts/run_sanitizers.sh runs built under
+#               ASan and UBSan (-O1 -g1), every other unit (the ROS layer, the tools,
+#               the tests no sanitizer runs) compiled without code generation or
+#               linking (scripts/clang_syntax_check.py): the second compiler and the
+#               sanitizers in one build (run_tests.sh --sanitize)
 #   install     `catkin_make install` of the main (g++ Release) build into a fresh
 #               $WS/install: the install space the next steps use (no second build)
 #   layout      the install space holds the core's headers and library, every program,
 #               every script of rotor_rub_sim/tools and examples, config/ and launch/
+#   headers     every installed header of the core in one unit, through clang++
+#               -std=c++17 -fsyntax-only (a downstream package may build with clang)
 #   downstream  a user's package (test/install/rub_downstream) in a workspace of its own:
 #               find_package(catkin REQUIRED COMPONENTS rotor_rub_sim), includes core
 #               headers, links the core, runs 50 ms of config/paper_runup.yaml
@@ -26,7 +26,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 source "$ROOT/scripts/workspace.sh"
 INSTALL="$WS/install"
-STEP="${1:?usage: check_package.sh lint|clang-syntax|clang|install|layout|downstream|ros-tools}"
+STEP="${1:?usage: check_package.sh lint|clang|install|layout|headers|downstream|ros-tools}"
 LOG="$WS/check_$STEP.log"
 : > "$LOG"
 
@@ -44,7 +44,7 @@ lint)
   clean catkin_lint -W2 --strict --offline --rosdep-cache-path "$WS/rosdep/home/rosdep" \
     "$WS/src/rotor_rub_sim" "$WS/src/rotor_rub_msgs" >> "$LOG" 2>&1 || { cat "$LOG" >&2; fail "catkin_lint found problems"; }
   ;;
-clang | clang-syntax)
+clang)
   B="$WS/build_clang"
   # A cache made with another compiler is started afresh (CMake drops the
   # whole cache when the compiler changes).
@@ -53,31 +53,22 @@ clang | clang-syntax)
   fi
   # RelWithDebInfo's flags made -O1 -g1: the sanitizers' usual level, line
   # tables for their reports, and a third of -O2's compile time.
-  SANITIZE=OFF GOALS=(rotor_rub_msgs_generate_messages_cpp)
-  if [ "$STEP" = clang ]; then
-    # What the sanitizers run (test/sanitized_tests.txt, with what it links and
-    # starts) as one goal.
-    SANITIZE=ON GOALS+=(rotor_rub_sanitized_tests)
-  fi
-  ARGS=(--build build_clang -DCATKIN_DEVEL_PREFIX="$WS/devel_clang" -Drotor_rub_sim_SANITIZE=$SANITIZE
+  ARGS=(--build build_clang -DCATKIN_DEVEL_PREFIX="$WS/devel_clang" -Drotor_rub_sim_SANITIZE=ON
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPYTHON_EXECUTABLE=/usr/bin/python3
     -DCMAKE_EXPORT_COMPILE_COMMANDS=ON)
-  # The goals, and the messages the ROS layer's units include.
+  # What the sanitizers run (test/sanitized_tests.txt, with what it links and
+  # starts) as one goal, and the messages the ROS layer's units include.
   STAMP="$WS/clang_build.stamp"
   touch "$STAMP"
-  if ! (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" "${GOALS[@]}") >> "$LOG" 2>&1; then
+  if ! (cd "$WS" && clean CC=clang CXX=clang++ catkin_make "${ARGS[@]}" rotor_rub_msgs_generate_messages_cpp \
+    rotor_rub_sanitized_tests) >> "$LOG" 2>&1; then
     tail -n 40 "$LOG" >&2
     fail "the clang++ build failed (log: $LOG)"
   fi
-  # Every other unit without code generation; by default the core library's
-  # only: its templates are where clang++ and g++ part (the rest, twice their
-  # compile time, in --sanitize's run).
-  UNDER=()
-  [ "$STEP" = clang ] || UNDER=(--under "$ROOT/rotor_rub_sim/core")
+  # Every other unit, without code generation.
   rc=0
-  clean /usr/bin/python3 "$ROOT/scripts/clang_syntax_check.py" "$B" "$STAMP" --jobs "$(nproc)" "${UNDER[@]}" \
-    >> "$LOG" 2>&1 || rc=$?
+  clean /usr/bin/python3 "$ROOT/scripts/clang_syntax_check.py" "$B" "$STAMP" --jobs "$(nproc)" >> "$LOG" 2>&1 || rc=$?
   case $rc in
   0) ;;
   1) tail -n 40 "$LOG" >&2; fail "clang++ -fsyntax-only failed on a unit (log: $LOG)" ;;
@@ -128,6 +119,15 @@ layout)
   grep -q 'set(_include_dirs "include;/usr/include/eigen3")' "$cfg" \
     || fail "exported include dirs: $(grep 'set(_include_dirs' "$cfg") (expected include;/usr/include/eigen3)"
   ;;
+headers)
+  [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
+  unit="$WS/installed_headers.cpp"
+  (cd "$INSTALL/include" && find rotor_rub_sim/core -name "*.hpp" | sort | sed 's/.*/#include "&"/') > "$unit"
+  [ -s "$unit" ] || fail "no core header in $INSTALL/include"
+  clean clang++ -std=c++17 -fsyntax-only -Wall -Wextra -Wpedantic -Werror -I"$INSTALL/include" \
+    -isystem /usr/include/eigen3 "$unit" >> "$LOG" 2>&1 \
+    || { tail -n 30 "$LOG" >&2; fail "the installed headers do not compile under clang++ (log: $LOG)"; }
+  ;;
 downstream)
   [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
   DWS="$WS/downstream_check"
@@ -160,6 +160,6 @@ ros-tools)
   grep -qF " $INSTALL/lib/rotor_rub_sim/rotor_rub_sim_node " <<< " $args " || fail "roslaunch resolves the node to: $args"
   ;;
 *)
-  fail "unknown step (lint, clang-syntax, clang, install, layout, downstream, ros-tools)"
+  fail "unknown step (lint, clang, install, layout, headers, downstream, ros-tools)"
   ;;
 esac

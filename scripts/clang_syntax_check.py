@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The clang++ check of every translation unit that a build did not compile.
 
-    scripts/clang_syntax_check.py BUILD_DIR STAMP [--jobs N] [--under DIR]
+    scripts/clang_syntax_check.py BUILD_DIR STAMP [--jobs N]
 
 scripts/check_package.sh clang builds only what the sanitized tests run
 (scripts/run_sanitizers.sh) under ASan/UBSan; every other unit of
@@ -15,10 +15,6 @@ unit counts as compiled by the build when its object file is newer than
 STAMP (a file touched before the build); any other is checked here, so a
 stale object from an earlier build never stands in for a check (a rerun on
 a built directory, where make rebuilds nothing, checks every unit here).
-A precompiled header (test_core's) that the build did not write is compiled
-first, with its own command, when a unit checked here includes it. --under
-DIR checks only the units whose source is under DIR (check_package.sh
-clang-syntax: the core library's, where the templates are).
 
 Prints each failed unit with the compiler's first lines, each unit with
 warnings with all of them, then a summary; exits 0 when every unit passed,
@@ -54,9 +50,7 @@ def main():
     ap.add_argument("build_dir")
     ap.add_argument("stamp", help="a file touched before the build: objects newer than it were compiled by it")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--under", help="check only the units whose source file is under this directory")
     a = ap.parse_args()
-    under = os.path.join(os.path.realpath(a.under), "") if a.under else None
     path = os.path.join(a.build_dir, "compile_commands.json")
     try:
         with open(path) as f:
@@ -68,33 +62,16 @@ def main():
     if not entries:
         print("clang_syntax_check: %s lists no unit" % path, file=sys.stderr)
         return 2
-    todo, headers, built = [], [], 0
+    todo, built = [], 0
     for e in entries:
+        if "-emit-pch" in e["command"]:
+            continue  # a precompiled header (test_core's): checked by the units that include it
         obj = object_of(e["command"])
         full = os.path.join(e["directory"], obj) if obj else None
-        fresh = full and os.path.exists(full) and os.path.getmtime(full) > since
-        if "-emit-pch" in e["command"]:
-            # A precompiled header (test_core's) is no unit: the units that include it check it.
-            if not fresh:
-                headers.append(e)
-        elif under and not os.path.realpath(os.path.join(e["directory"], e["file"])).startswith(under):
-            continue
-        elif fresh:
+        if full and os.path.exists(full) and os.path.getmtime(full) > since:
             built += 1
         else:
             todo.append(e)
-    if not todo and not built:
-        print("clang_syntax_check: no unit of %s%s" % (path, " under " + a.under if a.under else ""), file=sys.stderr)
-        return 2
-    targets = {target_of(object_of(e["command"])) for e in todo}
-    headers = [e for e in headers if target_of(object_of(e["command"])) in targets]
-    for e in headers:
-        r = subprocess.run(e["command"], shell=True, cwd=e["directory"], stdout=subprocess.DEVNULL,
-                           stderr=subprocess.PIPE, encoding="utf-8", errors="replace")
-        if r.returncode != 0:
-            print("[FAILED] clang++ precompiled header %s" % os.path.relpath(e["file"], a.build_dir))
-            print("\n".join(r.stderr.splitlines()[:30]))
-            return 1
 
     def check(e):
         r = subprocess.run(e["command"] + " -fsyntax-only", shell=True, cwd=e["directory"],
@@ -114,7 +91,7 @@ def main():
                 print("warnings: %s" % name)
                 print(r.stderr.rstrip())
     print("clang_syntax_check: %d units compiled by the build, %d checked with -fsyntax-only, %d failed"
-          " (%d precompiled headers compiled)" % (built, len(todo), failed, len(headers)))
+          % (built, len(todo), failed))
     return 1 if failed else 0
 
 

@@ -1,26 +1,24 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the core's gtests, the runner's and
-# sweep's CLI tests, the node's gtests and rostests; the core library's units
-# through clang++ without code generation; the chart and bifurcation commands on
-# small grids; the ROS tools on both packages; catkin_lint; the install space
-# with a downstream package built against it; the docs' generated tables; the
-# README's quick start, verbatim; sweeps on a throwaway Slurm cluster. Ends
-# with the line "N passed, N failed" counted from the test results; exits
-# non-zero on any failure (catkin_make run_tests alone exits 0 even then).
+# sweep's CLI tests, the node's gtests and rostests; the chart and bifurcation
+# commands on small grids; the ROS tools on both packages; catkin_lint; the
+# install space with a downstream package built against it and its headers
+# through clang++; the docs' generated tables; the README's quick start,
+# verbatim; sweeps on a throwaway Slurm cluster. Ends with the line "N passed,
+# N failed" counted from the test results; exits non-zero on any failure
+# (catkin_make run_tests alone exits 0 even then).
 #   scripts/run_tests.sh [--sanitize]
-# --sanitize also builds the core's tests under ASan/UBSan with clang++ and
-# runs them (about 15 more minutes on 2 cores: docs/testing.md, "The
-# sanitized run"); the CI's command (.ci/run) is the default, which fits the
-# 20-minute bound.
+# --sanitize adds the clang++ build: the core's tests built under ASan/UBSan
+# and run, every other unit compiled without code generation (about 15 more
+# minutes on 2 cores: docs/testing.md, "The sanitized run"). The default is
+# the CI's command (.ci/run), which keeps to 20 minutes.
 #
-# The g++ Release build is the product: the tests, the install space, the
-# tools' checks. The clang++ syntax check (or, with --sanitize, the clang++
-# build that serves the second compiler and ASan/UBSan at once) runs niced
-# while the tests, which mostly wait on ROS, use the other core; the Slurm
-# sweeps (which mostly wait on the scheduler) and the package, docs and tools
-# checks follow the tests, still beside it, and the sanitized tests run once
-# that build is done. Each phase's wall time goes to $WS/phases.txt
-# (docs/testing.md).
+# One g++ Release build, the product: the tests, the install space, the
+# tools' checks. With --sanitize the clang++ build runs niced while the
+# tests, which mostly wait on ROS, use the other core. The Slurm sweeps
+# (which mostly wait on the scheduler) and the package, docs and tools checks
+# follow the tests, and the sanitized tests run once the clang++ build is
+# done. Each phase's wall time goes to $WS/phases.txt (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SANITIZE=0
@@ -68,33 +66,28 @@ timed "build: g++ Release, tests" catkin_make --force-cmake tests -DCMAKE_BUILD_
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test_build.log" 2>&1 \
   || { tail -n 40 "$WS/test_build.log"; echo "0 passed, 1 failed"; exit 1; }
 
-# The clang++ check (with --sanitize, build), niced, beside the tests (which
+# With --sanitize, the clang++/sanitizer build, niced, beside the tests (which
 # mostly wait on ROS). Not beside the tests' g++ build: there it slowed that
 # build by more than it gained (docs/testing.md).
+CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
 if [ "$SANITIZE" -eq 1 ]; then
-  CLANG_STEP=clang CLANG_PHASE="build: clang++ ASan/UBSan + syntax"
-  CLANG_CHECK="clang++ -std=c++17: every C++ unit (the sanitized tests' targets built under ASan/UBSan, the rest -fsyntax-only, not linked)"
-else
-  CLANG_STEP=clang-syntax CLANG_PHASE="checks: clang++ syntax"
-  CLANG_CHECK="clang++ -std=c++17: every unit of the core library compiled -fsyntax-only (not linked)"
+  ( timed "build: clang++ ASan/UBSan + syntax" nice -n 19 "$ROOT/scripts/check_package.sh" clang ) \
+    > "$WS/clang_stream.log" 2>&1 &
+  CLANG_PID=$!
 fi
-( timed "$CLANG_PHASE" nice -n 19 "$ROOT/scripts/check_package.sh" "$CLANG_STEP" ) \
-  > "$WS/clang_stream.log" 2>&1 &
-CLANG_PID=$!
-# Four test targets at a time, whatever the load: the rostests mostly wait on
-# their nodes, each with a master of its own (catkin_make's default, -l of
-# the cores, ran them one by one beside the clang++ step).
-timed "tests: gtests and rostests" catkin_make run_tests -j4 -l100 -DCMAKE_BUILD_TYPE=Release \
-  -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
-grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
-# Sweeps on a real, throwaway single-node Slurm cluster (its cases join the
-# results), beside the rest of the clang++ build: the test mostly waits on the
-# scheduler.
-( timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
-  > "$WS/slurm_stream.log" 2>&1 &
-SLURM_PID=$!
-# The package as others consume it, the tools and the docs: beside the rest of
-# the clang++ build (niced) and the Slurm sweeps; they need the g++ build only.
+# The package as others consume it (scripts/check_package.sh): catkin_lint; the
+# main build installed; its headers under clang++; a downstream package built
+# against it; the ROS tools on it. A failed step shows the end of its log.
+check_pkg() {
+  local step="$1" name="$2"
+  check "$name" "$ROOT/scripts/check_package.sh" "$step" || true
+  tail -n 1 "$CHECKS" | grep -q '^\[FAILED\]' && tail -n 15 "$WS/check_$step.log"
+  return 0
+}
+# The package as others consume it, the tools and the docs, one after the
+# other beside the tests (they need the g++ build and its install space only;
+# the quick start's master is on port 11311, each rostest's on a free port).
+checks_stream() {
 # ROS tools see both packages (the workspace environment, no master).
 BAG="$WS/tool_check.bag"
 tools_check() {
@@ -112,23 +105,14 @@ with rosbag.Bag('$BAG', 'w') as b:
   check "ros tool: rostopic echo -b" bash -c "rostopic echo -b '$BAG' -n 1 /rotor_rub_sim/state | grep -q 'normal_force: 1.5'"
 }
 timed "checks: ROS tools" tools_check
-# The package as others consume it (scripts/check_package.sh): catkin_lint; the
-# main build installed; a downstream package built against it; the ROS tools
-# on it. A failed step shows the end of its log.
-check_pkg() {
-  local step="$1" name="$2"
-  check "$name" "$ROOT/scripts/check_package.sh" "$step" || true
-  tail -n 1 "$CHECKS" | grep -q '^\[FAILED\]' && tail -n 15 "$WS/check_$step.log"
-  return 0
-}
 package_checks() {
   check_pkg lint "catkin_lint -W2 --strict: rotor_rub_sim and rotor_rub_msgs"
-  check_pkg install "install: catkin_make install of the g++ build"
   check_pkg layout "install: core headers and library, programs, tools and examples, config, launch"
+  check_pkg headers "install: the core's installed headers compile under clang++ -std=c++17"
   check_pkg downstream "install: a downstream package (find_package rotor_rub_sim) builds and runs a scene"
   check_pkg ros-tools "install: rospack find, rosrun, roslaunch --files/--args"
 }
-timed "checks: lint, install, downstream" package_checks
+timed "checks: lint, layout, headers, downstream" package_checks
 # Every C++ file of the repository as .clang-format lays it out.
 format_check() (
   cd "$ROOT" && git ls-files -z '*.cpp' '*.hpp' | xargs -0 -r clang-format --dry-run -Werror > "$WS/clang_format.log" 2>&1 \
@@ -189,13 +173,30 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
   test -s '$BIF/'\$f.png || exit 1; done && grep -q ',up,' '$BIF/data/bifurcation.csv' \
   && grep -q 'plot_full_rub: up runs in full rub' '$WS/bifurcation_check.log' \
   && grep -q 'plot_full_rub: the continuation turns back at 167.936 rad/s' '$WS/bifurcation_check.log'"
-
-if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
-else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
-  tail -n 15 "$WS/check_$CLANG_STEP.log"; fi
-
+}
+# The install space first, alone: catkin_make must not share the build
+# directory with the tests' run.
+timed "checks: install" check_pkg install "install: catkin_make install of the g++ build"
+( checks_stream ) > "$WS/checks_stream.log" 2>&1 &
+CHECKS_PID=$!
+# Sweeps on a real, throwaway single-node Slurm cluster (its cases join the
+# results), beside the tests: they mostly wait on the scheduler.
+( timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
+  > "$WS/slurm_stream.log" 2>&1 &
+SLURM_PID=$!
+# Four test targets at a time, whatever the load: the rostests mostly wait on
+# their nodes, each with a master of its own on a free port (catkin_make's
+# default, -l of the cores, ran them one by one beside a busy core).
+timed "tests: gtests and rostests" catkin_make run_tests -j4 -l100 -DCMAKE_BUILD_TYPE=Release \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
+grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
+wait "$CHECKS_PID"
+cat "$WS/checks_stream.log"
 : > "$WS/sanitize_stream.log"
 if [ "$SANITIZE" -eq 1 ]; then
+  if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"
+  else echo "[FAILED] $CLANG_CHECK" | tee -a "$CHECKS"
+    tail -n 15 "$WS/check_clang.log"; fi
   # The core's tests under ASan and UBSan once the clang++ build is done (their XML joins the results).
   ( timed "tests: sanitized core tests" "$ROOT/scripts/run_sanitizers.sh" "$WS/build/test_results/rotor_rub_sim_sanitize" ) \
     > "$WS/sanitize_stream.log" 2>&1 &

@@ -463,6 +463,41 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
   EXPECT_NEAR(critical[0].speed_rad_per_s, 185.0, 10.0);
 }
 
+// A disk whose tilt is overdamped at rest (c_t^2 > 4 I_d k_t): the spin turns
+// its pair into modes at about 93.5 rad/s (Im / -Re above 0.174, the modes'
+// bound), the slow one near 15 rad/s, below the translations, whose critical
+// speeds are sqrt(k / m) exactly (no coupling): 100 and 101 rad/s, both in
+// the sampled interval (92.25, 102.5] where the tilt enters. A search by mode
+// index lost the second: the translation that crossed at 101 was the highest
+// mode at 92.25, and the entry moved it to an index empty there.
+TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
+  const double m = 1.0, kx = 1e4, ky = 101.0 * 101.0, id = 0.005, ip = 0.01, kt = 500.0, ct = 6.2;
+  core::RotorMatrices mat;
+  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
+  mat.K = Eigen::Vector4d(kx, ky, kt, kt).asDiagonal();
+  mat.C = Eigen::Vector4d(0.0, 0.0, ct, ct).asDiagonal();
+  mat.G = Eigen::Matrix4d::Zero();
+  mat.G(core::kDofAlpha, core::kDofBeta) = ip;
+  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const double max_speed = 205.0;
+  const int samples = 20;  // speeds 10.25 rad/s apart: 92.25, 102.5, ...
+  // The premise: two modes at 92.25 rad/s; at 102.5 the tilt's two, one below.
+  ASSERT_EQ(core::modes(mat, 92.25, 8).size(), 2u);
+  const auto above = core::modes(mat, 102.5, 8);
+  ASSERT_EQ(above.size(), 4u);
+  EXPECT_LT(above[0].damped_frequency_rad_per_s, 20.0);
+
+  const auto critical = core::critical_speeds(mat, 4, max_speed, samples);
+  ASSERT_EQ(critical.size(), 2u);
+  EXPECT_NEAR(critical[0].speed_rad_per_s, std::sqrt(kx / m), 1e-9);
+  EXPECT_EQ(critical[0].mode_index, 1);  // the slow tilt below it
+  EXPECT_NEAR(critical[1].speed_rad_per_s, std::sqrt(ky / m), 1e-9);
+  EXPECT_EQ(critical[1].mode_index, 2);
+  // Asked for the lowest mode only: at 100 and 101 rad/s the lowest is the
+  // tilt, which never meets the synchronous line.
+  EXPECT_TRUE(core::critical_speeds(mat, 1, max_speed, samples).empty());
+}
+
 // A rigid disk on a bearing, as matrices: its tilt, I_d theta'' -+ Omega I_p
 // theta' + k_t theta = 0, whirls at w = (-+Omega I_p + sqrt((Omega I_p)^2 + 4
 // I_d k_t)) / (2 I_d), backward the lower; its translation at sqrt(k / m).

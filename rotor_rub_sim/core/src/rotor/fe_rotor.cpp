@@ -5,6 +5,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -326,10 +327,9 @@ bool oscillatory(std::complex<double> lambda) {
   return lambda.imag() > 1e-6 * std::abs(lambda);
 }
 
-// The oscillatory roots of the first-order matrix a by damped frequency, the
-// `count` lowest (all: count < 0), from its eigenvalues alone (the QR
-// without vectors: half its cost).
-std::vector<std::complex<double>> lowest_roots(const Eigen::MatrixXd& a, int count) {
+// The oscillatory roots of the first-order matrix a by damped frequency, from
+// its eigenvalues alone (the QR without vectors: half its cost).
+std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a) {
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
   if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
   std::vector<std::complex<double>> roots;
@@ -337,7 +337,6 @@ std::vector<std::complex<double>> lowest_roots(const Eigen::MatrixXd& a, int cou
     if (oscillatory(eig.eigenvalues()(i))) roots.push_back(eig.eigenvalues()(i));
   }
   std::sort(roots.begin(), roots.end(), [](auto p, auto q) { return p.imag() < q.imag(); });
-  if (count >= 0 && static_cast<int>(roots.size()) > count) roots.resize(static_cast<std::size_t>(count));
   return roots;
 }
 
@@ -426,64 +425,80 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
 }
 
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples) {
+  using Roots = std::vector<std::complex<double>>;
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;
-  // w_d - w of mode k at speed w, from the eigenvalues alone (their error,
-  // eps times the largest, moves a crossing by far less than the root
-  // finder's tolerance); NaN where fewer than k + 1 modes exist there (an
-  // overdamped one left the band): such an interval is skipped, not read as
-  // a crossing.
-  auto excess_of = [](const std::vector<std::complex<double>>& roots, int k, double w) {
-    return k < static_cast<int>(roots.size()) ? roots[static_cast<std::size_t>(k)].imag() - w
-                                              : std::numeric_limits<double>::quiet_NaN();
-  };
-  auto roots_at = [&](double w) { return lowest_roots(first_order_matrix(m, w, l), count); };
+  auto roots_at = [&](double w) { return mode_roots(first_order_matrix(m, w, l)); };
   const Eigen::MatrixXcd da_dw =
       (first_order_matrix(m, 1.0, l) - first_order_matrix(m, 0.0, l)).cast<std::complex<double>>();
-  std::vector<std::vector<std::complex<double>>> grid;
-  for (int s = 0; s <= samples; ++s) grid.push_back(roots_at(max_speed_rad_per_s * s / samples));
-  count = std::min(count, static_cast<int>(grid.front().size()));
-  for (int k = 0; k < count; ++k) {
-    double w0 = 0.0, f0 = excess_of(grid[0], k, 0.0);
-    for (int s = 1; s <= samples; ++s) {
-      const double w1 = max_speed_rad_per_s * s / samples, f1 = excess_of(grid[static_cast<std::size_t>(s)], k, w1);
-      if (std::isfinite(f0) && std::isfinite(f1) && (f0 > 0.0) != (f1 > 0.0)) {
-        std::uintmax_t iterations = 100;
-        auto f = [&](double w) {
-          const double v = excess_of(roots_at(w), k, w);
-          return std::isfinite(v) ? v : f1;  // a gap inside: the root lies before it
-        };
-        const auto r = boost::math::tools::toms748_solve(
-            f, w0, w1, f0, f1, boost::math::tools::eps_tolerance<double>(20), iterations);  // Newton polishes
-        // Polished by Newton on Im lambda_k(w) - w with the refined root and
-        // dlambda/dw = y^H (dA/dw) x / (y^H x) (A is affine in w): the QR's
-        // eigenvalues carry an error of eps times the largest (about 1e-7 of
-        // a rig's lowest modes), which the refined root has not.
-        double w = 0.5 * (r.first + r.second);
-        std::complex<double> lambda = roots_at(w)[static_cast<std::size_t>(k)];
-        for (int step = 0; step < 3; ++step) {
-          const Eigen::MatrixXd a = first_order_matrix(m, w, l);
-          Eigen::VectorXcd x, y;
-          lambda = refined_root(a, lambda, x, y);
-          const double slope = (y.dot(da_dw * x) / y.dot(x)).imag() - 1.0;
-          const double next = w - (lambda.imag() - w) / slope;
-          if (!std::isfinite(next) || !(next >= w0 && next <= w1)) break;
-          lambda += (next - w) * (slope + 1.0) * std::complex<double>(0.0, 1.0);  // the next step's shift
-          w = next;
-        }
-        // The refined modes there confirm the crossing: a real root the QR
-        // left with an imaginary part above the filter's (its error grows
-        // with the largest eigenvalue: stiff bearings) would shift the
-        // indices and cross where no mode does.
-        const std::vector<Mode> at = modes(m, w, k + 1);
-        if (k < static_cast<int>(at.size()) &&
-            std::abs(at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w) <= 1e-9 * std::max(w, 1.0)) {
-          out.push_back({k, w, at[static_cast<std::size_t>(k)].whirl});
-        }
-      }
-      w0 = w1;
-      f0 = f1;
+  // Mode k's w_d - w between speeds a and b where the modes are as many at
+  // both ends: a sign change is a crossing, located, polished and confirmed.
+  // Its values from the eigenvalues alone: their error, eps times the
+  // largest, moves a crossing by far less than the root finder's tolerance.
+  auto locate = [&](int k, double a, double fa, double b, double fb) {
+    std::uintmax_t iterations = 100;
+    auto f = [&](double w) {
+      const Roots roots = roots_at(w);
+      return k < static_cast<int>(roots.size()) ? roots[static_cast<std::size_t>(k)].imag() - w
+                                                : fb;  // a gap inside: the root lies before it
+    };
+    const auto r = boost::math::tools::toms748_solve(f, a, b, fa, fb, boost::math::tools::eps_tolerance<double>(20),
+                                                     iterations);  // Newton polishes
+    // Polished by Newton on Im lambda_k(w) - w with the refined root and
+    // dlambda/dw = y^H (dA/dw) x / (y^H x) (A is affine in w): the QR's
+    // eigenvalues carry an error of eps times the largest (about 1e-7 of
+    // a rig's lowest modes), which the refined root has not.
+    double w = 0.5 * (r.first + r.second);
+    const Roots there = roots_at(w);
+    if (k >= static_cast<int>(there.size())) return;
+    std::complex<double> lambda = there[static_cast<std::size_t>(k)];
+    for (int step = 0; step < 3; ++step) {
+      const Eigen::MatrixXd mat = first_order_matrix(m, w, l);
+      Eigen::VectorXcd x, y;
+      lambda = refined_root(mat, lambda, x, y);
+      const double slope = (y.dot(da_dw * x) / y.dot(x)).imag() - 1.0;
+      const double next = w - (lambda.imag() - w) / slope;
+      if (!std::isfinite(next) || !(next >= a && next <= b)) break;
+      lambda += (next - w) * (slope + 1.0) * std::complex<double>(0.0, 1.0);  // the next step's shift
+      w = next;
     }
+    // The refined modes there confirm the crossing: a real root the QR
+    // left with an imaginary part above the filter's (its error grows
+    // with the largest eigenvalue: stiff bearings) would shift the
+    // indices and cross where no mode does.
+    const std::vector<Mode> at = modes(m, w, k + 1);
+    if (k < static_cast<int>(at.size()) &&
+        std::abs(at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w) <= 1e-9 * std::max(w, 1.0)) {
+      out.push_back({k, w, at[static_cast<std::size_t>(k)].whirl});
+    }
+  };
+  // Where the number of modes differs at the two ends (an overdamped pair the
+  // spin turns into a mode enters the list below the others and shifts their
+  // indices), the interval is halved down to where it changes, and each part
+  // with as many modes at both ends is searched by index
+  // (FeRotor.AModeEnteringBelowHidesNoCriticalSpeed).
+  const double split_below = 1e-9 * max_speed_rad_per_s;
+  std::function<void(double, const Roots&, double, const Roots&)> search = [&](double a, const Roots& ra, double b,
+                                                                               const Roots& rb) {
+    if (ra.size() != rb.size()) {
+      if (b - a <= split_below) return;  // the change itself
+      const double mid = 0.5 * (a + b);
+      const Roots rm = roots_at(mid);
+      search(a, ra, mid, rm);
+      search(mid, rm, b, rb);
+      return;
+    }
+    for (int k = 0; k < std::min(count, static_cast<int>(ra.size())); ++k) {
+      const double fa = ra[static_cast<std::size_t>(k)].imag() - a, fb = rb[static_cast<std::size_t>(k)].imag() - b;
+      if ((fa > 0.0) != (fb > 0.0)) locate(k, a, fa, b, fb);
+    }
+  };
+  Roots previous = roots_at(0.0);
+  for (int s = 1; s <= samples; ++s) {
+    const double w0 = max_speed_rad_per_s * (s - 1) / samples, w1 = max_speed_rad_per_s * s / samples;
+    Roots next = roots_at(w1);
+    search(w0, previous, w1, next);
+    previous = std::move(next);
   }
   std::sort(out.begin(), out.end(),
             [](const CriticalSpeed& a, const CriticalSpeed& b) { return a.speed_rad_per_s < b.speed_rad_per_s; });

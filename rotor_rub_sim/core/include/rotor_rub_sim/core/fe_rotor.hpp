@@ -184,7 +184,10 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
 /// for the `count` lowest modes tracked by index, in [0, max_speed]; located
 /// with TOMS 748 between the `samples` + 1 evenly spaced speeds where the
-/// sign changes, from the eigenvalues alone.
+/// sign changes, from the eigenvalues alone. Where the number of modes
+/// changes between two speeds (an overdamped pair the spin turns into a
+/// mode), the interval is split where it does, so that no index shifts
+/// inside a part.
 struct CriticalSpeed {
   int mode_index = 0;
   double speed_rad_per_s = 0.0;
