@@ -13,7 +13,7 @@
 #               $WS/install: the install space the next steps use (no second build)
 #   layout      the install space holds the core's headers and library, every program,
 #               every script of rotor_rub_sim/tools and examples, config/ and launch/
-#   headers     every installed header of the core in one unit, through clang++
+#   headers     each installed header of the core on its own through clang++
 #               -std=c++17 -fsyntax-only (a downstream package may build with clang)
 #   downstream  a user's package (test/install/rub_downstream) in a workspace of its own:
 #               find_package(catkin REQUIRED COMPONENTS rotor_rub_sim), includes core
@@ -120,13 +120,16 @@ layout)
     || fail "exported include dirs: $(grep 'set(_include_dirs' "$cfg") (expected include;/usr/include/eigen3)"
   ;;
 headers)
-  [ -d "$INSTALL" ] || fail "no install space (run the install step first)"
-  unit="$WS/installed_headers.cpp"
-  (cd "$INSTALL/include" && find rotor_rub_sim/core -name "*.hpp" | sort | sed 's/.*/#include "&"/') > "$unit"
-  [ -s "$unit" ] || fail "no core header in $INSTALL/include"
-  clean clang++ -std=c++17 -fsyntax-only -Wall -Wextra -Wpedantic -Werror -I"$INSTALL/include" \
-    -isystem /usr/include/eigen3 "$unit" >> "$LOG" 2>&1 \
-    || { tail -n 30 "$LOG" >&2; fail "the installed headers do not compile under clang++ (log: $LOG)"; }
+  [ -d "$INSTALL/include/rotor_rub_sim/core" ] || fail "no core header in $INSTALL/include (run the install step first)"
+  # Each on its own, as a downstream unit includes it: a header that leans on
+  # another's includes fails here.
+  headers=$(cd "$INSTALL/include" && find rotor_rub_sim/core -name "*.hpp" | sort)
+  [ -n "$headers" ] || fail "no core header in $INSTALL/include"
+  echo "$headers" | clean xargs -P "$(nproc)" -I{} sh -c 'echo "#include \"{}\"" \
+    | clang++ -x c++ -std=c++17 -fsyntax-only -Wall -Wextra -Wpedantic -Werror -I"$1" -isystem /usr/include/eigen3 - \
+    || { echo "FAILED: {}"; exit 1; }' _ "$INSTALL/include" >> "$LOG" 2>&1 \
+    || { grep -m 5 "^FAILED" "$LOG" >&2; fail "an installed header does not compile on its own under clang++ (log: $LOG)"; }
+  echo "headers: $(echo "$headers" | wc -l) compile on their own under clang++" >> "$LOG"
   ;;
 downstream)
   [ -d "$INSTALL" ] || fail "no install space (run the install step first)"

@@ -14,15 +14,17 @@
 # the CI's command (.ci/run), which keeps to 20 minutes.
 #
 # One g++ Release build, the product: the tests, the install space, the
-# tools' checks. With --sanitize the clang++ build runs niced while the
-# tests, which mostly wait on ROS, use the other core. The Slurm sweeps
-# (which mostly wait on the scheduler) and the package, docs and tools checks
-# follow the tests, and the sanitized tests run once the clang++ build is
-# done. Each phase's wall time goes to $WS/phases.txt (docs/testing.md).
+# tools' checks. The install space is made alone; then the tests (four
+# targets at a time: the rostests mostly wait on ROS), the Slurm sweeps (which
+# mostly wait on the scheduler) and the package, docs and tools checks run
+# side by side, the last two niced; the chart command, which runs the build
+# again, follows. With --sanitize the clang++ build runs beside them (nice 19)
+# and the sanitized tests once it is done. Each phase's wall time goes to
+# $WS/phases.txt (docs/testing.md).
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SANITIZE=0
-case "${1:-}" in
+case "$*" in
 "") ;;
 --sanitize) SANITIZE=1 ;;
 *) echo "usage: scripts/run_tests.sh [--sanitize] (got: $*)" >&2; exit 2 ;;
@@ -145,16 +147,6 @@ timed "checks: phase table's cases" check "scripts/gen_phase_block.py: the test 
 # The README's quick start, verbatim (scripts/check_quickstart.sh).
 timed "checks: README quick start" check "README: the quick start runs verbatim" \
   bash -c "'$ROOT/scripts/check_quickstart.sh' > '$WS/quickstart_check.log' 2>&1"
-# The chart command end to end on the small CI grid (the images are not
-# judged, but every one must be drawn, and the failed run must be in the CSV).
-CHARTS="$WS/charts_check"
-rm -rf "$CHARTS"
-timed "checks: charts --quick" check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
-  && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
-  && /usr/bin/python3 '$ROOT/scripts/gen_bench_tables.py' --check --data '$CHARTS/data' --page '$CHARTS/benchmarks.md' \
-       bench_rows table2 stick_slip \
-  && ! cmp -s '$ROOT/docs/benchmarks.md' '$CHARTS/benchmarks.md' \
-  && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
 # The periodic orbits' picture end to end on a small grid.
 ORB="$WS/orbits_check"
 rm -rf "$ORB"
@@ -177,11 +169,12 @@ timed "checks: bifurcation --quick" check "bifurcation: make_bifurcation.sh --qu
 # The install space first, alone: catkin_make must not share the build
 # directory with the tests' run.
 timed "checks: install" check_pkg install "install: catkin_make install of the g++ build"
-( checks_stream ) > "$WS/checks_stream.log" 2>&1 &
+# Niced: the tests come first.
+( renice -n 10 -p "$BASHPID" > /dev/null; checks_stream ) > "$WS/checks_stream.log" 2>&1 &
 CHECKS_PID=$!
 # Sweeps on a real, throwaway single-node Slurm cluster (its cases join the
 # results), beside the tests: they mostly wait on the scheduler.
-( timed "tests: Slurm" "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
+( timed "tests: Slurm" nice -n 10 "$ROOT/test/slurm/test_slurm_sweep.sh" "$WS/build/test_results/rotor_rub_sim_slurm/slurm.xml" ) \
   > "$WS/slurm_stream.log" 2>&1 &
 SLURM_PID=$!
 # Four test targets at a time, whatever the load: the rostests mostly wait on
@@ -190,8 +183,21 @@ SLURM_PID=$!
 timed "tests: gtests and rostests" catkin_make run_tests -j4 -l100 -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 > "$WS/test.log" 2>&1
 grep -E "^\[ *(FAILED|  PASSED|OK) *\]|tests? (ran|from)" "$WS/test.log" | grep -E "FAILED|PASSED" | sort | uniq | head -40
-wait "$CHECKS_PID"
+# A stream that died (an unset variable, a killed shell) would leave its later
+# checks uncounted: that is a failure.
+wait "$CHECKS_PID" || echo "[FAILED] checks: the checks' stream exited $? (log: $WS/checks_stream.log)" | tee -a "$CHECKS"
 cat "$WS/checks_stream.log"
+# The chart command end to end on the small CI grid (the images are not
+# judged, but every one must be drawn, and the failed run must be in the CSV),
+# after the tests: it runs scripts/build.sh, a make in the tests' build tree.
+CHARTS="$WS/charts_check"
+rm -rf "$CHARTS"
+timed "checks: charts --quick" check "charts: make_charts.sh --quick" bash -c "'$ROOT/scripts/make_charts.sh' --quick '$CHARTS' > '$WS/charts_check.log' 2>&1 \
+  && for f in work_precision contact_force trajectories parameter_study; do test -s '$CHARTS/'\$f.png || exit 1; done \
+  && /usr/bin/python3 '$ROOT/scripts/gen_bench_tables.py' --check --data '$CHARTS/data' --page '$CHARTS/benchmarks.md' \
+       bench_rows table2 stick_slip \
+  && ! cmp -s '$ROOT/docs/benchmarks.md' '$CHARTS/benchmarks.md' \
+  && grep -q ',stalled,' '$CHARTS/data/work_precision.csv'"
 : > "$WS/sanitize_stream.log"
 if [ "$SANITIZE" -eq 1 ]; then
   if wait "$CLANG_PID"; then echo "[  OK  ] $CLANG_CHECK" | tee -a "$CHECKS"

@@ -18,8 +18,8 @@ export PATH="/usr/bin:$PATH"
 
 # Not dependencies of the packages, so in no package.xml: the compiler and
 # CMake (every catkin package assumes them), rosdep itself (the bootstrap), and
-# the checkers scripts/run_tests.sh runs (catkin_lint, the clang++ build,
-# clang-format), and
+# the checkers scripts/run_tests.sh runs (catkin_lint, clang++ for the headers'
+# check and --sanitize's build, clang-format), and
 # the Slurm test's throwaway cluster (slurm-wlm, munge: test/slurm/).
 TOOLS=(build-essential cmake python3-rosdep2 catkin-lint clang clang-format slurm-wlm munge)
 

@@ -81,7 +81,7 @@ def temp_prefix(name):
 # The simulator's end stops closed_loop.launch, the rub monitor with it: on a
 # loaded machine the monitor's last verdict (the one the tests wait for) needs
 # more than the default second to come out. Not on the tests' wall time: they
-# run beside the clang++ step and each other (scripts/run_tests.sh).
+# run four at a time beside the package and docs checks (scripts/run_tests.sh).
 MONITOR_LINGER = "exit_linger_s:=5"
 
 

@@ -477,11 +477,13 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
   // indices), the interval is halved down to where it changes, and each part
   // with as many modes at both ends is searched by index
   // (FeRotor.AModeEnteringBelowHidesNoCriticalSpeed).
-  const double split_below = 1e-9 * max_speed_rad_per_s;
+  // Down to 1e-7 of the range: a crossing closer than that to a change is
+  // not looked for.
+  const double split_below = 1e-7 * max_speed_rad_per_s;
   std::function<void(double, const Roots&, double, const Roots&)> search = [&](double a, const Roots& ra, double b,
                                                                                const Roots& rb) {
     if (ra.size() != rb.size()) {
-      if (b - a <= split_below) return;  // the change itself
+      if (!(b - a > split_below)) return;  // the change itself
       const double mid = 0.5 * (a + b);
       const Roots rm = roots_at(mid);
       search(a, ra, mid, rm);

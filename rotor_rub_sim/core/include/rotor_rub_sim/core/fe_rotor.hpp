@@ -185,9 +185,11 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 /// for the `count` lowest modes tracked by index, in [0, max_speed]; located
 /// with TOMS 748 between the `samples` + 1 evenly spaced speeds where the
 /// sign changes, from the eigenvalues alone. Where the number of modes
-/// changes between two speeds (an overdamped pair the spin turns into a
-/// mode), the interval is split where it does, so that no index shifts
-/// inside a part.
+/// differs at two neighbouring speeds (an overdamped pair the spin turns
+/// into modes), the interval is halved down to 1e-7 of the range around the
+/// change and each part searched alone, so modes that appear with the speed
+/// have their crossings too. A change that another undoes between two
+/// speeds is not seen.
 struct CriticalSpeed {
   int mode_index = 0;
   double speed_rad_per_s = 0.0;
