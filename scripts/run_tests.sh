@@ -9,7 +9,7 @@
 # (catkin_make run_tests alone exits 0 even then).
 #   scripts/run_tests.sh [--sanitize]
 # --sanitize adds the clang++ build: the core's tests built under ASan/UBSan
-# and run, every other unit compiled without code generation (about 15 more
+# and run, every other unit compiled without code generation (about 12 more
 # minutes on 2 cores: docs/testing.md, "The sanitized run"). The default is
 # the CI's command (.ci/run), which keeps to 20 minutes.
 #
