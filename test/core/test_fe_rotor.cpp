@@ -422,6 +422,25 @@ TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
   EXPECT_GT(core::overdamped_roots(m, 0.0), 100);
 }
 
+namespace {
+
+// A rigid disk on a bearing, as the matrices of one node (x, y, alpha,
+// beta): mass m and translational springs kx, ky; tilt inertia I_d, polar
+// I_p (the gyroscopic coupling, as fe_rotor.cpp's disk), tilt spring k_t and
+// damper c_t.
+core::RotorMatrices disk_on_bearing(double m, double kx, double ky, double id, double ip, double kt, double ct) {
+  core::RotorMatrices mat;
+  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
+  mat.K = Eigen::Vector4d(kx, ky, kt, kt).asDiagonal();
+  mat.C = Eigen::Vector4d(0.0, 0.0, ct, ct).asDiagonal();
+  mat.G = Eigen::Matrix4d::Zero();
+  mat.G(core::kDofAlpha, core::kDofBeta) = ip;
+  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  return mat;
+}
+
+}  // namespace
+
 // An overdamped pair that the spin turns complex is no mode. A disk's tilt
 // with damping c_t, in z = alpha + i beta: I_d l^2 + (c_t - i Omega I_p) l
 // + k_t = 0; the real system's roots are these two and their conjugates,
@@ -435,13 +454,7 @@ TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
 // pairs taken for modes, none was).
 TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
   const double m = 10.0, k = 1e6, id = 0.1, kt = 2e4, ip = 0.2, ct = 1000.0, speed = 0.01 * ct / ip;
-  core::RotorMatrices mat;
-  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
-  mat.K = Eigen::Vector4d(k, k, kt, kt).asDiagonal();
-  mat.C = Eigen::Vector4d(0.0, 0.0, ct, ct).asDiagonal();
-  mat.G = Eigen::Matrix4d::Zero();
-  mat.G(core::kDofAlpha, core::kDofBeta) = ip;
-  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const core::RotorMatrices mat = disk_on_bearing(m, k, k, id, ip, kt, ct);
   const std::complex<double> b(ct, -speed * ip);
   const std::complex<double> root = std::sqrt(b * b - 4.0 * id * kt);
   for (const std::complex<double> tilt : {(-b + root) / (2.0 * id), (-b - root) / (2.0 * id)}) {
@@ -472,13 +485,7 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
 // mode at 92.25, and the entry moved it to an index empty there.
 TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
   const double m = 1.0, kx = 1e4, ky = 101.0 * 101.0, id = 0.005, ip = 0.01, kt = 500.0, ct = 6.2;
-  core::RotorMatrices mat;
-  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
-  mat.K = Eigen::Vector4d(kx, ky, kt, kt).asDiagonal();
-  mat.C = Eigen::Vector4d(0.0, 0.0, ct, ct).asDiagonal();
-  mat.G = Eigen::Matrix4d::Zero();
-  mat.G(core::kDofAlpha, core::kDofBeta) = ip;
-  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const core::RotorMatrices mat = disk_on_bearing(m, kx, ky, id, ip, kt, ct);
   const double max_speed = 205.0;
   const int samples = 20;  // speeds 10.25 rad/s apart: 92.25, 102.5, ...
   // The premise: two modes at 92.25 rad/s; at 102.5 the tilt's two, one below.
@@ -504,13 +511,7 @@ TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
 // The tilt modes move no displacement: their whirl is the slopes'.
 TEST(FeRotor, PureTiltWhirlsAsItsSlopes) {
   const double m = 10.0, k = 1e6, id = 0.1, kt = 2e4, ip = 0.2, speed = 500.0;
-  core::RotorMatrices mat;
-  mat.M = Eigen::Vector4d(m, m, id, id).asDiagonal();
-  mat.K = Eigen::Vector4d(k, k, kt, kt).asDiagonal();
-  mat.C = Eigen::Matrix4d::Zero();
-  mat.G = Eigen::Matrix4d::Zero();
-  mat.G(core::kDofAlpha, core::kDofBeta) = ip;  // a disk's (fe_rotor.cpp)
-  mat.G(core::kDofBeta, core::kDofAlpha) = -ip;
+  const core::RotorMatrices mat = disk_on_bearing(m, k, k, id, ip, kt, 0.0);
   const auto md = core::modes(mat, speed, 4);
   ASSERT_EQ(md.size(), 4u);
   const double root = std::sqrt(std::pow(speed * ip, 2) + 4 * id * kt);
