@@ -509,19 +509,22 @@ class CvodeSwitching {
     const double* y = active().state_at(t_s);
     core::Sample s;
     core::ModalState modal;
+    core::Vec2 unbalance_dir;
     if (regime_ == Regime::kFree) {
       const FreeState x = free_state(y);
       s = core::make_sample(model_, t_s, core::kinematics_of<kStatorDof, false, Rotor>(x), d, 0.0, 0.0, false);
       modal = core::modal_of<FL>(x);
+      unbalance_dir = model_.unbalance_dir(d.angle_rad);
     } else {
       const ContactState x = contact_state(y);
       const auto c = dynamics_.evaluate(x, d);
       s = core::make_sample(model_, t_s, c.kin, d, c.normal_force_N, c.tangential_force_N, true);
       s.sticking = dynamics_.mode.stick;
       modal = core::modal_of<CL>(x);
+      unbalance_dir = c.unbalance_dir;
     }
     // The rotor finishes the sample (a flexible rotor's probes read their node).
-    rotor_.finish_sample(model_, modal, s);
+    rotor_.finish_sample(model_, modal, unbalance_dir, s);
     return s;
   }
 

@@ -164,7 +164,8 @@ TEST(Model, FreeLoadsGiveTheSameAccelerationsToTheLastBit) {
         // the casing's (the offset stator's frame shifted back).
         Kinematics casing = k;
         casing.rotor_pos += m.frame_shift();
-        const double torque = m.station_drive_torque_N_m(d, ft) - m.unbalance_torque_N_m(casing, d, on_rotor);
+        const double torque =
+            m.station_drive_torque_N_m(d, ft) - m.unbalance_torque_N_m(casing, m.unbalance_dir(d.angle_rad), on_rotor);
         EXPECT_NEAR(torque, torque_before, 4.0 * std::numeric_limits<double>::epsilon() * std::abs(torque_before));
       }
     }

@@ -249,7 +249,7 @@ class IterationMethod final : public ContactMethod {
     if (system_.engaged) f = probe.solve(k, d, g, free, mode, false, t_s, unused);
     Sample s = make_sample(model_, t_s, k, d, g, f.normal_N, f.tangential_N, system_.engaged, &free);
     s.sticking = system_.engaged && mode.stick;
-    rotor_.finish_sample(model_, modal_of<L>(x), s);
+    rotor_.finish_sample(model_, modal_of<L>(x), free.unbalance_dir, s);
     return s;
   }
 

@@ -189,15 +189,18 @@ class PenaltyMethod final : public ContactMethod {
     const double ft = system_.law.tangential(g, fn);
     const ModalState modal = modal_at(t_s);
     Sample s;
+    Vec2 unbalance_dir;
     if constexpr (kMotor) {
       // The spin's acceleration with the rotor's coupling (a block's included).
       const FreeLoads free = loads_at(rotor_, model_, k, d, modal);
       s = make_sample(model_, t_s, k, d, g, fn, ft, fn > 0.0, &free);
+      unbalance_dir = free.unbalance_dir;
     } else {
-      s = make_sample(model_, t_s, k, d, fn, ft, fn > 0.0);
+      s = make_sample(model_, t_s, k, d, g, fn, ft, fn > 0.0);
+      unbalance_dir = model_.unbalance_dir(d.angle_rad);
     }
     s.sticking = s.in_contact && std::abs(ft) < system_.law.friction_coefficient * fn;
-    rotor_.finish_sample(model_, modal, s);
+    rotor_.finish_sample(model_, modal, unbalance_dir, s);
     return s;
   }
 

@@ -217,24 +217,29 @@ class SwitchingMethod final : public ContactMethod {
  private:
   // The sample at t_s, finished by the rotor (a flexible rotor's probe readings and drive torque: finish_sample).
   Sample compute_sample(double t_s) const {
-    Sample s = station_sample(t_s);
-    rotor_.finish_sample(model_, modal_state(t_s), s);
+    Vec2 unbalance_dir;
+    Sample s = station_sample(t_s, unbalance_dir);
+    rotor_.finish_sample(model_, modal_state(t_s), unbalance_dir, s);
     return s;
   }
 
-  Sample station_sample(double t_s) const {
+  // The station's sample at t_s, and the unbalance's direction there (a
+  // contact sample's from its evaluation, not computed twice).
+  Sample station_sample(double t_s, Vec2& unbalance_dir) const {
     const DriveState reference = free_sys_.segment.at(t_s);
     if (regime_ == Regime::kFree) {
       const typename FL::State x = free_state(t_s);
       const Kinematics k = kinematics_of<kStatorDof, kMotor, Rotor>(x);
       const DriveState d = model_.drive_at(k, reference);
       const auto loads = motor_loads(k, d, modal_of<FL>(x));
+      unbalance_dir = loads ? loads->unbalance_dir : model_.unbalance_dir(d.angle_rad);
       return make_sample(model_, t_s, k, d, model_.contact_geometry(k, d), 0.0, 0.0, false, loads ? &*loads : nullptr);
     }
     const typename CL::State x = contact_state(t_s);
     const auto c = contact_sys_.dynamics.evaluate(x, reference);
     const DriveState d = model_.drive_at(c.kin, reference);
     const auto loads = motor_loads(c.kin, d, modal_of<CL>(x));
+    unbalance_dir = c.unbalance_dir;
     if (pending_.due && pending_.regime == Regime::kFree && t_s >= pending_.t_s) {
       // The located lift-off: F_n is zero there to the root's resolution
       // (the located time lies on the far side, where F_n = -O(1e-13) N).

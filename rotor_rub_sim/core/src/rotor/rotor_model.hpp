@@ -32,8 +32,10 @@
 ///       station's acceleration and the block's xi'' of a layout L's
 ///       Jacobian, their partial time rate into dfdt (the penalty method's
 ///       closed-form Jacobian, penalty_system.hpp)
-///   finish_sample(m, modal, s)                 the probes, and the drive
-///       torque's share of the rotor's lateral motion (prescribed drive)
+///   finish_sample(m, modal, dir, s)            the probes, and the drive
+///       torque's share of the rotor's lateral motion (prescribed drive);
+///       dir the unbalance's direction at s's spin angle, which a contact
+///       sample's free loads hold already
 #pragma once
 
 #include <Eigen/Core>
@@ -105,9 +107,10 @@ class JeffcottRotor {
   /// Under the prescribed drive the torque takes the unbalance's lever in,
   /// - e F . u (JeffcottModel::unbalance_torque_N_m).
   template <class Modal>
-  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& /*modal*/, Sample& s) const {
+  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& /*modal*/, const Vec2& unbalance_dir,
+                     Sample& s) const {
     if (m.motor()) return;
-    s.drive_torque_N_m -= jeffcott_.unbalance_torque_N_m(s.kin, s.drive, s.contact_force_on_rotor_N);
+    s.drive_torque_N_m -= jeffcott_.unbalance_torque_N_m(s.kin, unbalance_dir, s.contact_force_on_rotor_N);
   }
 
  private:
@@ -185,9 +188,10 @@ class FlexibleRotor {
   /// The probes read their node; under the prescribed drive the torque takes
   /// the lateral motion's in (add_lateral_torque).
   template <class Modal>
-  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& modal, Sample& s) const {
+  void finish_sample(const StationModel& m, const Eigen::MatrixBase<Modal>& modal, const Vec2& unbalance_dir,
+                     Sample& s) const {
     s.probe_displacement_m = model_->probe_displacement(s.kin.rotor_pos, modal);
-    add_lateral_torque(m, *model_, modal, s);
+    add_lateral_torque(m, *model_, modal, unbalance_dir, s);
   }
 
  private:

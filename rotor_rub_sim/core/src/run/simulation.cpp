@@ -280,9 +280,10 @@ void Simulation::deliver_probes_before(double t_s, bool inclusive, SimulationObs
 }
 
 void Simulation::deliver_shaft_before(double t_s, bool inclusive, SimulationObserver& observer) {
-  const FlexibleRotorModel* rotor = method_->flexible_rotor();
   const double rate = observer.shaft_rate_hz();
-  if (rotor == nullptr || !(rate > 0.0)) return;
+  if (!(rate > 0.0)) return;
+  const FlexibleRotorModel* rotor = method_->flexible_rotor();
+  if (rotor == nullptr) return;
   while (static_cast<double>(next_shaft_sample_) / rate <= time_s_ && time_s_ > 0.0) ++next_shaft_sample_;
   for (;;) {
     const double tk = static_cast<double>(next_shaft_sample_) / rate;

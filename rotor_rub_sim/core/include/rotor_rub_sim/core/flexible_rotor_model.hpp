@@ -313,13 +313,13 @@ FreeLoads flexible_free_loads(const StationModel& m, const FlexibleRotorModel& r
 /// A flexible rotor's sample s under the prescribed drive: the drive torque
 /// reported for the station (m's, J A - R_r F_t) less the rotor's
 /// lateral torque on the spin (lateral_torque_N_m), from s's station, drive
-/// and contact force and its modal block [xi; xi']. A motor's torque is the
-/// motor's own: s is left as it is.
+/// and contact force and its modal block [xi; xi'], dir the unbalances'
+/// direction at s's spin angle (StationModel::unbalance_dir). A motor's
+/// torque is the motor's own: s is left as it is.
 template <class Modal>
 void add_lateral_torque(const StationModel& m, const FlexibleRotorModel& rotor, const Eigen::MatrixBase<Modal>& modal,
-                        Sample& s) {
+                        const Vec2& dir, Sample& s) {
   if (m.motor()) return;
-  const Vec2 dir = m.unbalance_dir(s.drive.angle_rad);
   ModalVector xi_acc(rotor.modal_size());
   const Vec2 station_N = rotor.free_loads(s.kin.rotor_pos, s.kin.rotor_vel, modal, dir, s.drive.speed_rad_per_s,
                                           s.drive.accel_rad_per_s2, xi_acc);

@@ -87,9 +87,9 @@ class JeffcottModel : public StationModel {
   // e F . u, the unbalance's lever torque on the spin that the prescribed
   // drive supplies besides J A - R_r F_t (station_drive_torque_N_m), for
   // kinematics in the casing's frame (a sample's: the shaft's spring centre
-  // at the origin) and the contact force on the rotor [N m].
-  double unbalance_torque_N_m(const Kinematics& casing, const DriveState& d, const Vec2& contact_force_N) const {
-    const Vec2 dir = unbalance_dir(d.angle_rad);
+  // at the origin), the unbalance's direction dir at the spin angle
+  // (unbalance_dir) and the contact force on the rotor [N m].
+  double unbalance_torque_N_m(const Kinematics& casing, const Vec2& dir, const Vec2& contact_force_N) const {
     const Vec2 u(dir.y(), -dir.x());
     const Vec2 shaft = -p_.rotor_stiffness_N_per_m * casing.rotor_pos - p_.rotor_damping_N_s_per_m * casing.rotor_vel;
     return p_.eccentricity_m * (shaft + contact_force_N).dot(u);
