@@ -360,51 +360,91 @@ std::complex<double> refined_root(const Eigen::MatrixXd& a, std::complex<double>
   return lambda;
 }
 
+// A root of the quadratic eigenproblem Q(mu) q = (mu^2 M + mu D + K) q = 0
+// refined from the QR's value lambda, in the physical coordinates (an n x n
+// complex LU per step, an eighth of the first-order matrix's): inverse
+// iteration for the right and left vectors x and y, and the two-sided
+// Rayleigh functional, the root of y^H Q(mu) x = 0 nearest the last value
+// (second order in the vectors' errors). The starts are generic (unit
+// entries at phases a golden angle apart: no symmetry of the rotor's
+// leaves a direction out), and the vectors of earlier roots of a cluster (a
+// double root: an isotropic rotor at rest, or its translation at any
+// speed) are projected out of each iterate, so that a cluster's roots keep
+// independent shapes (FeRotor.PureTiltWhirlsAsItsSlopes). A QR value that
+// is a root to the last bit makes Q singular: an iterate that is not
+// finite ends the refinement with the last finite one.
+struct QepVectors {
+  Eigen::VectorXcd right, left;  // unit vectors
+};
+std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen::MatrixXcd& damping,
+                                      const Eigen::MatrixXcd& stiffness, std::complex<double> lambda,
+                                      const std::vector<const QepVectors*>& cluster, QepVectors& v) {
+  using Complex = std::complex<double>;
+  const Eigen::Index n = mass.rows();
+  constexpr double kGoldenAngle_rad = 2.399963229728653;
+  v.right.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) v.right(k) = std::polar(1.0, kGoldenAngle_rad * static_cast<double>(k));
+  v.left = v.right.conjugate();
+  auto unit_apart = [&cluster](Eigen::VectorXcd& u, Eigen::VectorXcd QepVectors::*side) {
+    for (const QepVectors* c : cluster) u -= (c->*side).dot(u) * (c->*side);
+    u.normalize();
+  };
+  unit_apart(v.right, &QepVectors::right);
+  unit_apart(v.left, &QepVectors::left);
+  for (int step = 0; step < 3; ++step) {
+    const Eigen::PartialPivLU<Eigen::MatrixXcd> q(lambda * lambda * mass + lambda * damping + stiffness);
+    for (int pass = 0; pass < (step == 0 ? 2 : 1); ++pass) {  // from the generic starts: twice
+      QepVectors next{q.solve(v.right), q.adjoint().solve(v.left)};
+      if (!next.right.allFinite() || !next.left.allFinite()) return lambda;
+      unit_apart(next.right, &QepVectors::right);
+      unit_apart(next.left, &QepVectors::left);
+      v = std::move(next);
+    }
+    // y^H Q(mu) x = a mu^2 + b mu + c: its root nearest lambda, the one
+    // without cancellation first.
+    const Complex a = v.left.dot(mass * v.right), b = v.left.dot(damping * v.right),
+                  c = v.left.dot(stiffness * v.right);
+    const Complex root = std::sqrt(b * b - 4.0 * a * c);
+    const Complex big = -0.5 * (std::real(std::conj(b) * root) >= 0.0 ? b + root : b - root);
+    const Complex r1 = big / a, r2 = c / big;
+    const Complex refined = std::abs(r1 - lambda) <= std::abs(r2 - lambda) ? r1 : r2;
+    if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
+  }
+  return lambda;
+}
+
 }  // namespace
 
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
   using Complex = std::complex<double>;
-  const int n = static_cast<int>(m.M.rows());
   Eigen::MatrixXd l;
-  const Eigen::MatrixXd a = first_order_matrix(m, speed_rad_per_s, l);
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a);
-  if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
-  const Eigen::MatrixXcd ac = a.cast<Complex>();
-  const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(2 * n, 2 * n);
-  const Eigen::MatrixXcd lt = l.transpose().cast<Complex>();
-  // The oscillatory roots by damped frequency; the lowest `count` refined.
-  std::vector<int> wanted;
-  for (int i = 0; i < 2 * n; ++i) {
-    if (oscillatory(eig.eigenvalues()(i))) wanted.push_back(i);
-  }
-  std::sort(wanted.begin(), wanted.end(),
-            [&](int p, int q) { return eig.eigenvalues()(p).imag() < eig.eigenvalues()(q).imag(); });
+  const std::vector<Complex> roots = mode_roots(first_order_matrix(m, speed_rad_per_s, l));  // by damped frequency
+  const Eigen::MatrixXcd mass = m.M.cast<Complex>(), stiffness = m.K.cast<Complex>(),
+                         damping = (m.C + speed_rad_per_s * m.G).cast<Complex>();
   std::vector<Mode> out;
-  for (const int i : wanted) {
+  std::vector<Complex> qr_values;
+  std::vector<QepVectors> vectors;
+  vectors.reserve(roots.size());  // the cluster's pointers stay valid
+  for (const Complex qr_value : roots) {
     if (static_cast<int>(out.size()) == count) break;
-    Complex lambda = eig.eigenvalues()(i);
-    // Two steps of inverse iteration from the QR result, right and left
-    // vectors from one factorisation, and the two-sided Rayleigh quotient
-    // (second order in the vectors' error): the QR's eigenvalues carry an
-    // error of eps times the largest, which the lowest modes feel. The QR's
-    // vectors are the start: at a double root (an isotropic rotor at rest)
-    // they are two, which the iteration keeps apart.
-    Eigen::VectorXcd x = eig.eigenvectors().col(i), y = x;
-    for (int step = 0; step < 2; ++step) {
-      const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted(ac - lambda * identity);
-      x = shifted.solve(x).normalized();
-      y = shifted.adjoint().solve(y).normalized();
-      const Complex refined = y.dot(ac * x) / y.dot(x);  // dot: y^H (A x)
-      if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
+    // The QR's eigenvalues carry an error of eps times the largest, which
+    // the lowest modes feel: refined (refined_qep_root). Earlier roots
+    // within 1e-6 of this one are its cluster.
+    std::vector<const QepVectors*> cluster;
+    for (std::size_t j = 0; j < qr_values.size(); ++j) {
+      if (std::abs(qr_values[j] - qr_value) <= 1e-6 * std::abs(qr_value)) cluster.push_back(&vectors[j]);
     }
+    QepVectors v;
+    const Complex lambda = refined_qep_root(mass, damping, stiffness, qr_value, cluster, v);
+    qr_values.push_back(qr_value);
+    vectors.push_back(v);
+    const Eigen::VectorXcd& x = v.right;
     if (!oscillatory(lambda)) continue;
     Mode md;
     md.natural_frequency_rad_per_s = std::abs(lambda);
     md.damped_frequency_rad_per_s = lambda.imag();
     md.damping_ratio = -lambda.real() / std::abs(lambda);
-    // Back to the physical coordinates: q = L^-T y.
-    md.shape = lt.triangularView<Eigen::Upper>().solve(x.head(n));
-    if (expansion.size() > 0) md.shape = expansion.cast<Complex>() * md.shape;
+    md.shape = expansion.size() > 0 ? Eigen::VectorXcd(expansion.cast<Complex>() * x) : x;
     Eigen::Index big = 0;
     md.shape.cwiseAbs().maxCoeff(&big);
     md.shape /= md.shape(big);
