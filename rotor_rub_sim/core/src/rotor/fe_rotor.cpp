@@ -340,26 +340,6 @@ std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a) {
   return roots;
 }
 
-// A simple root of a refined from the QR's value lambda: inverse iteration
-// from a generic start, right and left vectors from one factorisation, and
-// the two-sided Rayleigh quotient, twice (as modes(), without the QR's
-// vectors); x and y the unit right and left vectors.
-std::complex<double> refined_root(const Eigen::MatrixXd& a, std::complex<double> lambda, Eigen::VectorXcd& x,
-                                  Eigen::VectorXcd& y) {
-  const Eigen::MatrixXcd ac = a.cast<std::complex<double>>();
-  x = y = Eigen::VectorXcd::Ones(a.rows());
-  for (int step = 0; step < 2; ++step) {
-    const Eigen::PartialPivLU<Eigen::MatrixXcd> shifted(ac - lambda * Eigen::MatrixXcd::Identity(a.rows(), a.cols()));
-    for (int pass = 0; pass < 2 - step; ++pass) {  // from the generic start: twice
-      x = shifted.solve(x).normalized();
-      y = shifted.adjoint().solve(y).normalized();
-    }
-    const std::complex<double> refined = y.dot(ac * x) / y.dot(x);
-    if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
-  }
-  return lambda;
-}
-
 // A root of the quadratic eigenproblem Q(mu) q = (mu^2 M + mu D + K) q = 0
 // refined from the QR's value lambda, in the physical coordinates (an n x n
 // complex LU per step, an eighth of the first-order matrix's): inverse
@@ -469,8 +449,9 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;
   auto roots_at = [&](double w) { return mode_roots(first_order_matrix(m, w, l)); };
-  const Eigen::MatrixXcd da_dw =
-      (first_order_matrix(m, 1.0, l) - first_order_matrix(m, 0.0, l)).cast<std::complex<double>>();
+  using Complex = std::complex<double>;
+  const Eigen::MatrixXcd mass = m.M.cast<Complex>(), stiffness = m.K.cast<Complex>(), gyro = m.G.cast<Complex>(),
+                         damping = m.C.cast<Complex>();
   // Mode k's w_d - w between speeds a and b where the modes are as many at
   // both ends: a sign change is a crossing, located, polished and confirmed.
   // Its values from the eigenvalues alone: their error, eps times the
@@ -484,22 +465,25 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
     };
     const auto r = boost::math::tools::toms748_solve(f, a, b, fa, fb, boost::math::tools::eps_tolerance<double>(20),
                                                      iterations);  // Newton polishes
-    // Polished by Newton on Im lambda_k(w) - w with the refined root and
-    // dlambda/dw = y^H (dA/dw) x / (y^H x) (A is affine in w): the QR's
-    // eigenvalues carry an error of eps times the largest (about 1e-7 of
-    // a rig's lowest modes), which the refined root has not.
+    // Polished by Newton on Im lambda_k(w) - w with the refined root and,
+    // from y^H Q(lambda, w) x = 0 with Q = lambda^2 M + lambda (C + w G) + K,
+    // dlambda/dw = -y^H (lambda G) x / y^H (2 lambda M + C + w G) x: the
+    // QR's eigenvalues carry an error of eps times the largest (about 1e-7
+    // of a rig's lowest modes), which the refined root has not.
     double w = 0.5 * (r.first + r.second);
     const Roots there = roots_at(w);
     if (k >= static_cast<int>(there.size())) return;
-    std::complex<double> lambda = there[static_cast<std::size_t>(k)];
+    Complex lambda = there[static_cast<std::size_t>(k)];
     for (int step = 0; step < 3; ++step) {
-      const Eigen::MatrixXd mat = first_order_matrix(m, w, l);
-      Eigen::VectorXcd x, y;
-      lambda = refined_root(mat, lambda, x, y);
-      const double slope = (y.dot(da_dw * x) / y.dot(x)).imag() - 1.0;
+      const Eigen::MatrixXcd d = damping + w * gyro;
+      QepVectors v;
+      lambda = refined_qep_root(mass, d, stiffness, lambda, {}, v);
+      const Complex dlambda_dw =
+          -v.left.dot(lambda * (gyro * v.right)) / v.left.dot((2.0 * lambda * mass + d) * v.right);
+      const double slope = dlambda_dw.imag() - 1.0;
       const double next = w - (lambda.imag() - w) / slope;
       if (!std::isfinite(next) || !(next >= a && next <= b)) break;
-      lambda += (next - w) * (slope + 1.0) * std::complex<double>(0.0, 1.0);  // the next step's shift
+      lambda += (next - w) * dlambda_dw;  // the next step's shift
       w = next;
     }
     // The refined modes there confirm the crossing: a real root the QR
