@@ -18,6 +18,9 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "cli_options.hpp"
 #include "modal_convergence.hpp"
@@ -125,6 +128,7 @@ int main(int argc, char** argv) {
   std::vector<core::RotorUnbalance> unbalances;
   bool study = false, criticals = false;
   double tolerance = 1e-3;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   CLI::App app(
       "Modal analysis of a flexible rotor: natural frequencies at rest, the Campbell diagram, critical speeds and "
       "the unbalance response (docs/rotors.md).",
@@ -151,6 +155,11 @@ int main(int argc, char** argv) {
                "seconds)");
   app.add_option("--campbell", campbell_csv, "write speed, mode, w_d, w_n, zeta, whirl per row to this CSV")
       ->type_name("FILE");
+  app.add_option("--jobs", jobs,
+                 "speeds solved in parallel for --campbell and --critical-speeds (default: all cores, " +
+                     std::to_string(jobs) + "; the same values at any number)")
+      ->type_name("N")
+      ->check(cli::integer_in(1, 1024));
   app.add_option("--unbalance-node", unbalance_node,
                  "node of an unbalance (with --unbalance-kg-m), in place of the rotor file's unbalances")
       ->type_name("NODE")
@@ -260,7 +269,7 @@ int main(int argc, char** argv) {
     }
     if (criticals) {
       std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);
-      for (const auto& c : core::critical_speeds(m, count, max_speed, speeds - 1)) {
+      for (const auto& c : core::critical_speeds(m, count, max_speed, speeds - 1, jobs)) {
         std::printf("  mode %d: %.6f rad/s (%.3f Hz, %.1f rpm), %s whirl\n", c.mode_index, c.speed_rad_per_s,
                     c.speed_rad_per_s / (2 * M_PI), c.speed_rad_per_s * 30 / M_PI, core::to_string(c.whirl));
       }
@@ -275,12 +284,14 @@ int main(int argc, char** argv) {
       std::ofstream os(campbell_csv);
       os << "speed_rad_per_s,mode,damped_frequency_rad_per_s,natural_frequency_rad_per_s,damping_ratio,whirl\n";
       os.precision(12);
-      for (int s = 0; s < speeds; ++s) {
-        const double w = max_speed * s / (speeds - 1);
+      std::vector<double> grid(static_cast<std::size_t>(speeds));
+      for (int s = 0; s < speeds; ++s) grid[static_cast<std::size_t>(s)] = max_speed * s / (speeds - 1);
+      const std::vector<std::vector<core::Mode>> diagram = core::campbell(m, grid, count, jobs);
+      for (std::size_t s = 0; s < grid.size(); ++s) {
         int k = 0;
-        for (const auto& md : core::modes(m, w, count)) {
-          os << w << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s << ","
-             << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+        for (const auto& md : diagram[s]) {
+          os << grid[s] << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s
+             << "," << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
         }
       }
       if (!os) bad_input("cannot write '" + campbell_csv + "'");

@@ -605,3 +605,37 @@ TEST(FeRotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio) {
       << load_error(
              "shaft_damping: {stiffness_proportional_s: -1e-5}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n");
 }
+
+// The Campbell diagram and the critical speeds' grid solve each speed alone,
+// on any number of threads: the same values, bit for bit, as one thread and
+// as modes() at each speed; a failure on a thread reaches the caller.
+TEST(FeRotor, CampbellIsTheSameAtAnyJobs) {
+  const core::RotorMatrices m = core::assemble(ross_example());
+  const std::vector<double> speeds = {0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0};
+  const auto one = core::campbell(m, speeds, 4, 1);
+  const auto three = core::campbell(m, speeds, 4, 3);
+  ASSERT_EQ(one.size(), speeds.size());
+  ASSERT_EQ(three.size(), speeds.size());
+  for (std::size_t s = 0; s < speeds.size(); ++s) {
+    const auto alone = core::modes(m, speeds[s], 4);
+    ASSERT_EQ(one[s].size(), 4u) << speeds[s];
+    ASSERT_EQ(three[s].size(), 4u) << speeds[s];
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_EQ(three[s][k].damped_frequency_rad_per_s, one[s][k].damped_frequency_rad_per_s) << speeds[s];
+      EXPECT_EQ(three[s][k].damping_ratio, one[s][k].damping_ratio) << speeds[s];
+      EXPECT_EQ(three[s][k].whirl, one[s][k].whirl) << speeds[s];
+      EXPECT_EQ(alone[k].damped_frequency_rad_per_s, one[s][k].damped_frequency_rad_per_s) << speeds[s];
+    }
+  }
+  const auto serial = core::critical_speeds(m, 4, 400.0, 40, 1);
+  const auto parallel = core::critical_speeds(m, 4, 400.0, 40, 2);
+  ASSERT_EQ(serial.size(), 4u);
+  ASSERT_EQ(parallel.size(), serial.size());
+  for (std::size_t k = 0; k < serial.size(); ++k) {
+    EXPECT_EQ(parallel[k].speed_rad_per_s, serial[k].speed_rad_per_s);
+    EXPECT_EQ(parallel[k].mode_index, serial[k].mode_index);
+  }
+  core::RotorMatrices massless = m;
+  massless.M.setZero();
+  EXPECT_THROW(core::campbell(massless, speeds, 4, 3), std::invalid_argument);
+}

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "rotor/for_each_index.hpp"
+
 namespace rotor_rub::core {
 namespace {
 
@@ -436,6 +438,15 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
   return out;
 }
 
+std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vector<double>& speeds_rad_per_s, int count,
+                                        unsigned jobs) {
+  std::vector<std::vector<Mode>> out(speeds_rad_per_s.size());
+  for_each_index(static_cast<int>(out.size()), jobs, [&](int s) {
+    out[static_cast<std::size_t>(s)] = modes(m, speeds_rad_per_s[static_cast<std::size_t>(s)], count);
+  });
+  return out;
+}
+
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
   int real = 0;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
@@ -444,7 +455,8 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
   return real;
 }
 
-std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples) {
+std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples,
+                                           unsigned jobs) {
   using Roots = std::vector<std::complex<double>>;
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;
@@ -519,12 +531,14 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
       if ((fa > 0.0) != (fb > 0.0)) locate(k, a, fa, b, fb);
     }
   };
-  Roots previous = roots_at(0.0);
+  std::vector<Roots> grid(static_cast<std::size_t>(samples) + 1);
+  for_each_index(samples + 1, jobs, [&](int s) {
+    Eigen::MatrixXd own_l;  // each thread its own factor
+    grid[static_cast<std::size_t>(s)] = mode_roots(first_order_matrix(m, max_speed_rad_per_s * s / samples, own_l));
+  });
   for (int s = 1; s <= samples; ++s) {
-    const double w0 = max_speed_rad_per_s * (s - 1) / samples, w1 = max_speed_rad_per_s * s / samples;
-    Roots next = roots_at(w1);
-    search(w0, previous, w1, next);
-    previous = std::move(next);
+    search(max_speed_rad_per_s * (s - 1) / samples, grid[static_cast<std::size_t>(s) - 1],
+           max_speed_rad_per_s * s / samples, grid[static_cast<std::size_t>(s)]);
   }
   std::sort(out.begin(), out.end(),
             [](const CriticalSpeed& a, const CriticalSpeed& b) { return a.speed_rad_per_s < b.speed_rad_per_s; });

@@ -169,6 +169,11 @@ struct Mode {
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count,
                         const Eigen::MatrixXd& expansion = Eigen::MatrixXd());
 
+/// The Campbell diagram: modes(m, speed, count) at each of the speeds, on up
+/// to `jobs` threads (each speed alone: the same values at any number).
+std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vector<double>& speeds_rad_per_s, int count,
+                                        unsigned jobs = 1);
+
 /// Every eigenvalue of that first-order system at speed Omega [1/s] (M
 /// positive definite; K, C and G may be any square matrices of its size,
 /// the contact's linearisation among them: rk4_stability.hpp).
@@ -189,13 +194,14 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 /// into modes), the interval is halved down to 1e-7 of the range around the
 /// change and each part searched alone, so modes that appear with the speed
 /// have their crossings too. A change that another undoes between two
-/// speeds is not seen.
+/// speeds is not seen. The grid's eigenvalues on up to `jobs` threads (the
+/// same values at any number).
 struct CriticalSpeed {
   int mode_index = 0;
   double speed_rad_per_s = 0.0;
   ModeWhirl whirl = ModeWhirl::kForward;
 };
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s,
-                                           int samples = 200);
+                                           int samples = 200, unsigned jobs = 1);
 
 }  // namespace rotor_rub::core
