@@ -164,4 +164,28 @@ TEST(ModalCli, BadInputIsOneLineWithStatus2) {
   expect_bad_input(modal("--rotor " + rotor("seal_rub.yaml") + " --tolerance 2"), "--tolerance");
   expect_bad_input(modal("--rotor " + rotor("ross_example.yaml") + " --modes 2 --study"),
                    "--study needs a rub station");
+  expect_bad_input(modal("--rotor " + rotor("ross_example.yaml") + " --jobs 0"), "--jobs");
+}
+
+// --jobs solves speeds at once: the Campbell diagram and the critical speeds
+// the same, byte for byte, at one job and at three.
+TEST(ModalCli, JobsChangeNothingButTheTime) {
+  const std::string dir = rotor_rub::test::tmp();
+  std::string csv[2], out[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::string jobs = i == 0 ? "1" : "3";
+    const Result r = modal("--rotor " + rotor("ross_example.yaml") +
+                           " --modes 4 --max-speed 400 --speeds 9 --critical-speeds --jobs " + jobs + " --campbell " +
+                           dir + "/campbell_" + jobs + ".csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    out[i] = r.out.substr(r.out.find('\n') + 1);  // after the first line's read time
+    std::ifstream f(dir + "/campbell_" + jobs + ".csv");
+    std::stringstream text;
+    text << f.rdbuf();
+    csv[i] = text.str();
+  }
+  EXPECT_NE(out[0].find("mode 3: 300.351513 rad/s"), std::string::npos) << out[0];
+  EXPECT_EQ(out[1], out[0]);
+  EXPECT_EQ(std::count(csv[0].begin(), csv[0].end(), '\n'), 1 + 9 * 4);
+  EXPECT_EQ(csv[1], csv[0]);
 }
