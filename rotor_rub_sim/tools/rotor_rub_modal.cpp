@@ -284,14 +284,19 @@ int main(int argc, char** argv) {
       std::ofstream os(campbell_csv);
       os << "speed_rad_per_s,mode,damped_frequency_rad_per_s,natural_frequency_rad_per_s,damping_ratio,whirl\n";
       os.precision(12);
-      std::vector<double> grid(static_cast<std::size_t>(speeds));
-      for (int s = 0; s < speeds; ++s) grid[static_cast<std::size_t>(s)] = max_speed * s / (speeds - 1);
-      const std::vector<std::vector<core::Mode>> diagram = core::campbell(m, grid, count, jobs);
-      for (std::size_t s = 0; s < grid.size(); ++s) {
-        int k = 0;
-        for (const auto& md : diagram[s]) {
-          os << grid[s] << "," << k++ << "," << md.damped_frequency_rad_per_s << "," << md.natural_frequency_rad_per_s
-             << "," << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+      // Solved and written a block of speeds at a time: the modes' shapes of
+      // every speed at once could outgrow the memory (100000 speeds).
+      constexpr int kBlock = 64;
+      for (int first = 0; first < speeds; first += kBlock) {
+        std::vector<double> block;
+        for (int s = first; s < std::min(speeds, first + kBlock); ++s) block.push_back(max_speed * s / (speeds - 1));
+        const std::vector<std::vector<core::Mode>> diagram = core::campbell(m, block, count, jobs);
+        for (std::size_t s = 0; s < block.size(); ++s) {
+          int k = 0;
+          for (const auto& md : diagram[s]) {
+            os << block[s] << "," << k++ << "," << md.damped_frequency_rad_per_s << ","
+               << md.natural_frequency_rad_per_s << "," << md.damping_ratio << "," << core::to_string(md.whirl) << "\n";
+          }
         }
       }
       if (!os) bad_input("cannot write '" + campbell_csv + "'");

@@ -7,11 +7,16 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <complex>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
+#include "rotor/for_each_index.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
@@ -520,6 +525,16 @@ TEST(FeRotor, PureTiltWhirlsAsItsSlopes) {
   EXPECT_NEAR(md[1].damped_frequency_rad_per_s, std::sqrt(k / m), 1e-9);
   EXPECT_NEAR(md[3].damped_frequency_rad_per_s, (root + speed * ip) / (2 * id), 1e-9);
   EXPECT_EQ(md[3].whirl, core::ModeWhirl::kForward);
+  // The translation is a double root (no coupling moves it): two shapes of
+  // its own, translations without tilt, independent (orthogonal: the
+  // refinement projects the first out of the second).
+  EXPECT_NEAR(md[2].damped_frequency_rad_per_s, std::sqrt(k / m), 1e-9);
+  for (const int i : {1, 2}) {
+    const Eigen::VectorXcd& q = md[static_cast<std::size_t>(i)].shape;
+    ASSERT_TRUE(q.allFinite()) << i;
+    EXPECT_LT(q.tail(2).norm(), 1e-12 * q.head(2).norm()) << i;
+  }
+  EXPECT_LT(std::abs(md[1].shape.dot(md[2].shape)), 1e-9 * md[1].shape.norm() * md[2].shape.norm());
 }
 
 // The stations a rotor file names: unbalances, the rub station, the probes.
@@ -638,4 +653,27 @@ TEST(FeRotor, CampbellIsTheSameAtAnyJobs) {
   core::RotorMatrices massless = m;
   massless.M.setZero();
   EXPECT_THROW(core::campbell(massless, speeds, 4, 3), std::invalid_argument);
+  EXPECT_THROW(core::critical_speeds(m, 4, 400.0, 0, 2), std::invalid_argument);
+}
+
+// for_each_index runs every index once at any number of jobs, and a failure
+// on a thread other than the caller's reaches the caller (each index sleeps
+// a millisecond, so the other threads take some).
+TEST(ForEachIndex, AFailureOnAThreadReachesTheCaller) {
+  for (const unsigned jobs : {1u, 2u, 5u}) {
+    std::vector<int> runs(40, 0);
+    core::for_each_index(40, jobs, [&runs](int i) { ++runs[static_cast<std::size_t>(i)]; });
+    EXPECT_EQ(std::count(runs.begin(), runs.end(), 1), 40) << jobs;
+  }
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int> others{0};
+  auto on_other_threads_fails = [&](int) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (std::this_thread::get_id() != caller) {
+      ++others;
+      throw std::runtime_error("failed on a worker");
+    }
+  };
+  EXPECT_THROW(core::for_each_index(20, 4, on_other_threads_fails), std::runtime_error);
+  EXPECT_GT(others.load(), 0);
 }

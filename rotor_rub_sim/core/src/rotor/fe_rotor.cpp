@@ -349,12 +349,13 @@ std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a) {
 // Rayleigh functional, the root of y^H Q(mu) x = 0 nearest the last value
 // (second order in the vectors' errors). The starts are generic (unit
 // entries at phases a golden angle apart: no symmetry of the rotor's
-// leaves a direction out), and the vectors of earlier roots of a cluster (a
-// double root: an isotropic rotor at rest, or its translation at any
-// speed) are projected out of each iterate, so that a cluster's roots keep
-// independent shapes (FeRotor.PureTiltWhirlsAsItsSlopes). A QR value that
-// is a root to the last bit makes Q singular: an iterate that is not
-// finite ends the refinement with the last finite one.
+// leaves a direction out), and an orthonormal basis of the vectors of
+// earlier roots of a cluster (a double root: an isotropic rotor at rest, or
+// its translation at any speed) is projected out of each iterate, so that a
+// cluster's roots keep independent shapes
+// (FeRotor.PureTiltWhirlsAsItsSlopes). A shift that is a root to the last
+// bit makes Q singular: it is nudged by a relative 1e-13, then 1e-10, and
+// where no nudge gives finite vectors the refinement throws.
 struct QepVectors {
   Eigen::VectorXcd right, left;  // unit vectors
 };
@@ -362,35 +363,70 @@ std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen:
                                       const Eigen::MatrixXcd& stiffness, std::complex<double> lambda,
                                       const std::vector<const QepVectors*>& cluster, QepVectors& v) {
   using Complex = std::complex<double>;
+  using Basis = std::vector<Eigen::VectorXcd>;
   const Eigen::Index n = mass.rows();
+  Basis right_basis, left_basis;
+  auto extend = [](Basis& basis, const Eigen::VectorXcd& u) {
+    Eigen::VectorXcd w = u;
+    for (const Eigen::VectorXcd& e : basis) w -= e.dot(w) * e;
+    if (w.norm() > 1e-8 * u.norm()) basis.push_back(w.normalized());  // a dependent vector adds nothing
+  };
+  for (const QepVectors* c : cluster) {
+    extend(right_basis, c->right);
+    extend(left_basis, c->left);
+  }
+  // u with the basis projected out (twice: the second pass takes what the
+  // first's rounding left), as a unit vector; false where nothing is left.
+  auto apart = [](const Basis& basis, Eigen::VectorXcd& u) {
+    for (int pass = 0; pass < 2; ++pass) {
+      for (const Eigen::VectorXcd& e : basis) u -= e.dot(u) * e;
+    }
+    const double norm = u.norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+    u /= norm;
+    return true;
+  };
   constexpr double kGoldenAngle_rad = 2.399963229728653;
   v.right.resize(n);
   for (Eigen::Index k = 0; k < n; ++k) v.right(k) = std::polar(1.0, kGoldenAngle_rad * static_cast<double>(k));
   v.left = v.right.conjugate();
-  auto unit_apart = [&cluster](Eigen::VectorXcd& u, Eigen::VectorXcd QepVectors::*side) {
-    for (const QepVectors* c : cluster) u -= (c->*side).dot(u) * (c->*side);
-    u.normalize();
-  };
-  unit_apart(v.right, &QepVectors::right);
-  unit_apart(v.left, &QepVectors::left);
+  if (!apart(right_basis, v.right) || !apart(left_basis, v.left)) {
+    throw std::runtime_error("modes: a cluster of roots spans the whole space");
+  }
   for (int step = 0; step < 3; ++step) {
-    const Eigen::PartialPivLU<Eigen::MatrixXcd> q(lambda * lambda * mass + lambda * damping + stiffness);
-    for (int pass = 0; pass < (step == 0 ? 2 : 1); ++pass) {  // from the generic starts: twice
-      QepVectors next{q.solve(v.right), q.adjoint().solve(v.left)};
-      if (!next.right.allFinite() || !next.left.allFinite()) return lambda;
-      unit_apart(next.right, &QepVectors::right);
-      unit_apart(next.left, &QepVectors::left);
-      v = std::move(next);
+    bool solved = false;
+    for (const double nudge : {0.0, 1e-13, 1e-10}) {
+      const Complex shift = lambda * (1.0 + nudge);
+      const Eigen::PartialPivLU<Eigen::MatrixXcd> q(shift * shift * mass + shift * damping + stiffness);
+      QepVectors next = v;
+      solved = true;
+      for (int pass = 0; pass < (step == 0 ? 2 : 1) && solved; ++pass) {  // from the generic starts: twice
+        next.right = q.solve(next.right);
+        next.left = q.adjoint().solve(next.left);
+        solved = apart(right_basis, next.right) && apart(left_basis, next.left);
+      }
+      if (solved) {
+        v = std::move(next);
+        break;
+      }
     }
-    // y^H Q(mu) x = a mu^2 + b mu + c: its root nearest lambda, the one
-    // without cancellation first.
+    if (!solved) throw std::runtime_error("modes: inverse iteration found no finite vector at a root");
+    // y^H Q(mu) x = a mu^2 + b mu + c: its finite root nearest lambda (the
+    // pair without cancellation).
     const Complex a = v.left.dot(mass * v.right), b = v.left.dot(damping * v.right),
                   c = v.left.dot(stiffness * v.right);
     const Complex root = std::sqrt(b * b - 4.0 * a * c);
     const Complex big = -0.5 * (std::real(std::conj(b) * root) >= 0.0 ? b + root : b - root);
-    const Complex r1 = big / a, r2 = c / big;
-    const Complex refined = std::abs(r1 - lambda) <= std::abs(r2 - lambda) ? r1 : r2;
-    if (std::isfinite(refined.real()) && std::isfinite(refined.imag())) lambda = refined;
+    Complex refined = lambda;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Complex candidate : {big / a, c / big}) {
+      const double distance = std::abs(candidate - lambda);
+      if (std::isfinite(candidate.real()) && std::isfinite(candidate.imag()) && distance < nearest) {
+        nearest = distance;
+        refined = candidate;
+      }
+    }
+    lambda = refined;
   }
   return lambda;
 }
@@ -457,6 +493,7 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
 
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples,
                                            unsigned jobs) {
+  if (samples < 1) throw std::invalid_argument("critical_speeds: samples " + std::to_string(samples) + " is below 1");
   using Roots = std::vector<std::complex<double>>;
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;

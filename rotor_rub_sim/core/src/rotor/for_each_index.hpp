@@ -6,6 +6,7 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -15,7 +16,7 @@ namespace rotor_rub::core {
 // caller's among them); f must write only what index i owns, so the results
 // are the same at any number of jobs (FeRotor.CampbellIsTheSameAtAnyJobs).
 // The first exception f throws is rethrown once every thread has ended; the
-// indices not yet started are skipped.
+// indices not yet started are skipped (ForEachIndex.AFailureOnAThreadReachesTheCaller).
 template <class F>
 void for_each_index(int count, unsigned jobs, const F& f) {
   const unsigned threads = std::min(std::max(jobs, 1u), static_cast<unsigned>(std::max(count, 1)));
@@ -34,7 +35,13 @@ void for_each_index(int count, unsigned jobs, const F& f) {
     }
   };
   std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  for (unsigned t = 1; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;  // no more threads: those started, and this one, take every index
+    }
+  }
   worker();
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
