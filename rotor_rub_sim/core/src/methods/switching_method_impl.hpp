@@ -188,9 +188,8 @@ class SwitchingMethod final : public ContactMethod {
   double step_begin() const override { return valid_begin_; }
   double step_end() const override { return valid_end_; }
 
-  // The step end's sample is asked for twice (the contact quality record,
-  // the loop's invariant check): kept from the first time until the method
-  // changes (a contact sample costs a constrained-dynamics evaluation).
+  // The step end's sample is asked for twice (the contact quality record, the loop's invariant check): kept
+  // from the first time until the method changes (a contact sample costs a constrained-dynamics evaluation).
   Sample sample(double t_s) const override {
     if (end_sample_valid_ && t_s == end_sample_.t_s) return end_sample_;
     return compute_sample(t_s);
@@ -203,12 +202,7 @@ class SwitchingMethod final : public ContactMethod {
   }
   ModalState modal_state(double t_s) const override {
     if (rotor_.modal_size() == 0) return ModalState();  // no block: nothing to interpolate
-    if (regime_ == Regime::kFree) {
-      const typename FL::State x = free_state(t_s);
-      return modal_of<FL>(x);
-    }
-    const typename CL::State x = contact_state(t_s);
-    return modal_of<CL>(x);
+    return regime_ == Regime::kFree ? modal_of<FL>(free_state(t_s)) : modal_of<CL>(contact_state(t_s));
   }
 
   const RunStats& stats() const override { return stats_; }
