@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "rotor/for_each_index.hpp"
+#include "rotor/modal_roots.hpp"
 
 namespace rotor_rub::core {
 namespace {
@@ -274,203 +276,38 @@ ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
   return backward ? ModeWhirl::kBackward : ModeWhirl::kForward;  // a planar mode counts as forward
 }
 
-// The first-order matrix [[0, I], [-L^-1 K L^-T, -L^-1 (C + Omega G) L^-T]]
-// in mass-normalised coordinates y = L^T q (M = L L^T): there the stiffness
-// of a symmetric K is symmetric, and the matrix far better scaled than with
-// M^-1 K (a rotor's masses and inertias span 1e4 and more). L written to l.
-Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_s, Eigen::MatrixXd& l) {
-  const int n = static_cast<int>(m.M.rows());
-  const Eigen::LLT<Eigen::MatrixXd> mass(m.M);
-  if (mass.info() != Eigen::Success) {
-    throw std::invalid_argument("rotor: the mass matrix is not positive definite (a node without mass or inertia?)");
-  }
-  l = mass.matrixL();
-  auto congruent = [&](const Eigen::MatrixXd& x) {
-    const Eigen::MatrixXd left = l.triangularView<Eigen::Lower>().solve(x);
-    return Eigen::MatrixXd(l.triangularView<Eigen::Lower>().solve(left.transpose()).transpose());
-  };
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  a.topRightCorner(n, n).setIdentity();
-  a.bottomLeftCorner(n, n) = -congruent(m.K);
-  a.bottomRightCorner(n, n) = -congruent(m.C + speed_rad_per_s * m.G);
-  return a;
-}
-
 }  // namespace
 
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
   Eigen::MatrixXd l;
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(first_order_matrix(m, speed_rad_per_s, l), false);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(modal::first_order_matrix(m, speed_rad_per_s, l), false);
   if (eig.info() != Eigen::Success) throw std::runtime_error("eigenvalues: the eigenvalue solver did not converge");
   return eig.eigenvalues();
 }
 
-namespace {
-
-// A decaying root is oscillatory (a mode) when it completes a cycle before
-// decaying below double rounding: its amplitude falls by exp(2 pi |Re| / Im)
-// in a period 2 pi / Im, so Im > 2 pi / ln(1 / eps) (-Re) = 0.174 (-Re), a
-// damping ratio below 0.985. Above that no oscillation can be seen: an
-// overdamped pair's two real roots, turned into a complex pair by the
-// gyroscopic coupling at speed (ROSS's damped rig,
-// config/rotors/ross_rub_rig.yaml, whose stiffness-proportional damping
-// overdamps its highest shaft modes: at 1000 rad/s they are pairs at 23
-// rad/s with a damping ratio of 1 - 3e-8, below every shaft mode), and a
-// real root that leaves the QR with a small imaginary part (about eps times
-// the largest eigenvalue for a simple root, sqrt(eps) = 1.5e-8 of itself
-// for a double one). A root that does not decay (Re >= 0: undamped, or
-// growing, an instability) is a mode when Im > 1e-6 |lambda|, the same
-// rounding's bound. (test_fe_rotor, RayleighShaftDampingGivesEachModeItsClosedFormRatio,
-// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes.)
-bool oscillatory(std::complex<double> lambda) {
-  if (!(std::abs(lambda) > 1e-6)) return false;
-  const double cycle_decay_bound = 2.0 * M_PI / std::log(1.0 / std::numeric_limits<double>::epsilon());
-  if (lambda.real() < 0.0) return lambda.imag() > cycle_decay_bound * -lambda.real();
-  return lambda.imag() > 1e-6 * std::abs(lambda);
-}
-
-// The oscillatory roots of the first-order matrix a by damped frequency, from
-// its eigenvalues alone (the QR without vectors: half its cost).
-std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a) {
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
-  if (eig.info() != Eigen::Success) throw std::runtime_error("modes: the eigenvalue solver did not converge");
-  std::vector<std::complex<double>> roots;
-  for (int i = 0; i < a.rows(); ++i) {
-    if (oscillatory(eig.eigenvalues()(i))) roots.push_back(eig.eigenvalues()(i));
-  }
-  std::sort(roots.begin(), roots.end(), [](auto p, auto q) { return p.imag() < q.imag(); });
-  return roots;
-}
-
-// A root of the quadratic eigenproblem Q(mu) q = (mu^2 M + mu D + K) q = 0
-// refined from the QR's value lambda, in the physical coordinates (an n x n
-// complex LU per step, an eighth of the first-order matrix's): inverse
-// iteration for the right and left vectors x and y, and the two-sided
-// Rayleigh functional, the root of y^H Q(mu) x = 0 nearest the last value
-// (second order in the vectors' errors). The starts are generic (unit
-// entries at phases a golden angle apart: no symmetry of the rotor's
-// leaves a direction out), and an orthonormal basis of the vectors of
-// earlier roots of a cluster (a double root: an isotropic rotor at rest, or
-// its translation at any speed) is projected out of each iterate, so that a
-// cluster's roots keep independent shapes
-// (FeRotor.PureTiltWhirlsAsItsSlopes). A shift that is a root to the last
-// bit makes Q singular: it is nudged by a relative 1e-13, then 1e-10, and
-// where no nudge gives finite vectors the refinement throws.
-struct QepVectors {
-  Eigen::VectorXcd right, left;  // unit vectors
-};
-std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen::MatrixXcd& damping,
-                                      const Eigen::MatrixXcd& stiffness, std::complex<double> lambda,
-                                      const std::vector<const QepVectors*>& cluster, QepVectors& v) {
-  using Complex = std::complex<double>;
-  using Basis = std::vector<Eigen::VectorXcd>;
-  const Eigen::Index n = mass.rows();
-  Basis right_basis, left_basis;
-  auto extend = [](Basis& basis, const Eigen::VectorXcd& u) {
-    Eigen::VectorXcd w = u;
-    for (const Eigen::VectorXcd& e : basis) w -= e.dot(w) * e;
-    if (w.norm() > 1e-8 * u.norm()) basis.push_back(w.normalized());  // a dependent vector adds nothing
-  };
-  for (const QepVectors* c : cluster) {
-    extend(right_basis, c->right);
-    extend(left_basis, c->left);
-  }
-  // u with the basis projected out (twice: the second pass takes what the
-  // first's rounding left), as a unit vector; false where nothing is left.
-  auto apart = [](const Basis& basis, Eigen::VectorXcd& u) {
-    for (int pass = 0; pass < 2; ++pass) {
-      for (const Eigen::VectorXcd& e : basis) u -= e.dot(u) * e;
-    }
-    const double norm = u.norm();
-    if (!(norm > 0.0) || !std::isfinite(norm)) return false;
-    u /= norm;
-    return true;
-  };
-  constexpr double kGoldenAngle_rad = 2.399963229728653;
-  v.right.resize(n);
-  for (Eigen::Index k = 0; k < n; ++k) v.right(k) = std::polar(1.0, kGoldenAngle_rad * static_cast<double>(k));
-  v.left = v.right.conjugate();
-  if (!apart(right_basis, v.right) || !apart(left_basis, v.left)) {
-    throw std::runtime_error("modes: a cluster of roots spans the whole space");
-  }
-  for (int step = 0; step < 3; ++step) {
-    bool solved = false;
-    for (const double nudge : {0.0, 1e-13, 1e-10}) {
-      const Complex shift = lambda * (1.0 + nudge);
-      const Eigen::PartialPivLU<Eigen::MatrixXcd> q(shift * shift * mass + shift * damping + stiffness);
-      QepVectors next = v;
-      solved = true;
-      for (int pass = 0; pass < (step == 0 ? 2 : 1) && solved; ++pass) {  // from the generic starts: twice
-        next.right = q.solve(next.right);
-        next.left = q.adjoint().solve(next.left);
-        solved = apart(right_basis, next.right) && apart(left_basis, next.left);
-      }
-      if (solved) {
-        v = std::move(next);
-        break;
-      }
-    }
-    if (!solved) throw std::runtime_error("modes: inverse iteration found no finite vector at a root");
-    // y^H Q(mu) x = a mu^2 + b mu + c: its finite root nearest lambda (the
-    // pair without cancellation).
-    const Complex a = v.left.dot(mass * v.right), b = v.left.dot(damping * v.right),
-                  c = v.left.dot(stiffness * v.right);
-    const Complex root = std::sqrt(b * b - 4.0 * a * c);
-    const Complex big = -0.5 * (std::real(std::conj(b) * root) >= 0.0 ? b + root : b - root);
-    Complex refined = lambda;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Complex candidate : {big / a, c / big}) {
-      const double distance = std::abs(candidate - lambda);
-      if (std::isfinite(candidate.real()) && std::isfinite(candidate.imag()) && distance < nearest) {
-        nearest = distance;
-        refined = candidate;
-      }
-    }
-    lambda = refined;
-  }
-  return lambda;
-}
-
-}  // namespace
-
+// The lowest modes by shift-invert Arnoldi where it is certified complete
+// (a large rotor's: a few tens of its roots in place of all), else every
+// root by the QR, each refined (modal_roots.hpp).
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
   using Complex = std::complex<double>;
   Eigen::MatrixXd l;
-  const std::vector<Complex> roots = mode_roots(first_order_matrix(m, speed_rad_per_s, l));  // by damped frequency
-  const Eigen::MatrixXcd mass = m.M.cast<Complex>(), stiffness = m.K.cast<Complex>(),
-                         damping = (m.C + speed_rad_per_s * m.G).cast<Complex>();
+  const Eigen::MatrixXd a = modal::first_order_matrix(m, speed_rad_per_s, l);
+  std::optional<std::vector<modal::ModeRoot>> roots = modal::lowest_mode_roots(a, l, count);
+  if (!roots) roots = modal::refined_mode_roots(m, speed_rad_per_s, a, count);
   std::vector<Mode> out;
-  std::vector<Complex> qr_values;
-  std::vector<QepVectors> vectors;
-  vectors.reserve(roots.size());  // the cluster's pointers stay valid
-  for (const Complex qr_value : roots) {
-    if (static_cast<int>(out.size()) == count) break;
-    // The QR's eigenvalues carry an error of eps times the largest, which
-    // the lowest modes feel: refined (refined_qep_root). Earlier roots
-    // within 1e-6 of this one are its cluster.
-    std::vector<const QepVectors*> cluster;
-    for (std::size_t j = 0; j < qr_values.size(); ++j) {
-      if (std::abs(qr_values[j] - qr_value) <= 1e-6 * std::abs(qr_value)) cluster.push_back(&vectors[j]);
-    }
-    QepVectors v;
-    const Complex lambda = refined_qep_root(mass, damping, stiffness, qr_value, cluster, v);
-    qr_values.push_back(qr_value);
-    vectors.push_back(v);
-    const Eigen::VectorXcd& x = v.right;
-    if (!oscillatory(lambda)) continue;
+  for (const modal::ModeRoot& root : *roots) {
+    const Complex lambda = root.lambda;
     Mode md;
     md.natural_frequency_rad_per_s = std::abs(lambda);
     md.damped_frequency_rad_per_s = lambda.imag();
     md.damping_ratio = -lambda.real() / std::abs(lambda);
-    md.shape = expansion.size() > 0 ? Eigen::VectorXcd(expansion.cast<Complex>() * x) : x;
+    md.shape = expansion.size() > 0 ? Eigen::VectorXcd(expansion.cast<Complex>() * root.shape) : root.shape;
     Eigen::Index big = 0;
     md.shape.cwiseAbs().maxCoeff(&big);
     md.shape /= md.shape(big);
     md.whirl = whirl_of(md.shape, static_cast<int>(md.shape.size()) / 4);
     out.push_back(std::move(md));
   }
-  std::sort(out.begin(), out.end(),
-            [](const Mode& x, const Mode& y) { return x.damped_frequency_rad_per_s < y.damped_frequency_rad_per_s; });
   return out;
 }
 
@@ -486,7 +323,7 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
   int real = 0;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (!oscillatory(lambda) && lambda.real() < 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
+    if (!modal::oscillatory(lambda) && lambda.real() < 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
   }
   return real;
 }
@@ -497,7 +334,7 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
   using Roots = std::vector<std::complex<double>>;
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;
-  auto roots_at = [&](double w) { return mode_roots(first_order_matrix(m, w, l)); };
+  auto roots_at = [&](double w) { return modal::mode_roots(modal::first_order_matrix(m, w, l)); };
   using Complex = std::complex<double>;
   const Eigen::MatrixXcd mass = m.M.cast<Complex>(), stiffness = m.K.cast<Complex>(), gyro = m.G.cast<Complex>(),
                          damping = m.C.cast<Complex>();
@@ -525,8 +362,8 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
     Complex lambda = there[static_cast<std::size_t>(k)];
     for (int step = 0; step < 3; ++step) {
       const Eigen::MatrixXcd d = damping + w * gyro;
-      QepVectors v;
-      lambda = refined_qep_root(mass, d, stiffness, lambda, {}, v);
+      modal::QepVectors v;
+      lambda = modal::refined_qep_root(mass, d, stiffness, lambda, {}, v);
       const Complex dlambda_dw =
           -v.left.dot(lambda * (gyro * v.right)) / v.left.dot((2.0 * lambda * mass + d) * v.right);
       const double slope = dlambda_dw.imag() - 1.0;
@@ -571,7 +408,8 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
   std::vector<Roots> grid(static_cast<std::size_t>(samples) + 1);
   for_each_index(samples + 1, jobs, [&](int s) {
     Eigen::MatrixXd own_l;  // each thread its own factor
-    grid[static_cast<std::size_t>(s)] = mode_roots(first_order_matrix(m, max_speed_rad_per_s * s / samples, own_l));
+    grid[static_cast<std::size_t>(s)] =
+        modal::mode_roots(modal::first_order_matrix(m, max_speed_rad_per_s * s / samples, own_l));
   });
   for (int s = 1; s <= samples; ++s) {
     search(max_speed_rad_per_s * (s - 1) / samples, grid[static_cast<std::size_t>(s) - 1],

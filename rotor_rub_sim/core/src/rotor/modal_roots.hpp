@@ -1,0 +1,55 @@
+// The roots of a rotor's first-order system and their vectors, on which
+// fe_rotor.cpp's modes, Campbell diagram and critical speeds are built: the
+// mass-normalised first-order matrix, which roots are modes, the dense QR's
+// roots refined on the quadratic problem, and the lowest modes by
+// shift-invert Arnoldi (Spectra), certified complete, for a large rotor.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <optional>
+#include <vector>
+
+#include "rotor_rub_sim/core/fe_rotor.hpp"
+
+namespace rotor_rub::core::modal {
+
+/// The first-order matrix [[0, I], [-L^-1 K L^-T, -L^-1 (C + Omega G) L^-T]]
+/// in mass-normalised coordinates y = L^T q (M = L L^T); L written to l.
+Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_s, Eigen::MatrixXd& l);
+
+/// Whether a root of it is a mode (an oscillation a cycle can show).
+bool oscillatory(std::complex<double> lambda);
+
+/// The oscillatory roots of a first-order matrix by damped frequency, from
+/// its eigenvalues alone (the QR without vectors).
+std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a);
+
+/// A root of (mu^2 M + mu D + K) q = 0 refined from an estimate lambda, with
+/// its right and left vectors; `cluster`: the vectors of earlier roots equal
+/// to it (a double root), kept apart.
+struct QepVectors {
+  Eigen::VectorXcd right, left;  // unit vectors
+};
+std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen::MatrixXcd& damping,
+                                      const Eigen::MatrixXcd& stiffness, std::complex<double> lambda,
+                                      const std::vector<const QepVectors*>& cluster, QepVectors& v);
+
+/// A mode's root (Im lambda > 0) and its shape q in the physical coordinates.
+struct ModeRoot {
+  std::complex<double> lambda;
+  Eigen::VectorXcd shape;
+};
+
+/// The `count` lowest modes by damped frequency from every root of the
+/// first-order matrix a (the QR), each refined (refined_qep_root).
+std::vector<ModeRoot> refined_mode_roots(const RotorMatrices& m, double speed_rad_per_s, const Eigen::MatrixXd& a,
+                                         int count);
+
+/// The `count` lowest modes by damped frequency (fewer where the rotor has
+/// fewer) of the first-order matrix a (l: its mass factor), by shift-invert
+/// Arnoldi; nothing where the answer cannot be certified complete and
+/// accurate (the caller then takes the dense QR).
+std::optional<std::vector<ModeRoot>> lowest_mode_roots(const Eigen::MatrixXd& a, const Eigen::MatrixXd& l, int count);
+
+}  // namespace rotor_rub::core::modal
