@@ -488,6 +488,20 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
 // the sampled interval (92.25, 102.5] where the tilt enters. A search by mode
 // index lost the second: the translation that crossed at 101 was the highest
 // mode at 92.25, and the entry moved it to an index empty there.
+// A negative stiffness in x (a disk on a bearing that pushes it off centre):
+// the x translation's roots are +-sqrt(k / m) = +-100 1/s, real. The growing
+// one is neither a mode nor overdamped but a divergence; the decaying one is
+// overdamped; the y translation (100 rad/s) and the tilts are modes.
+TEST(FeRotor, ANegativeStiffnessDivergesAndIsNoMode) {
+  const core::RotorMatrices mat = disk_on_bearing(1.0, -1e4, 1e4, 0.1, 0.2, 1e5, 0.0);
+  EXPECT_EQ(core::diverging_roots(mat, 0.0), 1);
+  EXPECT_EQ(core::overdamped_roots(mat, 0.0), 1);
+  const std::vector<core::Mode> listed = core::modes(mat, 0.0, 10);
+  ASSERT_EQ(listed.size(), 3u);  // y, and the tilt's two
+  EXPECT_NEAR(listed[0].damped_frequency_rad_per_s, 100.0, 1e-9 * 100.0);
+  EXPECT_EQ(core::diverging_roots(disk_on_bearing(1.0, 1e4, 1e4, 0.1, 0.2, 1e5, 0.0), 0.0), 0);
+}
+
 TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
   const double m = 1.0, kx = 1e4, ky = 101.0 * 101.0, id = 0.005, ip = 0.01, kt = 500.0, ct = 6.2;
   const core::RotorMatrices mat = disk_on_bearing(m, kx, ky, id, ip, kt, ct);

@@ -65,6 +65,13 @@ void expect_the_dense_modes(const core::RotorMatrices& m, double speed_rad_per_s
       multiplicity += std::abs(d.lambda - dense[i].lambda) <= 1e-6 * std::abs(dense[i].lambda);
     EXPECT_LE(off_the_eigenspace(m, speed_rad_per_s, dense[i].lambda, multiplicity, arnoldi[i].shape), kInTheEigenspace)
         << what << ", mode " << i << " (a root " << multiplicity << "-fold)";
+    // A multiple root's copies have shapes of their own (orthonormal).
+    for (std::size_t j = 0; j < i; ++j) {
+      if (std::abs(arnoldi[j].lambda - arnoldi[i].lambda) <= 1e-6 * std::abs(arnoldi[i].lambda)) {
+        EXPECT_LE(std::abs(arnoldi[j].shape.normalized().dot(arnoldi[i].shape.normalized())), kInTheEigenspace)
+            << what << ", modes " << j << " and " << i << " of a multiple root";
+      }
+    }
   }
 }
 
@@ -92,17 +99,12 @@ TEST(ModalRoots, ArnoldiFindsTheDenseQrsLowestModes) {
   }
 }
 
-// Thirty disks on their own bearings, no coupling: the first six alike, so
-// that the lowest root is twelve-fold (x and y of six disks), the others'
-// translations at 7000, 8000, ... rad/s and their tilts far above. A single
-// start vector's Krylov space holds one copy in exact arithmetic; Arnoldi
-// finds all twelve in rounding, and the deflated check (complete_within)
-// certifies it: the twelve lowest modes are twelve copies of the closed
-// form's l^2 + c l + k = 0 (m = 1 kg, k = 1e6 N/m, c = 20 N s/m). With a copy
-// missing, the next root would stand in its place, or the answer be refused.
-TEST(ModalRoots, ATwelveFoldRootIsFoundInEveryCopy) {
+namespace {
+
+constexpr double kDampingN_s_per_m = 20.0;  // the thirty disks' translations
+
+core::RotorMatrices thirty_disks() {
   const int disks = 30, dofs = 4 * disks;
-  const double damping_N_s_per_m = 20.0;
   core::RotorMatrices m;
   m.M = Eigen::MatrixXd::Identity(dofs, dofs);
   m.K = Eigen::MatrixXd::Zero(dofs, dofs);
@@ -113,14 +115,29 @@ TEST(ModalRoots, ATwelveFoldRootIsFoundInEveryCopy) {
     const double tilt_rad_per_s = 1e3 * (40 + d);
     for (const int dof : {core::kDofX, core::kDofY}) {
       m.K(4 * d + dof, 4 * d + dof) = translation_N_per_m;
-      m.C(4 * d + dof, 4 * d + dof) = damping_N_s_per_m;
+      m.C(4 * d + dof, 4 * d + dof) = kDampingN_s_per_m;
     }
     for (const int dof : {core::kDofAlpha, core::kDofBeta}) {
       m.M(4 * d + dof, 4 * d + dof) = 0.1;
       m.K(4 * d + dof, 4 * d + dof) = 0.1 * tilt_rad_per_s * tilt_rad_per_s;
     }
   }
-  const double c = damping_N_s_per_m;
+  return m;
+}
+
+}  // namespace
+
+// Thirty disks on their own bearings, no coupling: the first six alike, so
+// that the lowest root is twelve-fold (x and y of six disks), the others'
+// translations at 7000, 8000, ... rad/s and their tilts far above. A single
+// start vector's Krylov space holds one copy in exact arithmetic; Arnoldi
+// finds all twelve in rounding, and the deflated check (complete_within)
+// certifies it: the twelve lowest modes are twelve copies of the closed
+// form's l^2 + c l + k = 0 (m = 1 kg, k = 1e6 N/m, c = 20 N s/m). With a copy
+// missing, the next root would stand in its place, or the answer be refused.
+TEST(ModalRoots, ATwelveFoldRootIsFoundInEveryCopy) {
+  const core::RotorMatrices m = thirty_disks();
+  const double c = kDampingN_s_per_m;
   const std::complex<double> expected(-0.5 * c, std::sqrt(1e6 - 0.25 * c * c));
   Eigen::MatrixXd l;
   const Eigen::MatrixXd a = modal::first_order_matrix(m, 0.0, l);
@@ -131,4 +148,61 @@ TEST(ModalRoots, ATwelveFoldRootIsFoundInEveryCopy) {
     EXPECT_LE(std::abs((*arnoldi)[static_cast<std::size_t>(i)].lambda - expected), kSameRoot * std::abs(expected))
         << "mode " << i;
   }
+  // Twelve shapes of their own, each in the translations of the six alike
+  // disks (orthonormal: modal_roots.cpp makes a multiple root's so).
+  Eigen::MatrixXcd shapes(m.M.rows(), 12);
+  for (int i = 0; i < 12; ++i) shapes.col(i) = (*arnoldi)[static_cast<std::size_t>(i)].shape;
+  EXPECT_LE((shapes.adjoint() * shapes - Eigen::MatrixXcd::Identity(12, 12)).norm(), kInTheEigenspace);
+  for (int d = 0; d < 30; ++d) {
+    for (const int dof : {core::kDofX, core::kDofY, core::kDofAlpha, core::kDofBeta}) {
+      const bool alike_translation = d < 6 && (dof == core::kDofX || dof == core::kDofY);
+      if (!alike_translation) EXPECT_LE(shapes.row(4 * d + dof).norm(), kInTheEigenspace) << "disk " << d;
+    }
+  }
+}
+
+// Given one copy of the twelve-fold root (disk 0's x), the radius within
+// which every root was found stops at that root: the other eleven copies are
+// the deflated operator's largest roots. (From the first run's start vector
+// the deflated run would not see a copy that run missed: its own start.)
+TEST(ModalRoots, OneCopyOfAMultipleRootFoundLeavesTheRadiusAtIt) {
+  const core::RotorMatrices m = thirty_disks();
+  Eigen::MatrixXd l;
+  const Eigen::MatrixXd a = modal::first_order_matrix(m, 0.0, l);
+  const double sigma = -1.0;  // modal_roots.cpp's shift
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a - sigma * Eigen::MatrixXd::Identity(a.rows(), a.cols()));
+  const double c = kDampingN_s_per_m;
+  const std::complex<double> lambda(-0.5 * c, std::sqrt(1e6 - 0.25 * c * c));
+  const Eigen::Index n = m.M.rows();
+  Eigen::VectorXcd y = Eigen::VectorXcd::Zero(2 * n);  // [L^T q; lambda L^T q], q = disk 0's x, L = I there
+  y(core::kDofX) = 1.0;
+  y(n + core::kDofX) = lambda;
+  const std::optional<double> radius = modal::complete_within(lu, y, 2);  // the pair: two real dimensions
+  ASSERT_TRUE(radius.has_value());
+  EXPECT_LE(*radius, std::abs(lambda - sigma) * (1.0 + 1e-5));
+  // And with all twelve copies given (x and y of the six alike disks), the
+  // radius reaches the next root, at 7000 rad/s.
+  Eigen::MatrixXcd copies = Eigen::MatrixXcd::Zero(2 * n, 12);
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Index dof = 4 * (k / 2) + (k % 2 == 0 ? core::kDofX : core::kDofY);
+    copies(dof, k) = 1.0;
+    copies(n + dof, k) = lambda;
+  }
+  const std::optional<double> all = modal::complete_within(lu, copies, 24);
+  ASSERT_TRUE(all.has_value());
+  EXPECT_GT(*all, 6000.0);
+}
+
+// Which roots are modes: one that completes a cycle before decaying, or
+// growing, by 1 / eps (Im > 0.174 |Re|); so a flutter that grows slower than
+// that is listed (a Campbell diagram shows the instability), a root that
+// grows by 1e15 in a turn is not, as one that decays so is not.
+TEST(ModalRoots, ARootIsAModeWhenItTurnsBeforeItGrowsOrDecaysPastRounding) {
+  EXPECT_TRUE(modal::oscillatory({0.0, 100.0}));      // undamped
+  EXPECT_TRUE(modal::oscillatory({-570.0, 100.0}));   // decays by exp(2 pi 5.7) = 3.6e15 in a cycle
+  EXPECT_TRUE(modal::oscillatory({570.0, 100.0}));    // a flutter growing as fast
+  EXPECT_FALSE(modal::oscillatory({-580.0, 100.0}));  // past 1 / eps = 4.5e15: overdamped
+  EXPECT_FALSE(modal::oscillatory({580.0, 100.0}));   // grows past it: no oscillation to see
+  EXPECT_FALSE(modal::oscillatory({5.0, 0.0}));       // real: a static divergence
+  EXPECT_FALSE(modal::oscillatory({1e-7, 1e-7}));     // a rigid-body root
 }

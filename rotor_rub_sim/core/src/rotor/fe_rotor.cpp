@@ -328,13 +328,29 @@ int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
   return real;
 }
 
+int diverging_roots(const RotorMatrices& m, double speed_rad_per_s) {
+  int growing = 0;
+  for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
+    if (!modal::oscillatory(lambda) && lambda.real() > 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) {
+      ++growing;
+    }
+  }
+  return growing;
+}
+
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples,
                                            unsigned jobs) {
   if (samples < 1) throw std::invalid_argument("critical_speeds: samples " + std::to_string(samples) + " is below 1");
   using Roots = std::vector<std::complex<double>>;
   std::vector<CriticalSpeed> out;
   Eigen::MatrixXd l;
-  auto roots_at = [&](double w) { return modal::mode_roots(modal::first_order_matrix(m, w, l)); };
+  // The modes that can cross in the range, and some way above (a mode that
+  // crosses the cap changes the list's length: the search halves there).
+  const double cap_rad_per_s = 1.5 * max_speed_rad_per_s + 1.0;
+  auto roots_at = [&](double w) {
+    const Eigen::MatrixXd a = modal::first_order_matrix(m, w, l);
+    return modal::mode_roots_below(a, l, cap_rad_per_s);
+  };
   using Complex = std::complex<double>;
   const Eigen::MatrixXcd mass = m.M.cast<Complex>(), stiffness = m.K.cast<Complex>(), gyro = m.G.cast<Complex>(),
                          damping = m.C.cast<Complex>();
@@ -408,8 +424,8 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
   std::vector<Roots> grid(static_cast<std::size_t>(samples) + 1);
   for_each_index(samples + 1, jobs, [&](int s) {
     Eigen::MatrixXd own_l;  // each thread its own factor
-    grid[static_cast<std::size_t>(s)] =
-        modal::mode_roots(modal::first_order_matrix(m, max_speed_rad_per_s * s / samples, own_l));
+    const Eigen::MatrixXd a = modal::first_order_matrix(m, max_speed_rad_per_s * s / samples, own_l);
+    grid[static_cast<std::size_t>(s)] = modal::mode_roots_below(a, own_l, cap_rad_per_s);
   });
   for (int s = 1; s <= samples; ++s) {
     search(max_speed_rad_per_s * (s - 1) / samples, grid[static_cast<std::size_t>(s) - 1],

@@ -226,32 +226,75 @@ class ShiftInverted {
 constexpr double kShift = -1.0;
 // The Ritz values' tolerance (Spectra: the residual relative to the
 // transformed root 1 / (lambda - sigma)); the roots then agree with the
-// dense path's refined ones to 1e-11 (FeRotor.LowestModesAreTheDenseOnes).
+// dense path's refined ones to 6.7e-11 on the anisotropic rig
+// (ModalRoots.ArnoldiFindsTheDenseQrsLowestModes).
 constexpr double kRitzTolerance = 1e-12;
-// Roots this close (relative) are one double root's copies: Arnoldi's
-// values of the double translation of test_fe_rotor's rotors agree to 1e-12.
+// Roots this close (relative) are one multiple root's copies: Arnoldi's
+// copies of test_modal_roots' double and twelve-fold roots agree to 1e-12.
 constexpr double kClusterWithin = 1e-9;
+// The found vectors' span is taken as invariant when (A - sigma I)^-1 maps
+// it into itself to this much of its largest root (Ritz vectors converged
+// to 1e-12 of theirs), and as of full rank when its columns, each of unit
+// length, keep this much of a dimension apart.
+constexpr double kInvariantTo = 1e-9;
+constexpr double kIndependentTo = 1e-8;
+// The deflated run's tolerance: only the size of its largest root counts,
+// and the radius is taken this much shorter than it says.
+constexpr double kRadiusTolerance = 1e-6;
+constexpr double kRadiusMargin = 1e-5;
 
-// The distance from the shift within which every root is among those found
-// (Q: their vectors' real span, of `found` dimensions): the deflated
-// operator's largest root, the nearest one left out. Nothing where the
-// vectors span less (a defective root) or Spectra does not converge.
+}  // namespace
+
 std::optional<double> complete_within(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::MatrixXcd& vectors,
                                       Eigen::Index found) {
   const Eigen::Index size = lu.rows();
   Eigen::MatrixXd span(size, 2 * vectors.cols());
   span << vectors.real(), vectors.imag();
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(span);
-  if (qr.rank() != found) return std::nullopt;
-  if (size - found < 4) return std::numeric_limits<double>::infinity();  // hardly any left: all but a few found
+  for (Eigen::Index j = 0; j < span.cols(); ++j) {
+    if (span.col(j).norm() > 0.0) span.col(j).normalize();  // a real root's zero imaginary part stays zero
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(span.rows(), span.cols());
+  qr.setThreshold(kIndependentTo);
+  qr.compute(span);
+  if (qr.rank() != found || size - found < 4) return std::nullopt;  // dependent vectors; or no room to look
   const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(size, found);
+  // Invariant: B Q = Q (Q^T B Q), B = (A - sigma I)^-1, else P B P has
+  // other roots than those left out.
+  const Eigen::MatrixXd bq = lu.solve(q);
+  const double largest_found = bq.norm();  // >= the largest |theta| found
+  if (!((bq - q * (q.transpose() * bq)).norm() <= kInvariantTo * largest_found)) return std::nullopt;
   ShiftInverted rest_op(lu, &q);
   Spectra::GenEigsSolver<ShiftInverted> rest(rest_op, 1, std::min<Eigen::Index>(size - found, 20));
-  rest.init();
-  rest.compute(Spectra::SortRule::LargestMagn, 1000, 1e-6);  // only its size counts
+  // Its own start: from the first run's, P B P's Krylov space would be the
+  // projection of B's, which holds no copy of a multiple root that B's
+  // missed (exactly, but for rounding). Unit entries at phases a golden
+  // angle apart, real parts: generic, and the same in every thread.
+  constexpr double kGoldenAngle_rad = 2.399963229728653;
+  Eigen::VectorXd start(size);
+  for (Eigen::Index k = 0; k < size; ++k) start(k) = std::cos(kGoldenAngle_rad * static_cast<double>(k));
+  start -= q * (q.transpose() * start);
+  rest.init(start.data());
+  rest.compute(Spectra::SortRule::LargestMagn, 1000, kRadiusTolerance);
   if (rest.info() != Spectra::CompInfo::Successful) return std::nullopt;
   const double largest = std::abs(rest.eigenvalues()(0));
-  return largest > 0.0 ? 1.0 / largest : std::numeric_limits<double>::infinity();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return std::nullopt;
+  return (1.0 - kRadiusMargin) / largest;
+}
+
+namespace {
+
+// The displacements q of a mode from its first-order vector y = [L^T q;
+// lambda L^T q]: from the velocity half over lambda when |lambda| > 1, whose
+// error is the vector's over |lambda|, and q = L^-T (.) in either case.
+Eigen::VectorXcd displacements(const Eigen::MatrixXd& l, std::complex<double> lambda, const Eigen::VectorXcd& y) {
+  const Eigen::Index n = l.rows();
+  const Eigen::VectorXcd z =
+      std::abs(lambda) > 1.0 ? Eigen::VectorXcd(y.tail(n) / lambda) : Eigen::VectorXcd(y.head(n));
+  Eigen::MatrixXd parts(n, 2);
+  parts << z.real(), z.imag();
+  l.transpose().triangularView<Eigen::Upper>().solveInPlace(parts);
+  return parts.col(0).cast<std::complex<double>>() +
+         std::complex<double>(0.0, 1.0) * parts.col(1).cast<std::complex<double>>();
 }
 
 }  // namespace
@@ -266,9 +309,10 @@ std::optional<double> complete_within(const Eigen::PartialPivLU<Eigen::MatrixXd>
 // of it. Past a quarter of the roots the dense QR is as cheap: nothing.
 std::optional<std::vector<ModeRoot>> lowest_mode_roots(const Eigen::MatrixXd& a, const Eigen::MatrixXd& l, int count) {
   using Complex = std::complex<double>;
-  const Eigen::Index size = a.rows(), n = size / 2;
+  const Eigen::Index size = a.rows();
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a - kShift * Eigen::MatrixXd::Identity(size, size));
   if (!(lu.rcond() > std::numeric_limits<double>::epsilon())) return std::nullopt;  // the shift is a root
+  if (count < 1) return std::vector<ModeRoot>{};
   ShiftInverted op(lu, nullptr);
   for (Eigen::Index nev = 2 * count + 8; 4 * nev <= size; nev *= 2) {
     Spectra::GenEigsSolver<ShiftInverted> eigs(op, nev, std::min(size, 2 * nev + 1));
@@ -288,17 +332,13 @@ std::optional<std::vector<ModeRoot>> lowest_mode_roots(const Eigen::MatrixXd& a,
       const bool paired = !real && (theta.array() == std::conj(theta(i))).any();
       dimensions += real || paired ? 1 : 2;
       Complex lambda = kShift + 1.0 / theta(i);
-      Eigen::VectorXcd y = vectors.col(i).head(n);
+      Eigen::VectorXcd y = vectors.col(i);
       if (lambda.imag() < 0.0) {
         if (paired) continue;  // its conjugate is listed
         lambda = std::conj(lambda);
         y = y.conjugate().eval();
       }
-      if (!oscillatory(lambda)) continue;
-      Eigen::MatrixXd parts(n, 2);  // q = L^-T y, the physical displacements
-      parts << y.real(), y.imag();
-      l.transpose().triangularView<Eigen::Upper>().solveInPlace(parts);
-      found.push_back({lambda, parts.col(0).cast<Complex>() + Complex(0.0, 1.0) * parts.col(1).cast<Complex>()});
+      if (oscillatory(lambda)) found.push_back({lambda, displacements(l, lambda, y)});
     }
     std::sort(found.begin(), found.end(),
               [](const ModeRoot& x, const ModeRoot& y) { return x.lambda.imag() < y.lambda.imag(); });
@@ -309,18 +349,41 @@ std::optional<std::vector<ModeRoot>> lowest_mode_roots(const Eigen::MatrixXd& a,
       continue;
     }
     found.resize(static_cast<std::size_t>(count));
-    // A double root's two vectors span its shapes: made orthogonal, as the
-    // dense path's are (FeRotor.PureTiltWhirlsAsItsSlopes).
+    // A multiple root's vectors span its shapes: made orthonormal, as the
+    // dense path's are (FeRotor.PureTiltWhirlsAsItsSlopes); copies that
+    // leave nothing apart are refused.
     for (std::size_t i = 0; i < found.size(); ++i) {
+      found[i].shape.normalize();
       for (std::size_t j = 0; j < i; ++j) {
         if (std::abs(found[j].lambda - found[i].lambda) <= kClusterWithin * std::abs(found[i].lambda)) {
-          found[i].shape -= found[j].shape.dot(found[i].shape) / found[j].shape.squaredNorm() * found[j].shape;
+          found[i].shape -= found[j].shape.dot(found[i].shape) * found[j].shape;
         }
       }
+      const double left = found[i].shape.norm();
+      if (!(left > kIndependentTo)) return std::nullopt;
+      found[i].shape /= left;
     }
     return found;
   }
   return std::nullopt;
+}
+
+std::vector<std::complex<double>> mode_roots_below(const Eigen::MatrixXd& a, const Eigen::MatrixXd& l,
+                                                   double w_max_rad_per_s) {
+  std::vector<std::complex<double>> out;
+  for (int count = 8;; count *= 2) {
+    const std::optional<std::vector<ModeRoot>> lowest = lowest_mode_roots(a, l, count);
+    if (!lowest) break;
+    if (lowest->back().lambda.imag() <= w_max_rad_per_s) continue;  // some may lie above it
+    for (const ModeRoot& r : *lowest) {
+      if (r.lambda.imag() <= w_max_rad_per_s) out.push_back(r.lambda);
+    }
+    return out;
+  }
+  for (const std::complex<double>& lambda : mode_roots(a)) {
+    if (lambda.imag() <= w_max_rad_per_s) out.push_back(lambda);
+  }
+  return out;
 }
 
 }  // namespace rotor_rub::core::modal

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <complex>
 #include <optional>
 #include <vector>
@@ -46,10 +47,24 @@ struct ModeRoot {
 std::vector<ModeRoot> refined_mode_roots(const RotorMatrices& m, double speed_rad_per_s, const Eigen::MatrixXd& a,
                                          int count);
 
+/// The distance from the shift sigma (lu: A - sigma I factored) within which
+/// every root of A is among those whose eigenvectors (columns of `vectors`,
+/// their real span of `found` dimensions) were found: the largest root of
+/// (A - sigma I)^-1 with that span deflated, the nearest root left out.
+/// Nothing where the span is not of that dimension or not invariant, or the
+/// search does not converge.
+std::optional<double> complete_within(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::MatrixXcd& vectors,
+                                      Eigen::Index found);
+
 /// The `count` lowest modes by damped frequency (fewer where the rotor has
 /// fewer) of the first-order matrix a (l: its mass factor), by shift-invert
 /// Arnoldi; nothing where the answer cannot be certified complete and
 /// accurate (the caller then takes the dense QR).
 std::optional<std::vector<ModeRoot>> lowest_mode_roots(const Eigen::MatrixXd& a, const Eigen::MatrixXd& l, int count);
+
+/// Every mode with a damped frequency up to w_max, lowest first: Arnoldi's
+/// lowest ones, ever more until one lies above, else the QR's (unrefined).
+std::vector<std::complex<double>> mode_roots_below(const Eigen::MatrixXd& a, const Eigen::MatrixXd& l,
+                                                   double w_max_rad_per_s);
 
 }  // namespace rotor_rub::core::modal

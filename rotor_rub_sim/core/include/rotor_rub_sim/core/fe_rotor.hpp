@@ -185,11 +185,19 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 /// twice), a complex pair once (its Im > 0 member).
 int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
 
+/// How many roots grow without being modes (Re lambda > 0, Im lambda >= 0,
+/// as modes() judges them): a divergence, a real root of a negative
+/// stiffness, or a pair that grows by 1 / eps before it turns. Left out of
+/// modes(), and a rotor that has one is unstable at that speed.
+int diverging_roots(const RotorMatrices& m, double speed_rad_per_s);
+
 /// Critical speeds: where a mode's damped frequency equals the speed
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
 /// for the `count` lowest modes tracked by index, in [0, max_speed]; located
 /// with TOMS 748 between the `samples` + 1 evenly spaced speeds where the
-/// sign changes, from the eigenvalues alone. Where the number of modes
+/// sign changes, from the eigenvalues alone (the modes up to 1.5 max_speed
+/// by Arnoldi on a large rotor, all by the QR on a small one: modes()'s
+/// paths, without the vectors' refinement). Where the number of modes
 /// differs at two neighbouring speeds (an overdamped pair the spin turns
 /// into modes), the interval is halved down to 1e-7 of the range around the
 /// change and each part searched alone, so modes that appear with the speed
