@@ -110,6 +110,7 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
     if (t.chosen) r["truncation_tolerance"] = t.tolerance;
     r["response_error"] = std::isnan(t.response_error) ? Json(nullptr) : Json(t.response_error);
     r["judged_speeds_rad_per_s"] = {t.min_speed_rad_per_s, t.max_speed_rad_per_s};
+    r["judged_critical_speeds_rad_per_s"] = t.critical_speeds_rad_per_s;
     j["rotor_reduction"] = r;
   } else {
     j["rotor_reduction"] = nullptr;

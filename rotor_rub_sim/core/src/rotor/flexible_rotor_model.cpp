@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -81,7 +82,12 @@ std::string to_string(long planar_modes, const TruncationReport& t) {
   } else {
     os << ": unbalance response within " << std::scientific << t.response_error << std::defaultfloat
        << " of the full model's largest displacement at " << t.min_speed_rad_per_s << " .. " << t.max_speed_rad_per_s
-       << " rad/s (rub station and probe nodes)";
+       << " rad/s";
+    if (!t.critical_speeds_rad_per_s.empty()) {
+      os << " and its " << t.critical_speeds_rad_per_s.size() << " critical speed"
+         << (t.critical_speeds_rad_per_s.size() == 1 ? "" : "s") << " there";
+    }
+    os << " (rub station and probe nodes)";
   }
   return os.str();
 }
@@ -101,14 +107,26 @@ double FlexibleRotorModel::max_spin_lever_kg_m2() const {
 namespace {
 
 // The speeds a reduction is judged on: kJudgedSpeeds evenly from lo to hi,
-// those above 0 (one where lo == hi: a constant speed).
+// those above 0 (one where lo == hi: a constant speed), and on a run-up the
+// full model's critical speeds between them: there a lightly damped mode's
+// response peaks, narrower than the grid's spacing (the anisotropic rig's at
+// 160.63 rad/s, damping ratio 4e-6: FlexibleRotorRuns.AutoModesAreTheFewestWithinTheTolerance).
 constexpr int kJudgedSpeeds = 24;
-std::vector<double> judged_speeds(double lo, double hi) {
+std::vector<double> judged_speeds(const RotorMatrices& full, double lo, double hi, bool with_critical,
+                                  std::vector<double>& critical_rad_per_s) {
   std::vector<double> out;
   const int n = hi > lo ? kJudgedSpeeds : 1;
   for (int k = 0; k < n; ++k) {
     const double w = n == 1 ? hi : lo + (hi - lo) * k / (n - 1);
     if (w > 0.0) out.push_back(w);
+  }
+  if (with_critical && n > 1 && hi > 0.0) {
+    const unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+    for (const CriticalSpeed& c : critical_speeds(full, std::numeric_limits<int>::max(), hi, kJudgedSpeeds, jobs)) {
+      if (c.speed_rad_per_s >= lo && c.speed_rad_per_s > 0.0) critical_rad_per_s.push_back(c.speed_rad_per_s);
+    }
+    out.insert(out.end(), critical_rad_per_s.begin(), critical_rad_per_s.end());
+    std::sort(out.begin(), out.end());
   }
   return out;
 }
@@ -146,9 +164,10 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
   const RotorMatrices full = assemble(rotor);
   std::vector<int> watched{rotor.rub_station_node};
   watched.insert(watched.end(), rotor.probe_nodes.begin(), rotor.probe_nodes.end());
-  const std::vector<double> speeds = judged_speeds(min_speed_rad_per_s, max_speed_rad_per_s);
-  const ResponseReference reference(rotor, full, rotor.unbalances, speeds, watched);
   TruncationReport report;
+  const std::vector<double> speeds = judged_speeds(full, min_speed_rad_per_s, max_speed_rad_per_s,
+                                                   !rotor.unbalances.empty(), report.critical_speeds_rad_per_s);
+  const ResponseReference reference(rotor, full, rotor.unbalances, speeds, watched);
   report.min_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.front();
   report.max_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.back();
   const bool judged = !speeds.empty() && !rotor.unbalances.empty();
