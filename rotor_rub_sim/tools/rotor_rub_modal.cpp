@@ -264,11 +264,11 @@ int main(int argc, char** argv) {
       std::printf("  %4d  %15.8f  %15.8f  %10.3e  %s\n", k++, md.damped_frequency_rad_per_s,
                   md.natural_frequency_rad_per_s, md.damping_ratio, core::to_string(md.whirl));
     }
-    if (const int real = core::overdamped_roots(m, 0.0); real > 0) {
-      std::printf("  (and %d overdamped roots: no modes, left out)\n", real);
-    }
-    if (const int growing = core::diverging_roots(m, 0.0); growing > 0) {
-      std::printf("  (and %d roots that grow without turning: the rotor diverges, unstable at rest)\n", growing);
+    const core::NonModeRoots left_out = core::non_mode_roots(m, 0.0);
+    if (left_out.overdamped > 0) std::printf("  (and %d overdamped roots: no modes, left out)\n", left_out.overdamped);
+    if (left_out.diverging > 0) {
+      std::printf("  (and %d roots that grow without turning: the rotor diverges, unstable at rest)\n",
+                  left_out.diverging);
     }
     if (criticals) {
       std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);

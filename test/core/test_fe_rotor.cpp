@@ -424,7 +424,7 @@ TEST(FeRotor, NearlyCriticalPairsAreNoModes) {
   ASSERT_EQ(md.size(), 4u);
   EXPECT_NEAR(md.front().damped_frequency_rad_per_s, 181.77, 0.01);
   for (const auto& mode : md) EXPECT_LT(mode.damping_ratio, 0.05) << mode.damped_frequency_rad_per_s;
-  EXPECT_GT(core::overdamped_roots(m, 0.0), 100);
+  EXPECT_GT(core::non_mode_roots(m, 0.0).overdamped, 100);
 }
 
 namespace {
@@ -468,7 +468,7 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
   const auto md = core::modes(mat, speed, 4);
   ASSERT_EQ(md.size(), 2u);
   for (const auto& mode : md) EXPECT_NEAR(mode.damped_frequency_rad_per_s, std::sqrt(k / m), 1e-9);
-  EXPECT_EQ(core::overdamped_roots(mat, speed), 2);
+  EXPECT_EQ(core::non_mode_roots(mat, speed).overdamped, 2);
 
   const core::RotorMatrices rig =
       core::assemble(core::load_rotor_file(test::source_path("config/rotors/ross_rub_rig.yaml")));
@@ -494,12 +494,12 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
 // overdamped; the y translation (100 rad/s) and the tilts are modes.
 TEST(FeRotor, ANegativeStiffnessDivergesAndIsNoMode) {
   const core::RotorMatrices mat = disk_on_bearing(1.0, -1e4, 1e4, 0.1, 0.2, 1e5, 0.0);
-  EXPECT_EQ(core::diverging_roots(mat, 0.0), 1);
-  EXPECT_EQ(core::overdamped_roots(mat, 0.0), 1);
+  EXPECT_EQ(core::non_mode_roots(mat, 0.0).diverging, 1);
+  EXPECT_EQ(core::non_mode_roots(mat, 0.0).overdamped, 1);
   const std::vector<core::Mode> listed = core::modes(mat, 0.0, 10);
   ASSERT_EQ(listed.size(), 3u);  // y, and the tilt's two
   EXPECT_NEAR(listed[0].damped_frequency_rad_per_s, 100.0, 1e-9 * 100.0);
-  EXPECT_EQ(core::diverging_roots(disk_on_bearing(1.0, 1e4, 1e4, 0.1, 0.2, 1e5, 0.0), 0.0), 0);
+  EXPECT_EQ(core::non_mode_roots(disk_on_bearing(1.0, 1e4, 1e4, 0.1, 0.2, 1e5, 0.0), 0.0).diverging, 0);
 }
 
 TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {

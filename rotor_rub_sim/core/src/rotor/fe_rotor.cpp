@@ -320,22 +320,14 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
   return out;
 }
 
-int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s) {
-  int real = 0;
+NonModeRoots non_mode_roots(const RotorMatrices& m, double speed_rad_per_s) {
+  NonModeRoots out;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (!modal::oscillatory(lambda) && lambda.real() < 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) ++real;
+    if (modal::oscillatory(lambda) || lambda.imag() < 0.0 || !(std::abs(lambda) > 1e-6)) continue;
+    if (lambda.real() < 0.0) ++out.overdamped;
+    if (lambda.real() > 0.0) ++out.diverging;
   }
-  return real;
-}
-
-int diverging_roots(const RotorMatrices& m, double speed_rad_per_s) {
-  int growing = 0;
-  for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (!modal::oscillatory(lambda) && lambda.real() > 0.0 && lambda.imag() >= 0.0 && std::abs(lambda) > 1e-6) {
-      ++growing;
-    }
-  }
-  return growing;
+  return out;
 }
 
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s, int samples,

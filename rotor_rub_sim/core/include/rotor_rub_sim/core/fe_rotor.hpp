@@ -179,17 +179,18 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
 /// the contact's linearisation among them: rk4_stability.hpp).
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 
-/// How many overdamped roots (decaying, Im lambda >= 0, not rigid-body, as
-/// modes() judges them) the first-order system has at speed Omega: left out
-/// of modes(). A real root counts once each (an overdamped pair at rest
-/// twice), a complex pair once (its Im > 0 member).
-int overdamped_roots(const RotorMatrices& m, double speed_rad_per_s);
-
-/// How many roots grow without being modes (Re lambda > 0, Im lambda >= 0,
-/// as modes() judges them): a divergence, a real root of a negative
-/// stiffness, or a pair that grows by 1 / eps before it turns. Left out of
-/// modes(), and a rotor that has one is unstable at that speed.
-int diverging_roots(const RotorMatrices& m, double speed_rad_per_s);
+/// The roots the first-order system has at speed Omega that modes() leaves
+/// out (Im lambda >= 0, not rigid-body, as modes() judges them), from one QR:
+/// - overdamped: decaying ones. A real root counts once each (an overdamped
+///   pair at rest twice), a complex pair once (its Im > 0 member);
+/// - diverging: growing ones, a real root of a negative stiffness or a pair
+///   that grows by 1 / eps before it turns; a rotor that has one is unstable
+///   at that speed.
+struct NonModeRoots {
+  int overdamped = 0;
+  int diverging = 0;
+};
+NonModeRoots non_mode_roots(const RotorMatrices& m, double speed_rad_per_s);
 
 /// Critical speeds: where a mode's damped frequency equals the speed
 /// (w_d(Omega) = Omega, the synchronous line crossing the Campbell diagram),
