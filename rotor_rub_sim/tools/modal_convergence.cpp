@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace rotor_rub::tools {
 namespace {
@@ -35,16 +33,6 @@ std::vector<TruncationRow> truncation_rows(const core::FeRotor& rotor, const cor
   watched.insert(watched.end(), study.probe_nodes.begin(), study.probe_nodes.end());
   std::vector<double> speeds;
   for (int k = 1; k < study.speeds; ++k) speeds.push_back(study.max_speed_rad_per_s * k / (study.speeds - 1));
-  // And the full model's critical speeds, where a lightly damped mode's
-  // response peaks between the grid's speeds (as a run's judge does:
-  // flexible_rotor_model.cpp).
-  if (!study.unbalances.empty() && study.max_speed_rad_per_s > 0.0) {
-    const unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    for (const core::CriticalSpeed& c : core::critical_speeds(full, std::numeric_limits<int>::max(),
-                                                              study.max_speed_rad_per_s, study.speeds - 1, jobs)) {
-      if (c.speed_rad_per_s > 0.0) speeds.push_back(c.speed_rad_per_s);
-    }
-  }
   const core::ResponseReference reference(rotor, full, study.unbalances, speeds, watched);
   std::vector<int> counts;
   for (int m = 1; m < core::max_planar_modes(rotor); m *= 2) counts.push_back(m);

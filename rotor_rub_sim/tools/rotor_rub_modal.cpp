@@ -55,7 +55,7 @@ void print_truncation_study(const rotor_rub::core::FeRotor& rotor, const rotor_r
   if (!unbalances.empty()) {
     std::printf("; response: unbalance");
     for (const auto& u : unbalances) std::printf(" %g kg m at node %d (%g rad)", u.me_kg_m, u.node, u.phase_rad);
-    std::printf(", %d speeds to %g rad/s and the critical speeds there, at the station", speeds - 1, max_speed);
+    std::printf(", %d speeds to %g rad/s, at the station", speeds - 1, max_speed);
     if (!probes.empty()) std::printf(" and probe nodes");
     for (const int p : probes) std::printf(" %d", p);
     std::printf(", relative to the rotor's largest displacement");

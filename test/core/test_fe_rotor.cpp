@@ -481,13 +481,6 @@ TEST(FeRotor, OverdampedPairsTurnedByTheSpinAreNoModes) {
   EXPECT_NEAR(critical[0].speed_rad_per_s, 185.0, 10.0);
 }
 
-// A disk whose tilt is overdamped at rest (c_t^2 > 4 I_d k_t): the spin turns
-// its pair into modes at about 93.5 rad/s (Im / -Re above 0.174, the modes'
-// bound), the slow one near 15 rad/s, below the translations, whose critical
-// speeds are sqrt(k / m) exactly (no coupling): 100 and 101 rad/s, both in
-// the sampled interval (92.25, 102.5] where the tilt enters. A search by mode
-// index lost the second: the translation that crossed at 101 was the highest
-// mode at 92.25, and the entry moved it to an index empty there.
 // A negative stiffness in x (a disk on a bearing that pushes it off centre):
 // the x translation's roots are +-sqrt(k / m) = +-100 1/s, real. The growing
 // one is neither a mode nor overdamped but a divergence; the decaying one is
@@ -502,6 +495,13 @@ TEST(FeRotor, ANegativeStiffnessDivergesAndIsNoMode) {
   EXPECT_EQ(core::non_mode_roots(disk_on_bearing(1.0, 1e4, 1e4, 0.1, 0.2, 1e5, 0.0), 0.0).diverging, 0);
 }
 
+// A disk whose tilt is overdamped at rest (c_t^2 > 4 I_d k_t): the spin turns
+// its pair into modes at about 93.5 rad/s (Im / -Re above 0.174, the modes'
+// bound), the slow one near 15 rad/s, below the translations, whose critical
+// speeds are sqrt(k / m) exactly (no coupling): 100 and 101 rad/s, both in
+// the sampled interval (92.25, 102.5] where the tilt enters. A search by mode
+// index lost the second: the translation that crossed at 101 was the highest
+// mode at 92.25, and the entry moved it to an index empty there.
 TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
   const double m = 1.0, kx = 1e4, ky = 101.0 * 101.0, id = 0.005, ip = 0.01, kt = 500.0, ct = 6.2;
   const core::RotorMatrices mat = disk_on_bearing(m, kx, ky, id, ip, kt, ct);

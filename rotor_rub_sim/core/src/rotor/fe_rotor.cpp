@@ -387,7 +387,7 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
     const std::vector<Mode> at = modes(m, w, k + 1);
     if (k < static_cast<int>(at.size()) &&
         std::abs(at[static_cast<std::size_t>(k)].damped_frequency_rad_per_s - w) <= 1e-9 * std::max(w, 1.0)) {
-      out.push_back({k, w, at[static_cast<std::size_t>(k)].whirl});
+      out.push_back({k, w, at[static_cast<std::size_t>(k)].whirl, at[static_cast<std::size_t>(k)].damping_ratio});
     }
   };
   // Where the number of modes differs at the two ends (an overdamped pair the

@@ -84,7 +84,7 @@ std::string to_string(long planar_modes, const TruncationReport& t) {
        << " of the full model's largest displacement at " << t.min_speed_rad_per_s << " .. " << t.max_speed_rad_per_s
        << " rad/s";
     if (!t.critical_speeds_rad_per_s.empty()) {
-      os << " and its " << t.critical_speeds_rad_per_s.size() << " critical speed"
+      os << " and the flanks of its " << t.critical_speeds_rad_per_s.size() << " critical speed"
          << (t.critical_speeds_rad_per_s.size() == 1 ? "" : "s") << " there";
     }
     os << " (rub station and probe nodes)";
@@ -107,27 +107,46 @@ double FlexibleRotorModel::max_spin_lever_kg_m2() const {
 namespace {
 
 // The speeds a reduction is judged on: kJudgedSpeeds evenly from lo to hi,
-// those above 0 (one where lo == hi: a constant speed), and on a run-up the
-// full model's critical speeds between them: there a lightly damped mode's
-// response peaks, narrower than the grid's spacing (the anisotropic rig's at
+// those above 0 (one where lo == hi: a constant speed), and on a run-up
+// the flanks of the full model's resonances between them, which a lightly
+// damped mode's can hide between the grid's speeds (the anisotropic rig's at
 // 160.63 rad/s, damping ratio 4e-6: FlexibleRotorRuns.AutoModesAreTheFewestWithinTheTolerance).
+// A run-up at alpha passes a critical speed w_c too fast to build its steady
+// peak: it reaches about that of a damping ratio sqrt(2 alpha / pi) / (2 w_c)
+// (Lewis's passage through resonance), so each critical speed is judged at
+// w_c (1 -+ delta), delta the larger of that and the mode's own ratio (an
+// undamped rotor's response at w_c itself is singular). Where the search for
+// critical speeds fails, the grid alone (the report lists none).
 constexpr int kJudgedSpeeds = 24;
-std::vector<double> judged_speeds(const RotorMatrices& full, double lo, double hi, bool with_critical,
-                                  std::vector<double>& critical_rad_per_s) {
+std::vector<double> judged_speeds(const RotorMatrices& full, double lo, double hi, double acceleration_rad_per_s2,
+                                  bool with_critical, std::vector<double>& critical_rad_per_s) {
   std::vector<double> out;
   const int n = hi > lo ? kJudgedSpeeds : 1;
   for (int k = 0; k < n; ++k) {
     const double w = n == 1 ? hi : lo + (hi - lo) * k / (n - 1);
     if (w > 0.0) out.push_back(w);
   }
-  if (with_critical && n > 1 && hi > 0.0) {
-    const unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    for (const CriticalSpeed& c : critical_speeds(full, std::numeric_limits<int>::max(), hi, kJudgedSpeeds, jobs)) {
-      if (c.speed_rad_per_s >= lo && c.speed_rad_per_s > 0.0) critical_rad_per_s.push_back(c.speed_rad_per_s);
-    }
-    out.insert(out.end(), critical_rad_per_s.begin(), critical_rad_per_s.end());
-    std::sort(out.begin(), out.end());
+  if (!with_critical || n == 1 || !(hi > 0.0)) return out;
+  std::vector<CriticalSpeed> found;
+  try {
+    found = critical_speeds(full, std::numeric_limits<int>::max(), hi, kJudgedSpeeds,
+                            std::max(1u, std::thread::hardware_concurrency()));
+  } catch (const std::runtime_error&) {
+    return out;  // an eigensolve that did not converge: the grid alone
   }
+  for (const CriticalSpeed& c : found) {
+    const double w = c.speed_rad_per_s;
+    if (!(w >= lo && w > 0.0)) continue;
+    if (!critical_rad_per_s.empty() && w == critical_rad_per_s.back()) continue;  // one crossing found twice
+    critical_rad_per_s.push_back(w);
+    const double passage = std::sqrt(2.0 * acceleration_rad_per_s2 / M_PI) / (2.0 * w);
+    const double delta = std::max(c.damping_ratio, passage);
+    for (const double side : {-1.0, 1.0}) {
+      const double judged = w * (1.0 + side * delta);
+      if (judged > 0.0) out.push_back(judged);
+    }
+  }
+  std::sort(out.begin(), out.end());
   return out;
 }
 
@@ -144,7 +163,8 @@ namespace {
 }  // namespace
 
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2,
-                                       double min_speed_rad_per_s, double max_speed_rad_per_s) {
+                                       double min_speed_rad_per_s, double max_speed_rad_per_s,
+                                       double acceleration_rad_per_s2) {
   const FeRotor rotor = load_rotor_file(settings.file);
   if (rotor.rub_station_node < 0) {
     throw std::invalid_argument("rotor file '" + settings.file +
@@ -165,8 +185,9 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
   std::vector<int> watched{rotor.rub_station_node};
   watched.insert(watched.end(), rotor.probe_nodes.begin(), rotor.probe_nodes.end());
   TruncationReport report;
-  const std::vector<double> speeds = judged_speeds(full, min_speed_rad_per_s, max_speed_rad_per_s,
-                                                   !rotor.unbalances.empty(), report.critical_speeds_rad_per_s);
+  const std::vector<double> speeds =
+      judged_speeds(full, min_speed_rad_per_s, max_speed_rad_per_s, acceleration_rad_per_s2, !rotor.unbalances.empty(),
+                    report.critical_speeds_rad_per_s);
   const ResponseReference reference(rotor, full, rotor.unbalances, speeds, watched);
   report.min_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.front();
   report.max_speed_rad_per_s = speeds.empty() ? 0.0 : speeds.back();
@@ -243,10 +264,11 @@ std::shared_ptr<const FlexibleRotorModel> flexible_rotor_of(const Scene& scene) 
   if (r.loaded && r.loaded->file == r.file && r.loaded->planar_modes == r.planar_modes &&
       r.loaded->probe_node == r.probe_node && r.loaded->gravity_m_per_s2 == g &&
       r.loaded->truncation_tolerance == r.truncation_tolerance && r.loaded->min_speed_rad_per_s == lo &&
-      r.loaded->max_speed_rad_per_s == hi) {
+      r.loaded->max_speed_rad_per_s == hi && r.loaded->acceleration_rad_per_s2 == scene.speed.acceleration_rad_per_s2) {
     return r.loaded->model;
   }
-  return std::make_shared<const FlexibleRotorModel>(load_flexible_rotor(r, g, lo, hi));
+  return std::make_shared<const FlexibleRotorModel>(
+      load_flexible_rotor(r, g, lo, hi, scene.speed.acceleration_rad_per_s2));
 }
 
 void load_rotor(Scene& scene) {
@@ -254,9 +276,9 @@ void load_rotor(Scene& scene) {
   auto model = flexible_rotor_of(scene);
   if (scene.rotor.loaded && scene.rotor.loaded->model == model) return;
   const auto [lo, hi] = scene_speeds(scene);
-  scene.rotor.loaded = std::make_shared<const LoadedFlexibleRotor>(
-      LoadedFlexibleRotor{scene.rotor.file, scene.rotor.planar_modes, scene.rotor.truncation_tolerance, lo, hi,
-                          scene.rotor.probe_node, scene.model.gravity_m_per_s2, model});
+  scene.rotor.loaded = std::make_shared<const LoadedFlexibleRotor>(LoadedFlexibleRotor{
+      scene.rotor.file, scene.rotor.planar_modes, scene.rotor.truncation_tolerance, lo, hi,
+      scene.speed.acceleration_rad_per_s2, scene.rotor.probe_node, scene.model.gravity_m_per_s2, model});
 }
 
 }  // namespace rotor_rub::core

@@ -209,6 +209,7 @@ struct CriticalSpeed {
   int mode_index = 0;
   double speed_rad_per_s = 0.0;
   ModeWhirl whirl = ModeWhirl::kForward;
+  double damping_ratio = 0.0;  ///< the crossing mode's there
 };
 std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, double max_speed_rad_per_s,
                                            int samples = 200, unsigned jobs = 1);

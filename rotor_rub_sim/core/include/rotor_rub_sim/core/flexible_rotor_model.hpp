@@ -55,14 +55,14 @@ struct TruncationReport {
   double response_error = std::numeric_limits<double>::quiet_NaN();
   double min_speed_rad_per_s = 0.0;  ///< the speeds judged: [min, max]
   double max_speed_rad_per_s = 0.0;  ///< see min_speed_rad_per_s
-  /// The full model's critical speeds in (min, max) judged with them (a run-up's).
+  /// The full model's critical speeds in [min, max] whose flanks were judged too (a run-up's).
   std::vector<double> critical_speeds_rad_per_s;
 };
 
 /// One line on a reduction, as the runner and the node log it: "14 planar
 /// modes (auto, rotor_truncation_tolerance 0.001): unbalance response within
-/// 6.513e-05 of the full model's largest displacement at 150 .. 330 rad/s and
-/// its 2 critical speeds there (rub station and probe nodes)".
+/// 6.066e-05 of the full model's largest displacement at 150 .. 330 rad/s and
+/// the flanks of its 2 critical speeds there (rub station and probe nodes)".
 std::string to_string(long planar_modes, const TruncationReport& t);
 
 class FlexibleRotorModel {
@@ -334,20 +334,22 @@ void add_lateral_torque(const StationModel& m, const FlexibleRotorModel& rotor, 
 /// unbalance response is within settings.truncation_tolerance of the full
 /// model's over the speeds), with the file's unbalances and gravity along -y
 /// (the scene's gravity_m_per_s2), and judges the reduction's truncation
-/// error on 24 speeds evenly from min_speed to max_speed (above 0) and the
-/// full model's critical speeds between them (TruncationReport). Throws std::invalid_argument naming the file and what
+/// error on 24 speeds evenly from min_speed to max_speed (above 0) and, on a
+/// run-up at acceleration_rad_per_s2, the flanks of the full model's critical
+/// speeds between them (TruncationReport). Throws std::invalid_argument naming the file and what
 /// is wrong (an unreadable file, a bad item, no rub_station, a count out of
 /// range, auto without unbalances or speeds to judge by, or with no model
 /// within the tolerance).
 FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gravity_m_per_s2 = 0.0,
-                                       double min_speed_rad_per_s = 0.0, double max_speed_rad_per_s = 0.0);
+                                       double min_speed_rad_per_s = 0.0, double max_speed_rad_per_s = 0.0,
+                                       double acceleration_rad_per_s2 = 0.0);
 
 /// A rotor file read and reduced once, with the settings it was read for.
 struct LoadedFlexibleRotor {
   std::string file;
   long planar_modes = 0;  ///< as asked (0: auto; the model's rotor() has the count)
   double truncation_tolerance = 0.0;
-  double min_speed_rad_per_s = 0.0, max_speed_rad_per_s = 0.0;
+  double min_speed_rad_per_s = 0.0, max_speed_rad_per_s = 0.0, acceleration_rad_per_s2 = 0.0;
   long probe_node = 0;
   double gravity_m_per_s2 = 0.0;
   std::shared_ptr<const FlexibleRotorModel> model;
