@@ -391,7 +391,7 @@ TEST(FeRotor, SparseMatricesAreTheRows) {
 // read from a file as from the struct; beside shaft damping, refused.
 TEST(FeRotor, ModalDampingGivesEveryModeItsRatio) {
   core::FeRotor r = pinned_shaft(1.0, 0.05, 10);
-  r.modal_damping_ratio = 0.02;
+  r.modal_damping_ratios = {0.02};
   const auto md = core::modes(core::assemble(r), 0.0, 6);
   ASSERT_EQ(md.size(), 6u);
   for (const auto& mode : md) EXPECT_NEAR(mode.damping_ratio, 0.02, 1e-9) << mode.natural_frequency_rad_per_s;
@@ -400,7 +400,7 @@ TEST(FeRotor, ModalDampingGivesEveryModeItsRatio) {
                  "modal_damping: {ratio: 0.02}\n"
                  "shaft:\n  - {elements: 10, length_m: 0.1, outer_diameter_m: 0.05}\n"
                  "bearings:\n  - {node: 0, kxx: 1e14, kyy: 1e14}\n  - {node: 10, kxx: 1e14, kyy: 1e14}\n"));
-  EXPECT_EQ(from_file.modal_damping_ratio, 0.02);
+  EXPECT_EQ(from_file.modal_damping_ratios, std::vector<double>{0.02});
   EXPECT_EQ(core::assemble(from_file).C, core::assemble(r).C);
   EXPECT_NE(load_error("modal_damping: {ratio: 0.02}\nshaft_damping: {stiffness_proportional_s: 1e-5}\n"
                        "shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n")
@@ -410,6 +410,108 @@ TEST(FeRotor, ModalDampingGivesEveryModeItsRatio) {
                 .find("modal_damping key 'ratio': value 1.5 is out of range; accepted: [0, 1]"),
             std::string::npos)
       << load_error("modal_damping: {ratio: 1.5}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n");
+}
+
+namespace {
+
+// A 1 m shaft of 50 mm in 10 elements on two bearings kx, ky: on soft ones
+// its lowest modes move it rigidly (the strain energy in the bearings), on
+// stiff ones every mode bends it.
+core::FeRotor shaft_on_bearings(double kx, double ky) {
+  core::FeRotor r = pinned_shaft(1.0, 0.05, 10);
+  for (core::BearingElement& b : r.bearings) {
+    b.kxx = kx;
+    b.kyy = ky;
+  }
+  return r;
+}
+
+// Every mode alone gets its ratio to rounding (the C built from the very
+// modes it damps: ModalDampingGivesEveryModeItsRatio's bound).
+constexpr double kModalRatioTolerance = 1e-9;
+
+}  // namespace
+
+// The i-th natural frequency gets the i-th ratio, the last one every higher
+// one: on an isotropic rotor each frequency is double (its two planes) and
+// counts once; on anisotropic bearings the planes part and count apart.
+TEST(FeRotor, ModalDampingRatiosGoByNaturalFrequency) {
+  const std::vector<double> ratios{0.03, 0.02, 0.01};
+  core::FeRotor iso = shaft_on_bearings(1e14, 1e14);
+  iso.modal_damping_ratios = ratios;
+  const auto twin = core::modes(core::assemble(iso), 0.0, 8);
+  ASSERT_EQ(twin.size(), 8u);
+  for (std::size_t i = 0; i < twin.size(); ++i) {
+    EXPECT_NEAR(twin[i].damping_ratio, ratios[std::min<std::size_t>(i / 2, 2)], kModalRatioTolerance) << i;
+  }
+  core::FeRotor aniso = shaft_on_bearings(1e6, 4e6);
+  aniso.modal_damping_ratios = ratios;
+  const auto parted = core::modes(core::assemble(aniso), 0.0, 6);
+  ASSERT_EQ(parted.size(), 6u);
+  ASSERT_GT(parted[1].natural_frequency_rad_per_s, 1.2 * parted[0].natural_frequency_rad_per_s);  // planes apart
+  for (std::size_t i = 0; i < parted.size(); ++i) {
+    EXPECT_NEAR(parted[i].damping_ratio, ratios[std::min<std::size_t>(i, 2)], kModalRatioTolerance) << i;
+  }
+  const core::FeRotor from_file = core::load_rotor_file(
+      write_file("modal_ratios.yaml",
+                 "modal_damping: {ratios: [0.03, 0.02, 0.01]}\n"
+                 "shaft:\n  - {elements: 10, length_m: 0.1, outer_diameter_m: 0.05}\n"
+                 "bearings:\n  - {node: 0, kxx: 1e6, kyy: 4e6}\n  - {node: 10, kxx: 1e6, kyy: 4e6}\n"));
+  EXPECT_EQ(core::assemble(from_file).C, core::assemble(aniso).C);
+  const std::string shaft = "shaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n";
+  EXPECT_NE(load_error("modal_damping: {ratios: [0.03, 1.2]}\n" + shaft)
+                .find("modal_damping key 'ratios': entry 1 '1.2' is out of range; accepted: a number in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {ratios: []}\n" + shaft).find("key 'ratios' is not a list of numbers"),
+            std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {ratio: 0.01, loss_factor: 1e-3}\n" + shaft)
+                .find("gives 2 of 'ratio', 'ratios', 'loss_factor'; accepted: one"),
+            std::string::npos);
+}
+
+// A material loss factor eta damps each mode by the shaft's share of its
+// strain energy (the modal strain energy method): zeta = (eta / 2) (1 -
+// E_b / E), E_b = sum kx |x_b|^2 + ky |y_b|^2 over the bearings and E =
+// w^2 q^H M q, both from the mode's own shape. On stiff bearings (1e9 N/m, a
+// rolling bearing's) every mode bends the shaft (zeta -> eta / 2); on soft
+// ones the lowest barely does.
+TEST(FeRotor, ALossFactorDampsTheShaftsShareOfEachMode) {
+  constexpr double eta = 2e-3;
+  // The undamped solver's vectors, which err by eps times the stiffest
+  // mode's w^2 over the gap (on bearings of 1e14 N/m, a pinning by penalty,
+  // that reaches 6e-5 of zeta; here below 1e-9).
+  constexpr double kShareTolerance = 1e-9 * eta / 2.0;
+  double lowest_share = 1.0, highest_share = 0.0;
+  for (const double k : {1e6, 1e9}) {
+    core::FeRotor r = shaft_on_bearings(k, 4.0 * k);
+    r.shaft_loss_factor = eta;
+    const core::RotorMatrices m = core::assemble(r);
+    const auto md = core::modes(m, 0.0, 8);
+    ASSERT_EQ(md.size(), 8u);
+    for (const core::Mode& mode : md) {
+      const Eigen::VectorXcd& q = mode.shape;
+      double bearing_energy = 0.0;
+      for (const core::BearingElement& b : r.bearings) {
+        bearing_energy += b.kxx * std::norm(q(core::dof_index(b.node, core::kDofX))) +
+                          b.kyy * std::norm(q(core::dof_index(b.node, core::kDofY)));
+      }
+      const double w = mode.natural_frequency_rad_per_s;
+      const double share = 1.0 - bearing_energy / (w * w * q.dot(m.M * q).real());
+      EXPECT_NEAR(mode.damping_ratio, eta / 2.0 * share, kShareTolerance) << "k " << k << ", w " << w;
+      lowest_share = std::min(lowest_share, share);
+      highest_share = std::max(highest_share, share);
+    }
+  }
+  EXPECT_LT(lowest_share, 0.2);    // a rigid mode on soft bearings
+  EXPECT_GT(highest_share, 0.99);  // bending between stiff ones
+  EXPECT_NE(load_error("modal_damping: {loss_factor: 3}\nshaft:\n  - {length_m: 0.5, outer_diameter_m: 0.05}\n")
+                .find("modal_damping key 'loss_factor': value 3 is out of range; accepted: [0, 2]"),
+            std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {loss_factor: 1e-3}\nmatrices:\n  nodes: [0]\n"
+                       "  M: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n"
+                       "  K: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n")
+                .find("modal_damping's 'loss_factor', which needs the shaft's elements"),
+            std::string::npos);
 }
 
 // ROSS's damped rig (config/rotors/ross_rub_rig.yaml: proportional damping

@@ -134,20 +134,45 @@ ElementMatrix shaft_gyroscopic(const ShaftElement& e) {
 
 namespace {
 
-// C += M Phi diag(2 zeta w) Phi^T M over the undamped modes of (M, K_sym),
-// Phi M-normalised: each such mode alone gets the ratio zeta (where the
-// rest of C is nil and at rest: test_fe_rotor, ModalDampingGivesEveryModeItsRatio).
-// Modes below 1 rpm (rigid-body ones) are left undamped, as ROSS does.
-void add_modal_damping(double ratio, RotorMatrices& m) {
-  if (ratio == 0.0) return;
+// C += M Phi diag(2 zeta_i w_i) Phi^T M over the undamped modes of
+// (M, K_sym), Phi M-normalised: each such mode alone gets its zeta_i (where
+// the rest of C is nil and at rest: test_fe_rotor,
+// ModalDampingGivesEveryModeItsRatio, ModalDampingRatiosGoByNaturalFrequency,
+// ALossFactorDampsTheShaftsShareOfEachMode). Modes below 1 rpm (rigid-body
+// ones) are left undamped, as ROSS does. shaft_k: the shaft elements'
+// stiffness (null for imported matrices), for the loss factor.
+void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, RotorMatrices& m) {
+  const std::vector<double>& ratios = rotor.modal_damping_ratios;
+  const double eta = rotor.shaft_loss_factor;
+  if (ratios.empty() && eta == 0.0) return;
+  if (eta != 0.0 && !ratios.empty()) refuse("rotor: modal_damping gives both ratios and a loss factor; accepted: one");
+  if (eta != 0.0 && !shaft_k)
+    refuse("rotor: modal_damping: loss_factor needs shaft elements; accepted: ratio or ratios");
   const Eigen::MatrixXd k_sym = 0.5 * (m.K + m.K.transpose());
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym, m.M);
   if (eig.info() != Eigen::Success) refuse("rotor: modal_damping: the undamped modes did not converge");
   constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
+  // Two roots within this of each other are one natural frequency, twice:
+  // an isotropic rotor's planes, which the solver parts by up to eps times
+  // the stiffest mode's w^2 (3e-9 of the lowest w^2 on bearings of 1e14 N/m).
+  constexpr double kSameFrequency = 1e-6;
   Eigen::VectorXd two_zeta_w = Eigen::VectorXd::Zero(eig.eigenvalues().size());
+  std::size_t frequency = 0;  // the natural frequency's index, a double one once
+  double last_w2 = 0.0;
   for (Eigen::Index i = 0; i < two_zeta_w.size(); ++i) {
     const double w2 = eig.eigenvalues()(i);
-    if (w2 > kOneRpm_rad_per_s * kOneRpm_rad_per_s) two_zeta_w(i) = 2.0 * ratio * std::sqrt(w2);
+    if (!(w2 > kOneRpm_rad_per_s * kOneRpm_rad_per_s)) continue;
+    if (last_w2 > 0.0 && w2 - last_w2 > kSameFrequency * w2) ++frequency;
+    last_w2 = w2;
+    if (eta != 0.0) {
+      // The shaft's share as a ratio of two quadratic forms of the same
+      // vector: the solver's error in it (stiff modes' content on stiff
+      // bearings) enters both, where beside w^2 it would not cancel.
+      const Eigen::VectorXd phi = eig.eigenvectors().col(i);
+      two_zeta_w(i) = eta * std::sqrt(w2) * phi.dot(*shaft_k * phi) / phi.dot(k_sym * phi);
+    } else {
+      two_zeta_w(i) = 2.0 * ratios[std::min(frequency, ratios.size() - 1)] * std::sqrt(w2);
+    }
   }
   const Eigen::MatrixXd m_phi = m.M * eig.eigenvectors();
   m.C += m_phi * two_zeta_w.asDiagonal() * m_phi.transpose();
@@ -163,7 +188,7 @@ RotorMatrices assemble(const FeRotor& rotor) {
              std::to_string(rotor.nodes()) + " nodes, or beside elements; accepted: 4 DOF per node, alone");
     }
     RotorMatrices m = *rotor.imported;
-    add_modal_damping(rotor.modal_damping_ratio, m);
+    add_modal_damping(rotor, nullptr, m);
     return m;
   }
   if (rotor.shaft.empty()) refuse("rotor: no shaft elements");
@@ -191,6 +216,7 @@ RotorMatrices assemble(const FeRotor& rotor) {
         e.damping.mass_proportional_per_s * mass + e.damping.stiffness_proportional_s * stiffness;
     m.G.block<8, 8>(at, at) += shaft_gyroscopic(e);
   }
+  const Eigen::MatrixXd shaft_k = rotor.shaft_loss_factor != 0.0 ? m.K : Eigen::MatrixXd();
   auto check_node = [&](int node, const std::string& item) {
     if (node < 0 || node >= rotor.nodes()) {
       refuse(item + ": node " + std::to_string(node) + " is out of range; accepted: 0 to " +
@@ -222,7 +248,7 @@ RotorMatrices assemble(const FeRotor& rotor) {
     m.C(y, x) += b.cyx;
     m.C(y, y) += b.cyy;
   }
-  add_modal_damping(rotor.modal_damping_ratio, m);
+  add_modal_damping(rotor, &shaft_k, m);
   return m;
 }
 

@@ -78,6 +78,35 @@ ShaftDamping read_damping(const std::string& file, const std::string& item, cons
   return d;
 }
 
+// modal_damping: one of {ratio: z}, {ratios: [z0, z1, ...]} (per natural
+// frequency at rest, the last for every higher one) or {loss_factor: eta}
+// (FeRotor's modal_damping_ratios and shaft_loss_factor).
+void read_modal_damping(const std::string& path, const YAML::Node& n, FeRotor& rotor) {
+  const Reader r(path, "modal_damping", n, {"ratio", "ratios", "loss_factor"});
+  const int given = int{r.has("ratio")} + int{r.has("ratios")} + int{r.has("loss_factor")};
+  if (given != 1) r.fail("gives " + std::to_string(given) + " of 'ratio', 'ratios', 'loss_factor'; accepted: one");
+  if (r.has("ratio")) rotor.modal_damping_ratios = {r.required("ratio", 0.0, false, 1.0)};
+  // A loss factor eta gives a mode that only bends the shaft eta / 2.
+  if (r.has("loss_factor")) rotor.shaft_loss_factor = r.required("loss_factor", 0.0, false, 2.0);
+  if (!r.has("ratios")) return;
+  const YAML::Node list = n["ratios"];
+  if (!list.IsSequence() || list.size() == 0) {
+    r.fail("key 'ratios' is not a list of numbers; accepted: [zeta_0, zeta_1, ...], each in [0, 1]");
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    double v = -1.0;
+    try {
+      v = list[i].as<double>();
+    } catch (const YAML::Exception&) {
+    }
+    if (!(v >= 0.0 && v <= 1.0)) {
+      r.fail("key 'ratios': entry " + std::to_string(i) + " '" + list[i].as<std::string>("?") +
+             "' is out of range; accepted: a number in [0, 1]");
+    }
+    rotor.modal_damping_ratios.push_back(v);
+  }
+}
+
 Material read_material(const std::string& file, const std::string& item, const YAML::Node& n, Material m) {
   const Reader r(file, item, n, {"youngs_modulus_Pa", "shear_modulus_Pa", "density_kg_per_m3"});
   m.youngs_modulus_Pa = r.number("youngs_modulus_Pa", 0.0, true, kInf, m.youngs_modulus_Pa);
@@ -281,14 +310,18 @@ FeRotor load_rotor_file(const std::string& path) {
   FeRotor rotor;
   if (top.has("modal_damping")) {
     if (top.has("shaft_damping")) top.fail("gives both 'shaft_damping' and 'modal_damping'; accepted: one of them");
-    const Reader r(path, "modal_damping", root["modal_damping"], {"ratio"});
-    rotor.modal_damping_ratio = r.required("ratio", 0.0, false, 1.0);
+    read_modal_damping(path, root["modal_damping"], rotor);
   }
   if (top.has("matrices")) {
     for (const char* key : {"material", "shaft_damping", "shaft", "disks", "bearings"}) {
       if (top.has(key)) top.fail("gives both 'matrices' and '" + std::string(key) + "'; accepted: one of them");
     }
     read_matrices(path, root["matrices"], rotor);
+    if (rotor.shaft_loss_factor != 0.0) {
+      top.fail(
+          "gives 'matrices' and modal_damping's 'loss_factor', which needs the shaft's elements; accepted: "
+          "modal_damping's 'ratio' or 'ratios'");
+    }
   }
   Material material;
   if (top.has("material")) material = read_material(path, "material", root["material"], material);

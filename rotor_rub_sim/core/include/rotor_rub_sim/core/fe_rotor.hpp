@@ -99,13 +99,27 @@ struct FeRotor {
   /// bearings (assemble() returns them), with their nodes' positions.
   std::optional<RotorMatrices> imported;
   std::vector<double> imported_node_z_m;
-  /// One damping ratio for every mode of the rotor at rest (the rotor file's
-  /// modal_damping), as ROSS's modal_damping_ratio: assemble() adds C = M Phi
-  /// diag(2 zeta w) Phi^T M over the undamped modes of (M, K) (K's symmetric
-  /// part, bearings' stiffness included; modes below 1 rpm, rigid-body ones,
-  /// left undamped). A fit to a measured rotor's modal damping, not a
-  /// material law; 0: none.
-  double modal_damping_ratio = 0.0;
+  /// Damping given per mode of the rotor at rest (the rotor file's
+  /// modal_damping): assemble() adds C = M Phi diag(2 zeta_i w_i) Phi^T M
+  /// over the undamped modes of (M, K) (K's symmetric part, bearings'
+  /// stiffness included; Phi M-normalised; modes below 1 rpm, rigid-body
+  /// ones, left undamped, as ROSS does), so that each mode alone gets
+  /// zeta_i where the rest of C is nil. zeta_i from one of:
+  /// - modal_damping_ratios: the i-th natural frequency's ratio, a double
+  ///   one (an isotropic rotor's two planes) counted once, the last ratio
+  ///   for every higher one; one ratio is ROSS's modal_damping_ratio.
+  ///   A fit to a measured rotor (an impact test gives a ratio per mode).
+  /// - shaft_loss_factor eta: the shaft material's hysteretic loss as the
+  ///   modal strain energy method gives it, zeta_i = (eta / 2) phi_i^T K_s
+  ///   phi_i / w_i^2 with K_s the shaft elements' stiffness: a mode that
+  ///   bends the shaft gets eta / 2, one that moves the rotor rigidly on its
+  ///   bearings nearly none. Viscous at each mode's own frequency, in the
+  ///   casing's frame (a shaft's material damping turns with it: see
+  ///   ShaftDamping). Elements only: imported matrices do not say which
+  ///   stiffness is the shaft's.
+  /// Empty and 0: none.
+  std::vector<double> modal_damping_ratios;
+  double shaft_loss_factor = 0.0;
   int nodes() const {
     return imported ? static_cast<int>(imported_node_z_m.size()) : static_cast<int>(shaft.size()) + 1;
   }
