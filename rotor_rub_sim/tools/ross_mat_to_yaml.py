@@ -6,7 +6,9 @@ rotor's matrices are banded: a 51-node rotor's read in a few hundredths of a
 second, its dense rows in half a second), every entry in the shortest digits
 that read back as the same double. The 6 DOF per node stay as they are:
 the rotor file reader drops the axial and torsional ones, after checking that
-nothing couples them to the lateral ones. Add the stations (rub_station,
+nothing couples them to the lateral ones. ROSS's point masses past the
+shaft's last node (pedestals, joined to the shaft by bearings' n_link) add 3
+DOF each (x, y, z) after the nodes': written as support_nodes. Add the stations (rub_station,
 unbalances, probes) to the file it writes.
 
   rosrun rotor_rub_sim ross_mat_to_yaml.py rig.mat --out rig.yaml
@@ -39,24 +41,40 @@ def read(path):
              % (path, ", ".join(missing)))
     nodes = np.asarray(data["nodes"], dtype=float).ravel()
     matrices = {k: np.asarray(data[k], dtype=float) for k in KEYS}
+    size = matrices["M"].shape[0] if matrices["M"].ndim == 2 else -1
+    supports = support_nodes(size, len(nodes))
     for k, m in matrices.items():
-        if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] not in (4 * len(nodes), 6 * len(nodes)):
-            fail("'%s': %s is %s for %d nodes; accepted: square, 4 or 6 DOF per node"
+        if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] != size or supports is None:
+            fail("'%s': %s is %s for %d nodes; accepted: square, 6 DOF per node and 3 per support node (ROSS's"
+                 " point masses past the shaft), or 4 and 2"
                  % (path, k, "x".join(map(str, m.shape)), len(nodes)))
         if not np.all(np.isfinite(m)):
             fail("'%s': %s has an entry that is not finite" % (path, k))
-    return nodes, matrices
+    return nodes, matrices, supports
+
+
+def support_nodes(size, nodes):
+    """The support nodes in a matrix of `size` rows for `nodes` shaft nodes:
+    ROSS's 6 DOF per node and 3 (x, y, z) per support node, or 4 and 2 (x,
+    y); None when neither fits."""
+    for per_node, per_support in ((6, 3), (4, 2)):
+        extra = size - per_node * nodes
+        if extra >= 0 and extra % per_support == 0:
+            return extra // per_support
+    return None
 
 
 def number(x):
     return repr(float(x))  # the shortest string that reads back as the same double
 
 
-def yaml_text(nodes, matrices, source):
+def yaml_text(nodes, matrices, supports, source):
     lines = ["# From %s (ROSS's Rotor.save_mat) by ross_mat_to_yaml.py; add the stations:" % source,
              "# rub_station: {node: N, contact_radius_m: R}, unbalances, probes (docs/rotors.md).",
              "matrices:",
              "  nodes: [%s]" % ", ".join(number(z) for z in nodes)]
+    if supports:
+        lines.append("  support_nodes: %d" % supports)
     for k in KEYS:
         m = matrices[k]
         rows, cols = np.nonzero(m)
@@ -71,15 +89,16 @@ def main(argv=None):
     p.add_argument("mat", help="the .mat file ROSS's Rotor.save_mat wrote")
     p.add_argument("--out", required=True, help="the rotor file (YAML) to write")
     args = p.parse_args(argv)
-    nodes, matrices = read(args.mat)
+    nodes, matrices, supports = read(args.mat)
     try:
         with open(args.out, "w") as f:
-            f.write(yaml_text(nodes, matrices, args.mat))
+            f.write(yaml_text(nodes, matrices, supports, args.mat))
     except OSError as e:
         fail("cannot write '%s': %s" % (args.out, e))
-    dofs = matrices["M"].shape[0] // len(nodes)
-    print("%s: %d nodes, %d DOF per node%s" % (args.out, len(nodes), dofs,
-                                               " (the reader keeps x, y, alpha, beta)" if dofs == 6 else ""))
+    six = matrices["M"].shape[0] == 6 * len(nodes) + 3 * supports
+    print("%s: %d nodes, %d DOF per node%s%s" % (
+        args.out, len(nodes), 6 if six else 4, " (the reader keeps x, y, alpha, beta)" if six else "",
+        ", support nodes: %d (x, y kept)" % supports if supports else ""))
     return 0
 
 

@@ -88,6 +88,7 @@ bool write_matrices_file(const std::string& path, const std::string& source, con
   out << "matrices:\n  nodes_z_m: [";
   for (int node = 0; node < rotor.nodes(); ++node) out << (node ? ", " : "") << number(rotor.node_z_m(node));
   out << "]\n";
+  if (m.support_nodes > 0) out << "  support_nodes: " << m.support_nodes << "\n";
   for (const auto& [key, mat] :
        {std::pair<const char*, const Eigen::MatrixXd*>{"M", &m.M}, {"K", &m.K}, {"C", &m.C}, {"G", &m.G}}) {
     out << "  " << key << ":\n    size: " << mat->rows() << "\n    nonzeros:";
@@ -245,12 +246,16 @@ int main(int argc, char** argv) {
     }
     if (station >= 0) core::reduce_rotor(rotor, m, station, 1);  // a station the rotor cannot stand on, before output
     if (rotor.imported) {
-      std::printf("%s: %d nodes, imported matrices, %d DOF (read in %.3f s)\n", rotor_path.c_str(), rotor.nodes(),
-                  rotor.dofs(), read_s);
+      const std::string supports =
+          rotor.support_nodes() > 0 ? " and " + std::to_string(rotor.support_nodes()) + " support nodes" : "";
+      std::printf("%s: %d nodes%s, imported matrices, %d DOF (read in %.3f s)\n", rotor_path.c_str(), rotor.nodes(),
+                  supports.c_str(), rotor.dofs(), read_s);
     } else {
-      std::printf("%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %d DOF (read in %.3f s)\n",
-                  rotor_path.c_str(), rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(),
-                  rotor.dofs(), read_s);
+      std::printf(
+          "%s: %d nodes, %zu shaft elements, %zu disks, %zu bearings, %zu point masses, %d DOF (read in "
+          "%.3f s)\n",
+          rotor_path.c_str(), rotor.nodes(), rotor.shaft.size(), rotor.disks.size(), rotor.bearings.size(),
+          rotor.point_masses.size(), rotor.dofs(), read_s);
     }
     if (!export_path.empty()) {
       if (!write_matrices_file(export_path, rotor_path, rotor, m)) {

@@ -4,7 +4,9 @@ per node, [x, y, z, alpha, beta, theta], the positions as "nodes"): the
 rotor file it writes gives rotor_rub_modal the modes of the lateral rotor
 that numpy finds (a three-node lumped rotor on anisotropic, cross-coupled,
 damped bearings, with gyroscopics, its axial and torsional DOFs with their own
-mass and stiffness); bad files exit 2 naming what is wrong."""
+mass and stiffness), and the same rotor with a bearing on a pedestal (a
+point mass past the shaft, ROSS's 3 DOF after the nodes'); bad files exit 2
+naming what is wrong."""
 import os
 import re
 import subprocess
@@ -58,6 +60,38 @@ def six_dof(four, axial, torsional):
     return six
 
 
+def on_a_pedestal(m, k, c, g):
+    """The lumped rotor with its node-0 bearing on a pedestal: a support node
+    (x, y after the nodes' DOFs) of 5 kg, joined to node 0 by a spring of
+    3e6 N/m and to the ground by 8e6 in x, 6e6 in y."""
+    n = 4 * NODES
+    grow = lambda a: np.pad(a, ((0, 2), (0, 2)))
+    m, k, c, g = grow(m), grow(k), grow(c), grow(g)
+    m[n, n] = m[n + 1, n + 1] = 5.0
+    for d in (0, 1):
+        a, b = d, n + d
+        k[a, a] += 3e6
+        k[b, b] += 3e6
+        k[a, b] -= 3e6
+        k[b, a] -= 3e6
+    k[n, n] += 8e6
+    k[n + 1, n + 1] += 6e6
+    return m, k, c, g
+
+
+def six_with_support(four, axial, torsional):
+    """ROSS's order: 6 DOF per node, then [x, y, z] per support node."""
+    size = 6 * NODES + 3
+    six = np.zeros((size, size))
+    idx = [6 * (a // 4) + LATERAL[a % 4] for a in range(4 * NODES)] + [6 * NODES, 6 * NODES + 1]
+    six[np.ix_(idx, idx)] = four
+    for node in range(NODES):
+        six[6 * node + 2, 6 * node + 2] = axial
+        six[6 * node + 5, 6 * node + 5] = torsional
+    six[6 * NODES + 2, 6 * NODES + 2] = axial
+    return six
+
+
 def damped_frequencies(m, k, c, g, speed, count):
     n = m.shape[0]
     minv = np.linalg.inv(m)
@@ -91,17 +125,37 @@ class RossMatToYaml(unittest.TestCase):
             # The tool prints 8 decimals; numpy's eigenvalues carry eps times the largest.
             self.assertAlmostEqual(w_got / w_want, 1.0, delta=1e-8)
 
+    def test_a_point_mass_past_the_shaft_is_a_support_node(self):
+        m, k, c, g = on_a_pedestal(*lateral_rotor())
+        mat = temp_prefix("ross_pedestal") + ".mat"
+        scipy.io.savemat(mat, {"M": six_with_support(m, 6.0, 0.02), "K": six_with_support(k, 1e9, 1e5),
+                               "C": six_with_support(c, 0.0, 0.0), "G": six_with_support(g, 0.0, 0.0),
+                               "nodes": np.array([0.0, 0.2, 0.4])})
+        out = temp_prefix("ross_pedestal") + ".yaml"
+        r = convert(mat, "--out", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("3 nodes, 6 DOF per node (the reader keeps x, y, alpha, beta), support nodes: 1 (x, y kept)",
+                      r.stdout)
+        modal = subprocess.run([find_binary("rotor_rub_modal"), "--rotor", out, "--modes", "6"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+        self.assertEqual(modal.returncode, 0, modal.stderr)
+        got = [float(x) for x in re.findall(r"^\s+\d+\s+([0-9.]+)\s", modal.stdout, re.M)]
+        want = damped_frequencies(m, k, c, g, 0.0, 6)
+        self.assertEqual(len(got), 6, modal.stdout)
+        for w_got, w_want in zip(got, want):
+            self.assertAlmostEqual(w_got / w_want, 1.0, delta=1e-8)  # as above
+
     def test_bad_files_exit_2_naming_what_is_wrong(self):
         mat = temp_prefix("bad") + ".mat"
         scipy.io.savemat(mat, {"M": np.eye(12), "K": np.eye(12)})
         r = convert(mat, "--out", temp_prefix("bad") + ".yaml")
         self.assertEqual(r.returncode, 2)
         self.assertIn("lacks nodes, C, G", r.stderr)
-        scipy.io.savemat(mat, {"M": np.eye(10), "K": np.eye(10), "C": np.eye(10), "G": np.eye(10),
+        scipy.io.savemat(mat, {"M": np.eye(9), "K": np.eye(9), "C": np.eye(9), "G": np.eye(9),
                                "nodes": np.array([0.0, 0.5])})
         r = convert(mat, "--out", temp_prefix("bad") + ".yaml")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("M is 10x10 for 2 nodes; accepted: square, 4 or 6 DOF per node", r.stderr)
+        self.assertIn("M is 9x9 for 2 nodes; accepted: square, 6 DOF per node and 3 per support node", r.stderr)
         r = convert(os.path.join(os.path.dirname(mat), "missing.mat"), "--out", temp_prefix("bad") + ".yaml")
         self.assertEqual(r.returncode, 2)
         self.assertIn("cannot read", r.stderr)

@@ -178,6 +178,27 @@ void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, Rot
   m.C += m_phi * two_zeta_w.asDiagonal() * m_phi.transpose();
 }
 
+// Support nodes are numbered on from the shaft's last, each with one point
+// mass of positive mx and my (its whole mass: a DOF without one would have
+// none), in turn: nodes(), nodes() + 1, ... (ROSS's order of their DOFs).
+void check_supports(const FeRotor& rotor) {
+  std::vector<int> support_masses(static_cast<std::size_t>(rotor.support_nodes()), 0);
+  for (std::size_t i = 0; i < rotor.point_masses.size(); ++i) {
+    const PointMass& p = rotor.point_masses[i];
+    const int k = p.node - rotor.nodes();
+    if (k < 0) continue;
+    const std::string item = "point mass " + std::to_string(i);
+    if (k >= rotor.support_nodes() || ++support_masses[static_cast<std::size_t>(k)] > 1) {
+      refuse(item + ": node " + std::to_string(p.node) + " is out of range; accepted: 0 to " +
+             std::to_string(rotor.nodes() - 1) + " (a shaft node) or the next support node, " +
+             std::to_string(rotor.nodes()) + " on, one point mass each");
+    }
+    if (!(p.mx_kg > 0.0 && p.my_kg > 0.0)) {
+      refuse(item + ": support node " + std::to_string(p.node) + " has no mass in x or y; accepted: mx_kg, my_kg > 0");
+    }
+  }
+}
+
 }  // namespace
 
 RotorMatrices assemble(const FeRotor& rotor) {
@@ -195,6 +216,7 @@ RotorMatrices assemble(const FeRotor& rotor) {
   const int n = rotor.dofs();
   RotorMatrices m;
   m.M = m.K = m.C = m.G = Eigen::MatrixXd::Zero(n, n);
+  m.support_nodes = rotor.support_nodes();
   for (std::size_t i = 0; i < rotor.shaft.size(); ++i) {
     const ShaftElement& e = rotor.shaft[i];
     const std::string item = "shaft element " + std::to_string(i);
@@ -235,18 +257,48 @@ RotorMatrices assemble(const FeRotor& rotor) {
     m.G(a, b) += d.polar_inertia_kg_m2;
     m.G(b, a) -= d.polar_inertia_kg_m2;
   }
+  check_supports(rotor);
+  const int all_nodes = rotor.nodes() + rotor.support_nodes();
+  auto check_any_node = [&](int node, const std::string& item, const char* key) {
+    if (node < 0 || node >= all_nodes) {
+      refuse(item + ": " + key + " " + std::to_string(node) + " is out of range; accepted: 0 to " +
+             std::to_string(all_nodes - 1) + " (" + std::to_string(rotor.nodes()) + " shaft nodes, " +
+             std::to_string(rotor.support_nodes()) + " support nodes)");
+    }
+  };
+  for (std::size_t i = 0; i < rotor.point_masses.size(); ++i) {
+    const PointMass& p = rotor.point_masses[i];
+    check_any_node(p.node, "point mass " + std::to_string(i), "node");
+    m.M(rotor.translation_dof(p.node, kDofX), rotor.translation_dof(p.node, kDofX)) += p.mx_kg;
+    m.M(rotor.translation_dof(p.node, kDofY), rotor.translation_dof(p.node, kDofY)) += p.my_kg;
+  }
   for (std::size_t i = 0; i < rotor.bearings.size(); ++i) {
     const BearingElement& b = rotor.bearings[i];
-    check_node(b.node, "bearing " + std::to_string(i));
-    const int x = dof_index(b.node, kDofX), y = dof_index(b.node, kDofY);
-    m.K(x, x) += b.kxx;
-    m.K(x, y) += b.kxy;
-    m.K(y, x) += b.kyx;
-    m.K(y, y) += b.kyy;
-    m.C(x, x) += b.cxx;
-    m.C(x, y) += b.cxy;
-    m.C(y, x) += b.cyx;
-    m.C(y, y) += b.cyy;
+    const std::string item = "bearing " + std::to_string(i);
+    check_any_node(b.node, item, "node");
+    if (b.link_node != -1) check_any_node(b.link_node, item, "link_node");
+    if (b.link_node == b.node) refuse(item + ": link_node " + std::to_string(b.node) + " is its own node");
+    if (b.mxy != b.myx) refuse(item + ": mxy and myx differ; accepted: equal (M is symmetric)");
+    // Each 2 x 2 block on the node, and with a link, on the link and
+    // against it: the force is -k (u_node - u_link).
+    const Eigen::Matrix2d k{{b.kxx, b.kxy}, {b.kyx, b.kyy}}, c{{b.cxx, b.cxy}, {b.cyx, b.cyy}},
+        mass{{b.mxx, b.mxy}, {b.myx, b.myy}};
+    auto add = [&](int row_node, int col_node, double sign) {
+      for (int i_xy = 0; i_xy < 2; ++i_xy) {
+        for (int j_xy = 0; j_xy < 2; ++j_xy) {
+          const int row = rotor.translation_dof(row_node, i_xy), col = rotor.translation_dof(col_node, j_xy);
+          m.K(row, col) += sign * k(i_xy, j_xy);
+          m.C(row, col) += sign * c(i_xy, j_xy);
+          m.M(row, col) += sign * mass(i_xy, j_xy);
+        }
+      }
+    };
+    add(b.node, b.node, 1.0);
+    if (b.link_node != -1) {
+      add(b.link_node, b.link_node, 1.0);
+      add(b.node, b.link_node, -1.0);
+      add(b.link_node, b.node, -1.0);
+    }
   }
   add_modal_damping(rotor, &shaft_k, m);
   return m;
@@ -274,23 +326,28 @@ namespace {
 // displacement, a disk's pure tilt, gets the whirl of its tilt; a kind of
 // motion (displacements, slopes) below 1e-6 of the shape's largest entry is
 // left out as roundoff.
-ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int nodes) {
+ModeWhirl whirl_of(const Eigen::VectorXcd& shape, int supports) {
   using Complex = std::complex<double>;
+  const int nodes = (static_cast<int>(shape.size()) - 2 * supports) / 4;
   struct Pair {
-    NodeDof u, v;
-    double v_sign;
+    int u, v;  // the DOFs of an orbit's x and its y (times v_sign)
   };
-  const Pair kinds[2] = {{kDofX, kDofY, 1.0}, {kDofBeta, kDofAlpha, -1.0}};
+  // The displacements (shaft and support nodes), then the slopes.
+  std::vector<Pair> kinds[2];
+  for (int k = 0; k < nodes; ++k) {
+    kinds[0].push_back({dof_index(k, kDofX), dof_index(k, kDofY)});
+    kinds[1].push_back({dof_index(k, kDofBeta), dof_index(k, kDofAlpha)});
+  }
+  for (int j = 0; j < supports; ++j) kinds[0].push_back({4 * nodes + 2 * j, 4 * nodes + 2 * j + 1});
+  const double v_sign[2] = {1.0, -1.0};
   const double entry = shape.cwiseAbs().maxCoeff();
   bool forward = false, backward = false;
-  for (const Pair& kind : kinds) {
+  for (int kind = 0; kind < 2; ++kind) {
     double largest = 0.0;
-    for (int k = 0; k < nodes; ++k) {
-      largest = std::max(largest, std::norm(shape(dof_index(k, kind.u))) + std::norm(shape(dof_index(k, kind.v))));
-    }
+    for (const Pair& p : kinds[kind]) largest = std::max(largest, std::norm(shape(p.u)) + std::norm(shape(p.v)));
     if (!(std::sqrt(largest) > 1e-6 * entry)) continue;
-    for (int k = 0; k < nodes; ++k) {
-      const Complex u = shape(dof_index(k, kind.u)), v = kind.v_sign * shape(dof_index(k, kind.v));
+    for (const Pair& p : kinds[kind]) {
+      const Complex u = shape(p.u), v = v_sign[kind] * shape(p.v);
       const double size = std::norm(u) + std::norm(v);
       if (size < 1e-12 * largest) continue;  // a node at rest (a bearing's, say)
       const double turn = -std::imag(std::conj(u) * v) / size;
@@ -314,7 +371,9 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s) {
 // The lowest modes by shift-invert Arnoldi where it is certified complete
 // (a large rotor's: a few tens of its roots in place of all), else every
 // root by the QR, each refined (modal_roots.hpp).
-std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion) {
+std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count, const Eigen::MatrixXd& expansion,
+                        int expanded_support_nodes) {
+  const int supports = expansion.size() > 0 ? expanded_support_nodes : m.support_nodes;
   using Complex = std::complex<double>;
   Eigen::MatrixXd l;
   const Eigen::MatrixXd a = modal::first_order_matrix(m, speed_rad_per_s, l);
@@ -331,7 +390,7 @@ std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int coun
     Eigen::Index big = 0;
     md.shape.cwiseAbs().maxCoeff(&big);
     md.shape /= md.shape(big);
-    md.whirl = whirl_of(md.shape, static_cast<int>(md.shape.size()) / 4);
+    md.whirl = whirl_of(md.shape, supports);
     out.push_back(std::move(md));
   }
   return out;

@@ -29,7 +29,6 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
     throw std::invalid_argument("flexible rotor: " + std::to_string(rotor.planar_modes) +
                                 " planar modes; accepted: 1 to " + std::to_string(kMaxPlanarModes));
   }
-  const int n = static_cast<int>(rotor.expansion.rows());
   a_ = Eigen::VectorXd::Zero(rotor.size());
   b_ = Eigen::VectorXd::Zero(rotor.size());
   for (const RotorUnbalance& u : unbalances) add_unbalance(u);
@@ -38,9 +37,9 @@ FlexibleRotorModel::FlexibleRotorModel(const ReducedRotor& rotor, const std::vec
   }
   weight_ = gravity_m_per_s2 != 0.0 ? Eigen::VectorXd(-gravity_m_per_s2 * rotor.unit_weight_kg)
                                     : Eigen::VectorXd::Zero(rotor.size());
-  if (4 * probe_node_ >= n) {
+  if (probe_node_ >= nodes()) {
     throw std::invalid_argument("probe node " + std::to_string(probe_node_) + " is out of range; accepted: 0 to " +
-                                std::to_string(n / 4 - 1));
+                                std::to_string(nodes() - 1));
   }
   probe_rows_.resize(2, rotor.size());
   probe_rows_.row(0) = rotor.expansion.row(dof_index(probe_node_, kDofX));

@@ -211,14 +211,19 @@ Eigen::MatrixXd read_matrix(const Reader& r, const YAML::Node& n, const std::str
 // the lateral DOFs (ROSS's linear elements do not); a coupling above 1e-9 of
 // the matrix's largest entry is refused, since dropping it would change the
 // rotor (test_fe_rotor, RossSixDofMatricesAreTheLateralRotor).
-Eigen::MatrixXd lateral_of_six(const Reader& r, const std::string& key, const Eigen::MatrixXd& six) {
+Eigen::MatrixXd lateral_of_six(const Reader& r, const std::string& key, const Eigen::MatrixXd& six, int supports) {
   constexpr int kSixLateral[4] = {0, 1, 3, 4};
-  const int nodes = static_cast<int>(six.rows()) / 6;
+  const int nodes = (static_cast<int>(six.rows()) - 3 * supports) / 6;
   std::vector<int> lateral, other;
   for (int node = 0; node < nodes; ++node) {
     for (int d : kSixLateral) lateral.push_back(6 * node + d);
     other.push_back(6 * node + 2);
     other.push_back(6 * node + 5);
+  }
+  for (int k = 0; k < supports; ++k) {  // a support node's [x, y, z]
+    lateral.push_back(6 * nodes + 3 * k);
+    lateral.push_back(6 * nodes + 3 * k + 1);
+    other.push_back(6 * nodes + 3 * k + 2);
   }
   const double scale = six.cwiseAbs().maxCoeff();
   for (int a : lateral) {
@@ -249,7 +254,7 @@ Eigen::MatrixXd lateral_of_six(const Reader& r, const std::string& key, const Ei
 // (its modes' growth rates), not a bad file. That each plane stands with the
 // station held is the reduction's check (reduce_rotor).
 void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor) {
-  const Reader r(path, "matrices", n, {"nodes_z_m", "nodes", "M", "K", "C", "G"});
+  const Reader r(path, "matrices", n, {"nodes_z_m", "nodes", "support_nodes", "M", "K", "C", "G"});
   if (r.has("nodes_z_m") && r.has("nodes")) r.fail("gives both 'nodes_z_m' and 'nodes'; accepted: one of them");
   const std::string z_key = r.has("nodes") ? "nodes" : "nodes_z_m";  // ROSS's save_mat names it "nodes"
   const YAML::Node z = n[z_key];
@@ -269,21 +274,30 @@ void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor)
     rotor.imported_node_z_m.push_back(v);
   }
   const int nodes = static_cast<int>(z.size());
+  // Support nodes (ROSS's point masses past the shaft): their x, y (and z,
+  // in ROSS's 6) after the shaft nodes' DOFs.
+  const double supports_given = r.number("support_nodes", 0.0, false, 1e5, 0.0);
+  if (supports_given != std::floor(supports_given)) r.fail("key 'support_nodes': value is not a whole number");
+  const int supports = static_cast<int>(supports_given);
   // ROSS's 6 DOF per node where M has 6 rows per node (or says so, sparse).
   const YAML::Node m_rows = n["M"];
-  const bool six = m_rows && ((m_rows.IsSequence() && static_cast<int>(m_rows.size()) == 6 * nodes) ||
-                              (m_rows.IsMap() && m_rows["size"] && m_rows["size"].as<double>(0.0) == 6.0 * nodes));
+  const double six_size = 6.0 * nodes + 3.0 * supports;
+  const bool six = m_rows && ((m_rows.IsSequence() && static_cast<double>(m_rows.size()) == six_size) ||
+                              (m_rows.IsMap() && m_rows["size"] && m_rows["size"].as<double>(0.0) == six_size));
   const int dofs_per_node = six ? 6 : 4;
-  const int size = dofs_per_node * nodes;
+  const int size = six ? 6 * nodes + 3 * supports : 4 * nodes + 2 * supports;
   auto matrix = [&](const char* key) -> Eigen::MatrixXd {
     const Eigen::MatrixXd read = read_matrix(r, n, key, size, dofs_per_node, path);
-    return dofs_per_node == 6 ? lateral_of_six(r, key, read) : read;
+    return dofs_per_node == 6 ? lateral_of_six(r, key, read, supports) : read;
   };
+  rotor.imported_support_nodes = supports;
   RotorMatrices m;
+  m.support_nodes = supports;
   m.M = matrix("M");
   m.K = matrix("K");
-  m.C = n["C"] ? matrix("C") : Eigen::MatrixXd::Zero(4 * nodes, 4 * nodes);  // optional: no damping
-  m.G = n["G"] ? matrix("G") : Eigen::MatrixXd::Zero(4 * nodes, 4 * nodes);  // optional: no gyroscopics
+  const int lateral = 4 * nodes + 2 * supports;
+  m.C = n["C"] ? matrix("C") : Eigen::MatrixXd::Zero(lateral, lateral);  // optional: no damping
+  m.G = n["G"] ? matrix("G") : Eigen::MatrixXd::Zero(lateral, lateral);  // optional: no gyroscopics
   const double mass_scale = m.M.cwiseAbs().maxCoeff();
   if ((m.M - m.M.transpose()).cwiseAbs().maxCoeff() > 1e-9 * mass_scale) r.fail("key 'M': not symmetric");
   if (Eigen::LLT<Eigen::MatrixXd>(m.M).info() != Eigen::Success) {
@@ -305,15 +319,15 @@ FeRotor load_rotor_file(const std::string& path) {
     throw std::invalid_argument("rotor file '" + path + "': cannot be read: " + e.what());
   }
   const Reader top(path, "(top level)", root,
-                   {"material", "shaft_damping", "modal_damping", "shaft", "disks", "bearings", "unbalances",
-                    "rub_station", "probes", "matrices"});
+                   {"material", "shaft_damping", "modal_damping", "shaft", "disks", "bearings", "point_masses",
+                    "unbalances", "rub_station", "probes", "matrices"});
   FeRotor rotor;
   if (top.has("modal_damping")) {
     if (top.has("shaft_damping")) top.fail("gives both 'shaft_damping' and 'modal_damping'; accepted: one of them");
     read_modal_damping(path, root["modal_damping"], rotor);
   }
   if (top.has("matrices")) {
-    for (const char* key : {"material", "shaft_damping", "shaft", "disks", "bearings"}) {
+    for (const char* key : {"material", "shaft_damping", "shaft", "disks", "bearings", "point_masses"}) {
       if (top.has(key)) top.fail("gives both 'matrices' and '" + std::string(key) + "'; accepted: one of them");
     }
     read_matrices(path, root["matrices"], rotor);
@@ -380,12 +394,36 @@ FeRotor load_rotor_file(const std::string& path) {
       rotor.disks.push_back(DiskElement::from_geometry(node, material, r.required("width_m", 0.0, true, kInf), id, od));
     }
   }
+  // Point masses first: those past the shaft's last node make the support
+  // nodes, which bearings may join (fe_rotor.hpp's PointMass).
+  const YAML::Node point_masses = sequence(path, root, "point_masses");
+  const int most_nodes = last_node + 1 + static_cast<int>(point_masses ? point_masses.size() : 0);
+  for (std::size_t i = 0; point_masses && i < point_masses.size(); ++i) {
+    const Reader r(path, "point mass " + std::to_string(i), point_masses[i], {"node", "mass_kg", "mx_kg", "my_kg"});
+    PointMass p;
+    p.node = r.node(most_nodes - 1);
+    if (r.has("mass_kg") == (r.has("mx_kg") || r.has("my_kg"))) {
+      r.fail("gives " + std::string(r.has("mass_kg") ? "both 'mass_kg' and 'mx_kg'/'my_kg'" : "no mass") +
+             "; accepted: mass_kg, or mx_kg and my_kg");
+    }
+    p.mx_kg = r.has("mass_kg") ? r.required("mass_kg", 0.0, false, kInf) : r.required("mx_kg", 0.0, false, kInf);
+    p.my_kg = r.has("mass_kg") ? p.mx_kg : r.required("my_kg", 0.0, false, kInf);
+    rotor.point_masses.push_back(p);
+  }
+  const int all_nodes = rotor.nodes() + rotor.support_nodes();
   const YAML::Node bearings = sequence(path, root, "bearings");
   for (std::size_t i = 0; bearings && i < bearings.size(); ++i) {
-    const Reader r(path, "bearing " + std::to_string(i), bearings[i],
-                   {"node", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"});
+    const Reader r(
+        path, "bearing " + std::to_string(i), bearings[i],
+        {"node", "link_node", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy", "mxx", "mxy", "myx", "myy"});
     BearingElement b;
-    b.node = r.node(last_node);
+    b.node = r.node(all_nodes - 1);
+    const double link = r.number("link_node", -1.0, false, all_nodes - 1, -1.0);
+    b.link_node = static_cast<int>(link);
+    if (link != std::floor(link) || b.link_node == b.node) {
+      r.fail("key 'link_node': value " + bearings[i]["link_node"].as<std::string>("?") +
+             " is not another node; accepted: a node number other than 'node', or -1 (the ground)");
+    }
     // Direct terms are non-negative; cross-coupled ones (a seal's, an oil
     // film's) take either sign.
     b.kxx = r.number("kxx", 0.0, false, kInf, 0.0);
@@ -396,6 +434,16 @@ FeRotor load_rotor_file(const std::string& path) {
     b.kyx = r.number("kyx", -kInf, false, kInf, 0.0);
     b.cxy = r.number("cxy", -kInf, false, kInf, 0.0);
     b.cyx = r.number("cyx", -kInf, false, kInf, 0.0);
+    // The added mass is a kinetic energy's: symmetric, positive semi-definite.
+    b.mxx = r.number("mxx", 0.0, false, kInf, 0.0);
+    b.myy = r.number("myy", 0.0, false, kInf, 0.0);
+    b.mxy = r.number("mxy", -kInf, false, kInf, 0.0);
+    b.myx = r.number("myx", -kInf, false, kInf, 0.0);
+    if (b.mxy != b.myx || b.mxy * b.mxy > b.mxx * b.myy) {
+      r.fail("gives mxx " + std::to_string(b.mxx) + ", mxy " + std::to_string(b.mxy) + ", myx " +
+             std::to_string(b.myx) + ", myy " + std::to_string(b.myy) +
+             "; accepted: mxy == myx and mxy^2 <= mxx myy (an added mass is symmetric and positive semi-definite)");
+    }
     rotor.bearings.push_back(b);
   }
   const YAML::Node unbalances = sequence(path, root, "unbalances");

@@ -20,15 +20,20 @@ struct Planes {
   std::vector<double> twin_sign;  // y_plane[k] = twin_sign[k] * x_plane[k]'s value
 };
 
-Planes planes_of(int nodes) {
+Planes planes_of(const FeRotor& rotor) {
   Planes p;
-  for (int node = 0; node < nodes; ++node) {
+  for (int node = 0; node < rotor.nodes(); ++node) {
     p.x_plane.push_back(dof_index(node, kDofX));
     p.y_plane.push_back(dof_index(node, kDofY));
     p.twin_sign.push_back(1.0);
     p.x_plane.push_back(dof_index(node, kDofBeta));
     p.y_plane.push_back(dof_index(node, kDofAlpha));
     p.twin_sign.push_back(-1.0);
+  }
+  for (int node = rotor.nodes(); node < rotor.nodes() + rotor.support_nodes(); ++node) {
+    p.x_plane.push_back(rotor.translation_dof(node, kDofX));  // a support node's x and y alone
+    p.y_plane.push_back(rotor.translation_dof(node, kDofY));
+    p.twin_sign.push_back(1.0);
   }
   return p;
 }
@@ -51,7 +56,7 @@ RotorReduction::RotorReduction(const FeRotor& rotor, const RotorMatrices& m, int
     throw std::invalid_argument("reduce_rotor: the matrices have " + std::to_string(m.M.rows()) + " DOF, the rotor " +
                                 std::to_string(rotor.dofs()) + ": not assembled from it");
   }
-  const Planes planes = planes_of(nodes);
+  const Planes planes = planes_of(rotor);
   x_plane_ = planes.x_plane;
   y_plane_ = planes.y_plane;
   twin_sign_ = planes.twin_sign;
@@ -208,6 +213,7 @@ ReducedRotor RotorReduction::reduce(int planar_modes) const {
   r.station_node = station_node_;
   r.planar_modes = planar_modes;
   r.node_z_m = node_z_m_;
+  r.support_nodes = m.support_nodes;
   r.expansion = psi * t;
   auto project = [&](const Eigen::MatrixXd& x) { return Eigen::MatrixXd(r.expansion.transpose() * x * r.expansion); };
   r.matrices.M = project(m.M);
@@ -216,7 +222,7 @@ ReducedRotor RotorReduction::reduce(int planar_modes) const {
   r.matrices.G = project(m.G);
   r.station_mass_kg = r.matrices.M(ReducedRotor::kStationX, ReducedRotor::kStationX);
   Eigen::VectorXd rigid_y = Eigen::VectorXd::Zero(m.M.rows());
-  for (std::size_t node = 0; node < node_z_m_.size(); ++node) rigid_y(dof_index(static_cast<int>(node), kDofY)) = 1.0;
+  for (std::size_t a = 0; a < y_plane_.size(); ++a) rigid_y(y_plane_[a]) = twin_sign_[a] > 0.0 ? 1.0 : 0.0;  // every y
   r.unit_weight_kg = r.expansion.transpose() * (m.M * rigid_y);
   // The promised M = diag(m_st, m_st, I) holds when the two planes are twins
   // (an axisymmetric rotor in [x, y, alpha, beta] per node); matrices from
@@ -227,7 +233,8 @@ ReducedRotor RotorReduction::reduce(int planar_modes) const {
     throw std::invalid_argument(
         "rub station: node " + std::to_string(station_node_) +
         ": the rotor's mass is not the same in its x-z and y-z planes (M's y, alpha rows are not the x, -beta rows: "
-        "matrices in another DOF order, or of a rotor that is not axisymmetric)");
+        "matrices in another DOF order, a point mass or a bearing's added mass with mx != my, or a rotor that is not "
+        "axisymmetric)");
   }
   return r;
 }
@@ -237,7 +244,7 @@ ReducedRotor reduce_rotor(const FeRotor& rotor, const RotorMatrices& m, int stat
 }
 
 std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count) {
-  return modes(r.matrices, speed_rad_per_s, count, r.expansion);
+  return modes(r.matrices, speed_rad_per_s, count, r.expansion, r.support_nodes);
 }
 
 Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w) {

@@ -17,7 +17,7 @@ std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int st
                                                   const std::vector<RotorUnbalance>& unbalances,
                                                   const StationStator& stator, double clearance_m,
                                                   double friction_coefficient, double w) {
-  const int n = static_cast<int>(m.M.rows()), nodes = n / 4;
+  const int n = static_cast<int>(m.M.rows()), nodes = (n - 2 * m.support_nodes) / 4;
   auto check_node = [nodes](int node, const std::string& what) {
     if (node < 0 || node >= nodes) {
       throw std::invalid_argument(what + ": node " + std::to_string(node) + " is out of range; accepted: 0 to " +

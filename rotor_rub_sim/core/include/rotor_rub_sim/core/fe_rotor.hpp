@@ -68,11 +68,28 @@ struct DiskElement {
                                    double outer_diameter_m);
 };
 
-/// A bearing or a seal: the 8 coefficients at a node's x, y [N/m, N s/m].
+/// A bearing or a seal: the coefficients at a node's x, y [N/m, N s/m, kg],
+/// between the node and the ground, or between the node and link_node (ROSS's
+/// n_link: a support node, or another node), where its force on the node is
+/// -k (u_node - u_link) - c (...)' - m (...)''. The added mass (a seal's or a
+/// squeeze film's fluid inertia) is symmetric, mxy == myx: M is a kinetic
+/// energy's.
 struct BearingElement {
   int node = 0;
   double kxx = 0.0, kxy = 0.0, kyx = 0.0, kyy = 0.0;
   double cxx = 0.0, cxy = 0.0, cyx = 0.0, cyy = 0.0;
+  double mxx = 0.0, mxy = 0.0, myx = 0.0, myy = 0.0;
+  int link_node = -1;  ///< -1: the ground
+};
+
+/// A point mass [kg] (ROSS's PointMass), mx in x and my in y. On a shaft
+/// node it adds to the node's mass. On a support node, numbered on from the
+/// shaft's last (nodes(), nodes() + 1, ...), it is that node's whole mass: a
+/// pedestal or a bearing housing between bearings (one to the shaft by its
+/// link_node, one to the ground), with an x and a y and no tilt.
+struct PointMass {
+  int node = 0;
+  double mx_kg = 0.0, my_kg = 0.0;
 };
 
 /// An unbalance at a node: its force m e w^2 points along phase_rad (from
@@ -85,12 +102,14 @@ struct RotorUnbalance {
 
 struct RotorMatrices {
   Eigen::MatrixXd M, K, C, G;  ///< dofs() x dofs()
+  int support_nodes = 0;       ///< the DOFs: 4 per shaft node, then x, y per support node
 };
 
 struct FeRotor {
   std::vector<ShaftElement> shaft;
   std::vector<DiskElement> disks;
   std::vector<BearingElement> bearings;
+  std::vector<PointMass> point_masses;
   std::vector<RotorUnbalance> unbalances;
   int rub_station_node = -1;          ///< where the rotor meets the stator; -1: none named
   double rub_contact_radius_m = 0.0;  ///< R_r at the station: the rotating surface's radius there
@@ -99,6 +118,7 @@ struct FeRotor {
   /// bearings (assemble() returns them), with their nodes' positions.
   std::optional<RotorMatrices> imported;
   std::vector<double> imported_node_z_m;
+  int imported_support_nodes = 0;  ///< their x, y after the shaft nodes' DOFs
   /// Damping given per mode of the rotor at rest (the rotor file's
   /// modal_damping): assemble() adds C = M Phi diag(2 zeta_i w_i) Phi^T M
   /// over the undamped modes of (M, K) (K's symmetric part, bearings'
@@ -132,7 +152,19 @@ struct FeRotor {
     for (int i = 0; i < node; ++i) z += shaft[static_cast<std::size_t>(i)].length_m;
     return z;
   }
-  int dofs() const { return 4 * nodes(); }
+  /// Support nodes: numbered from nodes() on, each with its x and y DOFs
+  /// after the shaft nodes' 4 (ROSS's order, without z).
+  int support_nodes() const {
+    if (imported) return imported_support_nodes;
+    int n = 0;
+    for (const PointMass& p : point_masses) n += p.node >= nodes() ? 1 : 0;
+    return n;
+  }
+  int dofs() const { return 4 * nodes() + 2 * support_nodes(); }
+  /// The x (kDofX) or y (kDofY) DOF of a shaft or support node.
+  int translation_dof(int node, int xy) const {
+    return node < nodes() ? 4 * node + xy : 4 * nodes() + 2 * (node - nodes()) + xy;
+  }
 };
 
 /// The DOF index of a node's coordinate.
@@ -177,11 +209,12 @@ struct Mode {
 /// Whirl from each node's orbit: y leading x by a quarter turn's sign
 /// (arg(v_y) - arg(v_x) in (-pi, 0): forward; in (0, pi): backward; a
 /// straight line counts as forward), a mode forward or backward when every
-/// node with motion agrees, mixed otherwise. With an expansion (the full DOFs
-/// = expansion * q, for a reduced model), the shapes are expanded to the
-/// full DOFs before the whirl is judged.
+/// node with motion agrees (shaft and support nodes), mixed otherwise. With
+/// an expansion (the full DOFs = expansion * q, for a reduced model, whose
+/// DOFs hold expanded_support_nodes), the shapes are expanded to the full
+/// DOFs before the whirl is judged.
 std::vector<Mode> modes(const RotorMatrices& m, double speed_rad_per_s, int count,
-                        const Eigen::MatrixXd& expansion = Eigen::MatrixXd());
+                        const Eigen::MatrixXd& expansion = Eigen::MatrixXd(), int expanded_support_nodes = 0);
 
 /// The Campbell diagram: modes(m, speed, count) at each of the speeds, on up
 /// to `jobs` threads (each speed alone: the same values at any number).

@@ -106,7 +106,7 @@ class FlexibleRotorModel {
   const TruncationReport& truncation() const { return truncation_; }
   /// Sets it (load_flexible_rotor).
   void set_truncation(const TruncationReport& t) { truncation_ = t; }
-  int nodes() const { return static_cast<int>(rotor_.expansion.rows()) / 4; }
+  int nodes() const { return static_cast<int>(rotor_.node_z_m.size()); }  ///< shaft nodes
 
   /// The lateral displacement of every node [m] (casing frame; node order)
   /// for the station at u and the modal block [xi; xi'], written to out

@@ -51,6 +51,7 @@ struct ReducedRotor {
   Eigen::MatrixXd expansion;     ///< full FE DOFs = expansion * q (dofs() x size())
   double station_mass_kg = 0.0;  ///< m_st: M = diag(m_st, m_st, I)
   std::vector<double> node_z_m;  ///< each node's position along the shaft [m] (FeRotor::node_z_m)
+  int support_nodes = 0;         ///< the full DOFs' (FeRotor::support_nodes)
   /// The rotor's weight per unit gravity along -y, projected: E^T M t_y [kg],
   /// t_y the rigid translation along y in the full DOFs (the consistent
   /// load of the distributed mass: nodal forces and, at the ends of
@@ -62,8 +63,9 @@ struct ReducedRotor {
   static constexpr int kFirstModal = 2;  ///< xi [sqrt(kg) m]: mass-normalised modal coordinates
 };
 
-/// The most planar modes a rotor has: its planar DOFs (x, beta per node).
-inline int max_planar_modes(const FeRotor& rotor) { return 2 * rotor.nodes(); }
+/// The most planar modes a rotor has: its planar DOFs (x, beta per shaft
+/// node, x per support node).
+inline int max_planar_modes(const FeRotor& rotor) { return 2 * rotor.nodes() + rotor.support_nodes(); }
 
 /// The reduction of one assembled rotor at one station, its shapes built
 /// once up to most_planar_modes (the held rotor's two eigensolves and the
@@ -110,7 +112,8 @@ std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count
 Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w_rad_per_s);
 /// The complex amplitudes F of the unbalances' forces at speed w: m e w^2
 /// e^{i phase} at each node's x and -i times that at its y (a forward force).
-/// Throws std::invalid_argument for a node out of range.
+/// Throws std::invalid_argument for a node out of range (of dofs / 4: a
+/// rotor with support nodes has its unbalances checked by its reader).
 Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w_rad_per_s);
 
 /// The steady response to unbalances turning with the spin at speed w (spin
