@@ -8,7 +8,8 @@ that read back as the same double. The 6 DOF per node stay as they are:
 the rotor file reader drops the axial and torsional ones, after checking that
 nothing couples them to the lateral ones. ROSS's point masses past the
 shaft's last node (pedestals, joined to the shaft by bearings' n_link) add 3
-DOF each (x, y, z) after the nodes': written as support_nodes. Add the stations (rub_station,
+DOF each (x, y, z) after the nodes': written as support_nodes (ROSS gives a
+point mass on a shaft node 3 DOF too, left empty: dropped). Add the stations (rub_station,
 unbalances, probes) to the file it writes.
 
   rosrun rotor_rub_sim ross_mat_to_yaml.py rig.mat --out rig.yaml
@@ -45,23 +46,40 @@ def read(path):
     supports = support_nodes(size, len(nodes))
     for k, m in matrices.items():
         if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] != size or supports is None:
-            fail("'%s': %s is %s for %d nodes; accepted: square, 6 DOF per node and 3 per support node (ROSS's"
-                 " point masses past the shaft), or 4 and 2"
-                 % (path, k, "x".join(map(str, m.shape)), len(nodes)))
+            fail("'%s': %s is %s for %d nodes; accepted: square, 6 DOF per node and 3 per point mass (ROSS's),"
+                 " or 4 DOF per node" % (path, k, "x".join(map(str, m.shape)), len(nodes)))
         if not np.all(np.isfinite(m)):
             fail("'%s': %s has an entry that is not finite" % (path, k))
+    if size != 4 * len(nodes):
+        matrices, supports = drop_empty_supports(len(nodes), matrices, supports)
     return nodes, matrices, supports
 
 
 def support_nodes(size, nodes):
     """The support nodes in a matrix of `size` rows for `nodes` shaft nodes:
-    ROSS's 6 DOF per node and 3 (x, y, z) per support node, or 4 and 2 (x,
-    y); None when neither fits."""
-    for per_node, per_support in ((6, 3), (4, 2)):
-        extra = size - per_node * nodes
-        if extra >= 0 and extra % per_support == 0:
-            return extra // per_support
-    return None
+    ROSS's 6 DOF per node and 3 (x, y, z) per point mass, or exactly 4 DOF per
+    node (an older ROSS's, none); None when neither fits."""
+    extra = size - 6 * nodes
+    if extra >= 0 and extra % 3 == 0:
+        return extra // 3
+    return 0 if size == 4 * nodes else None
+
+
+def drop_empty_supports(nodes, matrices, supports):
+    """ROSS gives every point mass 3 DOF after the nodes', and those of a point
+    mass on a shaft node stay empty (its mass is on the node's): a support
+    DOF with no entry in any matrix is dropped. Returns the matrices and the
+    support nodes that have entries."""
+    keep = list(range(6 * nodes))
+    used = 0
+    for k in range(supports):
+        dofs = [6 * nodes + 3 * k + d for d in range(3)]
+        if any(np.any(m[dofs, :]) or np.any(m[:, dofs]) for m in matrices.values()):
+            keep += dofs
+            used += 1
+    if used == supports:
+        return matrices, supports
+    return {k: m[np.ix_(keep, keep)] for k, m in matrices.items()}, used
 
 
 def number(x):

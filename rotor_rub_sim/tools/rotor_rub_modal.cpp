@@ -232,8 +232,9 @@ int main(int argc, char** argv) {
     }
     if (probe_nodes.empty()) probe_nodes = rotor.probe_nodes;
     if (probe_nodes.empty()) {
-      for (const auto& b : rotor.bearings) {
-        if (b.node != station && std::find(probe_nodes.begin(), probe_nodes.end(), b.node) == probe_nodes.end())
+      for (const auto& b : rotor.bearings) {  // the shaft's bearing nodes (not a pedestal's)
+        if (b.node != station && b.node < rotor.nodes() &&
+            std::find(probe_nodes.begin(), probe_nodes.end(), b.node) == probe_nodes.end())
           probe_nodes.push_back(b.node);
       }
     }

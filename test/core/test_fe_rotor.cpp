@@ -13,6 +13,7 @@
 #include <cmath>
 #include <complex>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -452,6 +453,14 @@ TEST(FeRotor, ModalDampingRatiosGoByNaturalFrequency) {
   for (std::size_t i = 0; i < parted.size(); ++i) {
     EXPECT_NEAR(parted[i].damping_ratio, ratios[std::min<std::size_t>(i, 2)], kModalRatioTolerance) << i;
   }
+  // higher_ratio for the modes past the list (ROSS's default_damping_ratio).
+  aniso.modal_damping_higher_ratio = 0.0;
+  const auto cut = core::modes(core::assemble(aniso), 0.0, 6);
+  ASSERT_EQ(cut.size(), 6u);
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    EXPECT_NEAR(cut[i].damping_ratio, i < 3 ? ratios[i] : 0.0, kModalRatioTolerance) << i;
+  }
+  aniso.modal_damping_higher_ratio.reset();
   const core::FeRotor from_file = core::load_rotor_file(
       write_file("modal_ratios.yaml",
                  "modal_damping: {ratios: [0.03, 0.02, 0.01]}\n"
@@ -464,6 +473,15 @@ TEST(FeRotor, ModalDampingRatiosGoByNaturalFrequency) {
             std::string::npos);
   EXPECT_NE(load_error("modal_damping: {ratios: []}\n" + shaft).find("key 'ratios' is not a list of numbers"),
             std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {ratios: [{a: 1}]}\n" + shaft)
+                .find("key 'ratios': entry 0 is not a number; accepted: a number in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(load_error("modal_damping: {ratio: 0.01, higher_ratio: 0}\n" + shaft)
+                .find("gives 'higher_ratio' without 'ratios'"),
+            std::string::npos);
+  const core::FeRotor higher = core::load_rotor_file(
+      write_file("higher_ratio.yaml", "modal_damping: {ratios: [0.03], higher_ratio: 0.001}\n" + shaft));
+  EXPECT_EQ(higher.modal_damping_higher_ratio, std::optional<double>(0.001));
   EXPECT_NE(load_error("modal_damping: {ratio: 0.01, loss_factor: 1e-3}\n" + shaft)
                 .find("gives 2 of 'ratio', 'ratios', 'loss_factor'; accepted: one"),
             std::string::npos);
@@ -512,6 +530,23 @@ TEST(FeRotor, ALossFactorDampsTheShaftsShareOfEachMode) {
                        "  K: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n")
                 .find("modal_damping's 'loss_factor', which needs the shaft's elements"),
             std::string::npos);
+}
+
+// Bearings cross-coupled enough that K's symmetric part is indefinite (kxx
+// 1e6, kyy 6e5, kxy 2.5e6, kyx -2e5: CrossCoupledBearingsImportAsTheirElementFile)
+// have no modes of (M, K_sym) that are the rotor's: modal damping is refused,
+// named, where it would leave the negative one undamped.
+TEST(FeRotor, ModalDampingRefusesAnIndefiniteStiffness) {
+  const std::string rotor =
+      "shaft:\n  - {elements: 6, length_m: 0.1, outer_diameter_m: 0.05}\n"
+      "bearings:\n  - {node: 0, kxx: 1e6, kyy: 6e5, kxy: 2.5e6, kyx: -2e5}\n"
+      "  - {node: 6, kxx: 1e6, kyy: 6e5, kxy: 2.5e6, kyx: -2e5}\n";
+  EXPECT_EQ(load_error(rotor), "accepted");
+  for (const char* damping : {"modal_damping: {ratio: 0.01}\n", "modal_damping: {loss_factor: 1e-3}\n"}) {
+    EXPECT_NE(load_error(damping + rotor).find("modal_damping: K's symmetric part has the eigenvalue -"),
+              std::string::npos)
+        << load_error(damping + rotor);
+  }
 }
 
 // ROSS's damped rig (config/rotors/ross_rub_rig.yaml: proportional damping

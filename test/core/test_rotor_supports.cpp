@@ -90,6 +90,15 @@ TEST(RotorSupports, ARotorOnPedestalsBouncesAsATwoMassChainInEachPlane) {
   }
   // Without the pedestals' mass the two planes would bounce alike.
   EXPECT_FALSE(has_mode(modes, bounce_w2(m_r, 0.5 * (kPedestalX_kg + kPedestalY_kg)).first));
+  // The link's sign (which the frequencies cannot tell: a support DOF turned
+  // over leaves them as they are): pushed at the shaft, the pedestal gives
+  // way the same way, by its spring's share, k_b / (k_b + k_p) of the
+  // bearing node's static deflection (the shaft near rigid).
+  Eigen::VectorXd push = Eigen::VectorXd::Zero(rotor.dofs());
+  push(rotor.translation_dof(0, core::kDofX)) = push(rotor.translation_dof(1, core::kDofX)) = 1.0;
+  const Eigen::VectorXd u = m.K.partialPivLu().solve(push);
+  const double shaft = u(rotor.translation_dof(0, core::kDofX)), pedestal = u(rotor.translation_dof(2, core::kDofX));
+  EXPECT_NEAR(pedestal / shaft, kBearing_N_per_m / (kBearing_N_per_m + kPedestal_N_per_m), kRigidBodyTolerance);
 }
 
 TEST(RotorSupports, ABearingsAddedMassAddsToTheBounce) {
@@ -112,6 +121,17 @@ TEST(RotorSupports, ABearingsAddedMassAddsToTheBounce) {
                  "point_masses:\n  - {node: 0, mass_kg: 5}\n  - {node: 1, mass_kg: 5}\n"
                  "bearings:\n  - {node: 0, kxx: 1e6, kyy: 1e6}\n  - {node: 1, kxx: 1e6, kyy: 1e6}\n")));
   EXPECT_EQ(point.M, added.M);
+  // Between the shaft and a pedestal the added mass acts on their relative
+  // motion: moving together, they carry none of it.
+  const core::FeRotor linked = core::load_rotor_file(write_file(
+      "linked_added_mass.yaml", std::string(kRotorOnPedestals) + "  - {node: 0, link_node: 2, mxx: 7, myy: 7}\n"));
+  const core::FeRotor unlinked = core::load_rotor_file(write_file("pedestals.yaml", kRotorOnPedestals));
+  const Eigen::MatrixXd added_m = core::assemble(linked).M - core::assemble(unlinked).M;
+  Eigen::VectorXd together = Eigen::VectorXd::Zero(linked.dofs()), apart = together;
+  together(linked.translation_dof(0, core::kDofX)) = together(linked.translation_dof(2, core::kDofX)) = 1.0;
+  apart(linked.translation_dof(0, core::kDofX)) = 1.0;
+  EXPECT_EQ(together.dot(added_m * together), 0.0);
+  EXPECT_EQ(apart.dot(added_m * apart), 7.0);
 }
 
 // Reduced to every planar mode (the basis spans every DOF) the rotor on
@@ -217,7 +237,8 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
             std::string::npos)
       << error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n  - {node: 3, mass_kg: 20}\n");
   EXPECT_NE(error_of("point_masses:\n  - {node: 2, mx_kg: 20, my_kg: 0}\n")
-                .find("support node 2 has no mass in x or y; accepted: mx_kg, my_kg > 0"),
+                .find("point mass 0: support node 2 has mx_kg 20.000000, my_kg 0.000000; accepted: both > 0 (its "
+                      "whole mass)"),
             std::string::npos);
   EXPECT_NE(error_of("point_masses:\n  - {node: 0, mass_kg: 2, mx_kg: 3}\n")
                 .find("point mass 0 gives both 'mass_kg' and 'mx_kg'/'my_kg'; accepted: mass_kg, or mx_kg and my_kg"),
@@ -242,10 +263,12 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
     core::reduce_rotor(anisotropic, core::assemble(anisotropic), 0, 2);
     ADD_FAILURE() << "a pedestal of mx 20 kg, my 30 kg reduced";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("a point mass or a bearing's added mass with mx != my"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("a point mass or a bearing's added mass that differs in x and y"),
+              std::string::npos)
         << e.what();
   }
-  // A rub station, a disk or an unbalance on a support node: shaft nodes only.
+  // A rub station on a support node: shaft nodes only (as a disk's, an
+  // unbalance's and a probe's, read alike).
   EXPECT_NE(error_of("point_masses:\n  - {node: 2, mass_kg: 20}\n"
                      "rub_station: {node: 2, contact_radius_m: 0.1}\n")
                 .find("rub_station key 'node': value 2 is out of range; accepted: [0, 1]"),

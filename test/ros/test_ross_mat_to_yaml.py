@@ -80,8 +80,9 @@ def on_a_pedestal(m, k, c, g):
 
 
 def six_with_support(four, axial, torsional):
-    """ROSS's order: 6 DOF per node, then [x, y, z] per support node."""
-    size = 6 * NODES + 3
+    """ROSS's order: 6 DOF per node, then [x, y, z] per point mass: the
+    pedestal's, and an empty one (ROSS's for a point mass on a shaft node)."""
+    size = 6 * NODES + 6
     six = np.zeros((size, size))
     idx = [6 * (a // 4) + LATERAL[a % 4] for a in range(4 * NODES)] + [6 * NODES, 6 * NODES + 1]
     six[np.ix_(idx, idx)] = four
@@ -155,7 +156,8 @@ class RossMatToYaml(unittest.TestCase):
                                "nodes": np.array([0.0, 0.5])})
         r = convert(mat, "--out", temp_prefix("bad") + ".yaml")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("M is 9x9 for 2 nodes; accepted: square, 6 DOF per node and 3 per support node", r.stderr)
+        self.assertIn("M is 9x9 for 2 nodes; accepted: square, 6 DOF per node and 3 per point mass (ROSS's), or 4 DOF"
+                      " per node", r.stderr)
         r = convert(os.path.join(os.path.dirname(mat), "missing.mat"), "--out", temp_prefix("bad") + ".yaml")
         self.assertEqual(r.returncode, 2)
         self.assertIn("cannot read", r.stderr)

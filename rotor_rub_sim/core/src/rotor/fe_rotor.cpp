@@ -140,11 +140,17 @@ namespace {
 // ModalDampingGivesEveryModeItsRatio, ModalDampingRatiosGoByNaturalFrequency,
 // ALossFactorDampsTheShaftsShareOfEachMode). Modes below 1 rpm (rigid-body
 // ones) are left undamped, as ROSS does. shaft_k: the shaft elements'
-// stiffness (null for imported matrices), for the loss factor.
+// stiffness (null for imported matrices), for the loss factor. Where K's
+// symmetric part has a negative eigenvalue (strongly cross-coupled
+// bearings), its modes are not the rotor's and a mode's share of strain
+// energy is no share: refused (ModalDampingRefusesAnIndefiniteStiffness).
 void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, RotorMatrices& m) {
   const std::vector<double>& ratios = rotor.modal_damping_ratios;
   const double eta = rotor.shaft_loss_factor;
   if (ratios.empty() && eta == 0.0) return;
+  if (ratios.empty() && rotor.modal_damping_higher_ratio) {
+    refuse("rotor: modal_damping: higher_ratio without ratios; accepted: beside ratios");
+  }
   if (eta != 0.0 && !ratios.empty()) refuse("rotor: modal_damping gives both ratios and a loss factor; accepted: one");
   if (eta != 0.0 && !shaft_k)
     refuse("rotor: modal_damping: loss_factor needs shaft elements; accepted: ratio or ratios");
@@ -152,26 +158,42 @@ void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, Rot
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym, m.M);
   if (eig.info() != Eigen::Success) refuse("rotor: modal_damping: the undamped modes did not converge");
   constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
+  constexpr double kOneRpm2 = kOneRpm_rad_per_s * kOneRpm_rad_per_s;
+  const Eigen::VectorXd& w2s = eig.eigenvalues();
+  if (w2s(0) < -kOneRpm2) {
+    refuse("rotor: modal_damping: K's symmetric part has the eigenvalue " + std::to_string(w2s(0)) +
+           " (per unit modal mass; cross-coupled bearings): its modes are not the rotor's; accepted: a K whose "
+           "symmetric part is positive semi-definite, or shaft_damping");
+  }
   // Two roots within this of each other are one natural frequency, twice:
-  // an isotropic rotor's planes, which the solver parts by up to eps times
-  // the stiffest mode's w^2 (3e-9 of the lowest w^2 on bearings of 1e14 N/m).
-  constexpr double kSameFrequency = 1e-6;
-  Eigen::VectorXd two_zeta_w = Eigen::VectorXd::Zero(eig.eigenvalues().size());
+  // an isotropic rotor's planes, which the solver parts by eps times the
+  // stiffest mode's w^2 (3e-9 of the lowest w^2 on bearings of 1e14 N/m).
+  const double same_frequency = 64.0 * std::numeric_limits<double>::epsilon() * w2s(w2s.size() - 1);
+  constexpr double kSameFrequency = 1e-6;  // and relative, for the rest
+  Eigen::VectorXd two_zeta_w = Eigen::VectorXd::Zero(w2s.size());
   std::size_t frequency = 0;  // the natural frequency's index, a double one once
   double last_w2 = 0.0;
   for (Eigen::Index i = 0; i < two_zeta_w.size(); ++i) {
-    const double w2 = eig.eigenvalues()(i);
-    if (!(w2 > kOneRpm_rad_per_s * kOneRpm_rad_per_s)) continue;
-    if (last_w2 > 0.0 && w2 - last_w2 > kSameFrequency * w2) ++frequency;
+    const double w2 = w2s(i);
+    if (!(w2 > kOneRpm2)) continue;
+    if (last_w2 > 0.0 && w2 - last_w2 > kSameFrequency * w2 + same_frequency) ++frequency;
     last_w2 = w2;
     if (eta != 0.0) {
       // The shaft's share as a ratio of two quadratic forms of the same
       // vector: the solver's error in it (stiff modes' content on stiff
       // bearings) enters both, where beside w^2 it would not cancel.
       const Eigen::VectorXd phi = eig.eigenvectors().col(i);
-      two_zeta_w(i) = eta * std::sqrt(w2) * phi.dot(*shaft_k * phi) / phi.dot(k_sym * phi);
+      const double share = phi.dot(*shaft_k * phi) / phi.dot(k_sym * phi);
+      if (!(share <= 1.0 + 1e-9)) {
+        refuse("rotor: modal_damping: loss_factor: the mode of " + std::to_string(std::sqrt(w2)) +
+               " rad/s has a shaft share of its strain energy of " + std::to_string(share) +
+               " (bearings whose symmetric stiffness is indefinite); accepted: ratio or ratios");
+      }
+      two_zeta_w(i) = eta * std::sqrt(w2) * share;
     } else {
-      two_zeta_w(i) = 2.0 * ratios[std::min(frequency, ratios.size() - 1)] * std::sqrt(w2);
+      const double ratio =
+          frequency < ratios.size() ? ratios[frequency] : rotor.modal_damping_higher_ratio.value_or(ratios.back());
+      two_zeta_w(i) = 2.0 * ratio * std::sqrt(w2);
     }
   }
   const Eigen::MatrixXd m_phi = m.M * eig.eigenvectors();
@@ -194,7 +216,8 @@ void check_supports(const FeRotor& rotor) {
              std::to_string(rotor.nodes()) + " on, one point mass each");
     }
     if (!(p.mx_kg > 0.0 && p.my_kg > 0.0)) {
-      refuse(item + ": support node " + std::to_string(p.node) + " has no mass in x or y; accepted: mx_kg, my_kg > 0");
+      refuse(item + ": support node " + std::to_string(p.node) + " has mx_kg " + std::to_string(p.mx_kg) + ", my_kg " +
+             std::to_string(p.my_kg) + "; accepted: both > 0 (its whole mass)");
     }
   }
 }
@@ -204,9 +227,10 @@ void check_supports(const FeRotor& rotor) {
 RotorMatrices assemble(const FeRotor& rotor) {
   if (rotor.imported) {
     if (rotor.imported->M.rows() != rotor.dofs() || !rotor.shaft.empty() || !rotor.disks.empty() ||
-        !rotor.bearings.empty()) {
+        !rotor.bearings.empty() || !rotor.point_masses.empty()) {
       refuse("rotor: imported matrices of " + std::to_string(rotor.imported->M.rows()) + " DOF for " +
-             std::to_string(rotor.nodes()) + " nodes, or beside elements; accepted: 4 DOF per node, alone");
+             std::to_string(rotor.nodes()) + " nodes and " + std::to_string(rotor.support_nodes()) +
+             " support nodes, or beside elements; accepted: 4 DOF per node and 2 per support node, alone");
     }
     RotorMatrices m = *rotor.imported;
     add_modal_damping(rotor, nullptr, m);
@@ -269,6 +293,10 @@ RotorMatrices assemble(const FeRotor& rotor) {
   for (std::size_t i = 0; i < rotor.point_masses.size(); ++i) {
     const PointMass& p = rotor.point_masses[i];
     check_any_node(p.node, "point mass " + std::to_string(i), "node");
+    if (!(p.mx_kg >= 0.0 && p.my_kg >= 0.0 && std::isfinite(p.mx_kg) && std::isfinite(p.my_kg))) {
+      refuse("point mass " + std::to_string(i) + ": mx_kg " + std::to_string(p.mx_kg) + ", my_kg " +
+             std::to_string(p.my_kg) + "; accepted: [0, inf)");
+    }
     m.M(rotor.translation_dof(p.node, kDofX), rotor.translation_dof(p.node, kDofX)) += p.mx_kg;
     m.M(rotor.translation_dof(p.node, kDofY), rotor.translation_dof(p.node, kDofY)) += p.my_kg;
   }
@@ -278,7 +306,11 @@ RotorMatrices assemble(const FeRotor& rotor) {
     check_any_node(b.node, item, "node");
     if (b.link_node != -1) check_any_node(b.link_node, item, "link_node");
     if (b.link_node == b.node) refuse(item + ": link_node " + std::to_string(b.node) + " is its own node");
-    if (b.mxy != b.myx) refuse(item + ": mxy and myx differ; accepted: equal (M is symmetric)");
+    if (!(b.mxy == b.myx && b.mxx >= 0.0 && b.myy >= 0.0 && b.mxy * b.mxy <= b.mxx * b.myy)) {
+      refuse(item + ": added mass mxx " + std::to_string(b.mxx) + ", mxy " + std::to_string(b.mxy) + ", myx " +
+             std::to_string(b.myx) + ", myy " + std::to_string(b.myy) +
+             "; accepted: mxy == myx and mxy^2 <= mxx myy (symmetric, positive semi-definite)");
+    }
     // Each 2 x 2 block on the node, and with a link, on the link and
     // against it: the force is -k (u_node - u_link).
     const Eigen::Matrix2d k{{b.kxx, b.kxy}, {b.kyx, b.kyy}}, c{{b.cxx, b.cxy}, {b.cyx, b.cyy}},

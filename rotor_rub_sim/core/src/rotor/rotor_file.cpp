@@ -79,10 +79,12 @@ ShaftDamping read_damping(const std::string& file, const std::string& item, cons
 }
 
 // modal_damping: one of {ratio: z}, {ratios: [z0, z1, ...]} (per natural
-// frequency at rest, the last for every higher one) or {loss_factor: eta}
-// (FeRotor's modal_damping_ratios and shaft_loss_factor).
+// frequency at rest; higher_ratio, or the last, for every higher one) or
+// {loss_factor: eta} (FeRotor's modal_damping_ratios and shaft_loss_factor).
 void read_modal_damping(const std::string& path, const YAML::Node& n, FeRotor& rotor) {
-  const Reader r(path, "modal_damping", n, {"ratio", "ratios", "loss_factor"});
+  const Reader r(path, "modal_damping", n, {"ratio", "ratios", "higher_ratio", "loss_factor"});
+  if (r.has("higher_ratio") && !r.has("ratios")) r.fail("gives 'higher_ratio' without 'ratios'; accepted: beside it");
+  if (r.has("higher_ratio")) rotor.modal_damping_higher_ratio = r.required("higher_ratio", 0.0, false, 1.0);
   const int given = int{r.has("ratio")} + int{r.has("ratios")} + int{r.has("loss_factor")};
   if (given != 1) r.fail("gives " + std::to_string(given) + " of 'ratio', 'ratios', 'loss_factor'; accepted: one");
   if (r.has("ratio")) rotor.modal_damping_ratios = {r.required("ratio", 0.0, false, 1.0)};
@@ -98,6 +100,7 @@ void read_modal_damping(const std::string& path, const YAML::Node& n, FeRotor& r
     try {
       v = list[i].as<double>();
     } catch (const YAML::Exception&) {
+      r.fail("key 'ratios': entry " + std::to_string(i) + " is not a number; accepted: a number in [0, 1]");
     }
     if (!(v >= 0.0 && v <= 1.0)) {
       r.fail("key 'ratios': entry " + std::to_string(i) + " '" + list[i].as<std::string>("?") +
@@ -277,7 +280,10 @@ void read_matrices(const std::string& path, const YAML::Node& n, FeRotor& rotor)
   // Support nodes (ROSS's point masses past the shaft): their x, y (and z,
   // in ROSS's 6) after the shaft nodes' DOFs.
   const double supports_given = r.number("support_nodes", 0.0, false, 1e5, 0.0);
-  if (supports_given != std::floor(supports_given)) r.fail("key 'support_nodes': value is not a whole number");
+  if (supports_given != std::floor(supports_given)) {
+    r.fail("key 'support_nodes': value " + n["support_nodes"].as<std::string>("?") +
+           " is not a whole number; accepted: 0, 1, 2, ...");
+  }
   const int supports = static_cast<int>(supports_given);
   // ROSS's 6 DOF per node where M has 6 rows per node (or says so, sparse).
   const YAML::Node m_rows = n["M"];

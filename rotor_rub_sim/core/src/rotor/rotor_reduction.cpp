@@ -233,8 +233,8 @@ ReducedRotor RotorReduction::reduce(int planar_modes) const {
     throw std::invalid_argument(
         "rub station: node " + std::to_string(station_node_) +
         ": the rotor's mass is not the same in its x-z and y-z planes (M's y, alpha rows are not the x, -beta rows: "
-        "matrices in another DOF order, a point mass or a bearing's added mass with mx != my, or a rotor that is not "
-        "axisymmetric)");
+        "matrices in another DOF order, a point mass or a bearing's added mass that differs in x and y (mx != my, "
+        "mxy != 0), or a rotor that is not axisymmetric)");
   }
   return r;
 }
@@ -253,12 +253,14 @@ Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w) {
          i * w * (m.C + w * m.G).cast<std::complex<double>>();
 }
 
-Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w) {
+Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w,
+                                  int support_nodes) {
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(dofs);
+  const int nodes = (dofs - 2 * support_nodes) / 4;
   for (const RotorUnbalance& u : unbalances) {
-    if (u.node < 0 || 4 * u.node >= dofs) {
+    if (u.node < 0 || u.node >= nodes) {
       throw std::invalid_argument("unbalance: node " + std::to_string(u.node) + " is out of range; accepted: 0 to " +
-                                  std::to_string(dofs / 4 - 1));
+                                  std::to_string(nodes - 1));
     }
     const std::complex<double> force = u.me_kg_m * w * w * std::polar(1.0, u.phase_rad);
     f(dof_index(u.node, kDofX)) += force;
@@ -271,13 +273,14 @@ Eigen::VectorXcd unbalance_response(const RotorMatrices& m, const std::vector<Ro
                                     double w_rad_per_s) {
   return dynamic_stiffness(m, w_rad_per_s)
       .partialPivLu()
-      .solve(unbalance_forces(static_cast<int>(m.M.rows()), unbalances, w_rad_per_s));
+      .solve(unbalance_forces(static_cast<int>(m.M.rows()), unbalances, w_rad_per_s, m.support_nodes));
 }
 
 Eigen::VectorXcd unbalance_response(const ReducedRotor& r, const std::vector<RotorUnbalance>& unbalances,
                                     double w_rad_per_s) {
   const Eigen::MatrixXcd e = r.expansion.cast<std::complex<double>>();
-  const Eigen::VectorXcd f = unbalance_forces(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s);
+  const Eigen::VectorXcd f =
+      unbalance_forces(static_cast<int>(r.expansion.rows()), unbalances, w_rad_per_s, r.support_nodes);
   return e * dynamic_stiffness(r.matrices, w_rad_per_s).partialPivLu().solve(e.transpose() * f);
 }
 

@@ -31,7 +31,8 @@ std::vector<FlexibleFullRub> synchronous_full_rub(const RotorMatrices& m, int st
   Eigen::VectorXcd unit = Eigen::VectorXcd::Zero(n);
   unit(x) = 1.0;
   unit(y) = cd(0.0, -1.0);
-  const Eigen::VectorXcd by_unit = lu.solve(unit), by_unbalance = lu.solve(unbalance_forces(n, unbalances, w));
+  const Eigen::VectorXcd by_unit = lu.solve(unit),
+                         by_unbalance = lu.solve(unbalance_forces(n, unbalances, w, m.support_nodes));
   // Forward: y = -i x at the station. An anisotropic rotor answers a
   // forward force with a backward part too (elliptic orbits).
   if (std::abs(by_unit(y) + cd(0.0, 1.0) * by_unit(x)) > 1e-9 * std::abs(by_unit(x)) ||

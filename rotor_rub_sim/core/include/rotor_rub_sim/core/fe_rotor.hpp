@@ -126,9 +126,11 @@ struct FeRotor {
   /// ones, left undamped, as ROSS does), so that each mode alone gets
   /// zeta_i where the rest of C is nil. zeta_i from one of:
   /// - modal_damping_ratios: the i-th natural frequency's ratio, a double
-  ///   one (an isotropic rotor's two planes) counted once, the last ratio
-  ///   for every higher one; one ratio is ROSS's modal_damping_ratio.
-  ///   A fit to a measured rotor (an impact test gives a ratio per mode).
+  ///   one (an isotropic rotor's two planes) counted once; every higher one
+  ///   modal_damping_higher_ratio, or the last ratio without it. A fit to a
+  ///   measured rotor (an impact test gives a ratio per mode). ROSS's
+  ///   modal_damping_ratio lists one per eigenvalue, twins apart, and its
+  ///   default_damping_ratio (0) is the higher ones'.
   /// - shaft_loss_factor eta: the shaft material's hysteretic loss as the
   ///   modal strain energy method gives it, zeta_i = (eta / 2) phi_i^T K_s
   ///   phi_i / w_i^2 with K_s the shaft elements' stiffness: a mode that
@@ -139,6 +141,7 @@ struct FeRotor {
   ///   stiffness is the shaft's.
   /// Empty and 0: none.
   std::vector<double> modal_damping_ratios;
+  std::optional<double> modal_damping_higher_ratio;
   double shaft_loss_factor = 0.0;
   int nodes() const {
     return imported ? static_cast<int>(imported_node_z_m.size()) : static_cast<int>(shaft.size()) + 1;

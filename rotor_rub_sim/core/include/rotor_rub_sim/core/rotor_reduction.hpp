@@ -112,9 +112,10 @@ std::vector<Mode> modes(const ReducedRotor& r, double speed_rad_per_s, int count
 Eigen::MatrixXcd dynamic_stiffness(const RotorMatrices& m, double w_rad_per_s);
 /// The complex amplitudes F of the unbalances' forces at speed w: m e w^2
 /// e^{i phase} at each node's x and -i times that at its y (a forward force).
-/// Throws std::invalid_argument for a node out of range (of dofs / 4: a
-/// rotor with support nodes has its unbalances checked by its reader).
-Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w_rad_per_s);
+/// Throws std::invalid_argument for a node out of range (the shaft's nodes:
+/// dofs less 2 per support node, over 4).
+Eigen::VectorXcd unbalance_forces(int dofs, const std::vector<RotorUnbalance>& unbalances, double w_rad_per_s,
+                                  int support_nodes = 0);
 
 /// The steady response to unbalances turning with the spin at speed w (spin
 /// angle 0 at t = 0): q = Re(Q e^{i w t}) with (K - w^2 M + i w (C + w G)) Q =
