@@ -12,10 +12,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "rotor_file_support.hpp"
 #include "rotor_rub_sim/core/fe_rotor.hpp"
+#include "rotor_rub_sim/core/flexible_rotor_model.hpp"
 #include "rotor_rub_sim/core/rotor_file.hpp"
 #include "rotor_rub_sim/core/rotor_reduction.hpp"
-#include "temp_dir.hpp"
 
 using namespace rotor_rub;
 
@@ -37,20 +38,8 @@ const char* const kRotorOnPedestals =
     "  - {node: 0, link_node: 2, kxx: 1e6, kyy: 1e6}\n  - {node: 1, link_node: 3, kxx: 1e6, kyy: 1e6}\n"
     "  - {node: 2, kxx: 4e6, kyy: 4e6}\n  - {node: 3, kxx: 4e6, kyy: 4e6}\n";
 
-std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = test::tmp() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::string load_error(const std::string& text) {
-  try {
-    core::assemble(core::load_rotor_file(write_file("bad_supports.yaml", text)));
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "accepted";
-}
+using test::load_error;
+using test::write_file;
 
 // The bounce of a rigid rotor m_r on two bearings k_b, each on a pedestal
 // m_p on a spring k_p (both pedestals in phase): M = diag(m_r, 2 m_p),
@@ -230,12 +219,29 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
   EXPECT_NE(error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n")
                 .find("point mass 0 key 'node': value 3 is out of range; accepted: [0, 2]"),
             std::string::npos);
-  // Two on one support node leave a gap.
+  // Two on one support node; a support node out of turn.
   EXPECT_NE(error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n  - {node: 3, mass_kg: 20}\n")
-                .find("point mass 1: node 3 is out of range; accepted: 0 to 1 (a shaft node) or the next support node, "
-                      "2 on, one point mass each"),
+                .find("point mass 1 key 'node': value 3 is a support node that has a point mass already; accepted: "
+                      "one point mass per support node"),
             std::string::npos)
       << error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n  - {node: 3, mass_kg: 20}\n");
+  EXPECT_NE(
+      error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n  - {node: 0, mass_kg: 2}\n")
+          .find("point mass 0 key 'node': value 3 leaves a gap; accepted: support nodes numbered in turn, 2 to 2"),
+      std::string::npos)
+      << error_of("point_masses:\n  - {node: 3, mass_kg: 20}\n  - {node: 0, mass_kg: 2}\n");
+  // The same, built in code: assemble() refuses it.
+  core::FeRotor gap = core::load_rotor_file(write_file("one_pedestal.yaml", shaft));
+  gap.point_masses = {{3, 20.0, 20.0}, {0, 2.0, 2.0}};
+  try {
+    core::assemble(gap);
+    ADD_FAILURE() << "a support node out of turn assembled";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("point mass 0: node 3 is out of range; accepted: 0 to 1 (a shaft node) or "
+                                         "the next support node, 2 on, one point mass each"),
+              std::string::npos)
+        << e.what();
+  }
   EXPECT_NE(error_of("point_masses:\n  - {node: 2, mx_kg: 20, my_kg: 0}\n")
                 .find("point mass 0: support node 2 has mx_kg 20.000000, my_kg 0.000000; accepted: both > 0 (its "
                       "whole mass)"),
@@ -257,7 +263,20 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
   EXPECT_NE(error_of("bearings:\n  - {node: 0, kxx: 1e6, mxx: 1, myy: 1, mxy: 2, myx: 2}\n")
                 .find("accepted: mxy == myx and mxy^2 <= mxx myy"),
             std::string::npos);
-  // A run's reduction needs one mass in x and y (the contact's station mass).
+  // A run's reduction needs one mass in x and y (the contact's station
+  // mass): a run's loading names the point mass, the reduction the planes.
+  core::RotorSettings run;
+  run.file = write_file("pedestals_run.yaml",
+                        std::string(kRotorOnPedestals) + "rub_station: {node: 0, contact_radius_m: 0.15}\n");
+  try {
+    core::load_flexible_rotor(run, 0.0, 100.0, 100.0, 0.0);
+    ADD_FAILURE() << "a run on a pedestal of mx 20 kg, my 30 kg";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("point mass 0 (node 2) has mx_kg 20.000000, my_kg 30.000000; a run needs "
+                                         "them equal (its modal analysis takes any); accepted: mass_kg"),
+              std::string::npos)
+        << e.what();
+  }
   const core::FeRotor anisotropic = core::load_rotor_file(write_file("pedestals.yaml", kRotorOnPedestals));
   try {
     core::reduce_rotor(anisotropic, core::assemble(anisotropic), 0, 2);

@@ -160,23 +160,25 @@ void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, Rot
   constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
   constexpr double kOneRpm2 = kOneRpm_rad_per_s * kOneRpm_rad_per_s;
   const Eigen::VectorXd& w2s = eig.eigenvalues();
-  if (w2s(0) < -kOneRpm2) {
+  // The solver's error in w^2: eps times the stiffest mode's (a rigid-body
+  // mode's 0 comes out as that, of either sign).
+  const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * std::abs(w2s(w2s.size() - 1));
+  if (w2s(0) < -(kOneRpm2 + rounding)) {
     refuse("rotor: modal_damping: K's symmetric part has the eigenvalue " + std::to_string(w2s(0)) +
            " (per unit modal mass; cross-coupled bearings): its modes are not the rotor's; accepted: a K whose "
            "symmetric part is positive semi-definite, or shaft_damping");
   }
   // Two roots within this of each other are one natural frequency, twice:
-  // an isotropic rotor's planes, which the solver parts by eps times the
-  // stiffest mode's w^2 (3e-9 of the lowest w^2 on bearings of 1e14 N/m).
-  const double same_frequency = 64.0 * std::numeric_limits<double>::epsilon() * w2s(w2s.size() - 1);
-  constexpr double kSameFrequency = 1e-6;  // and relative, for the rest
+  // an isotropic rotor's planes, which the solver parts by its rounding
+  // (3e-9 of the lowest w^2 on bearings of 1e14 N/m), or 1e-6 relative.
+  constexpr double kSameFrequency = 1e-6;
   Eigen::VectorXd two_zeta_w = Eigen::VectorXd::Zero(w2s.size());
   std::size_t frequency = 0;  // the natural frequency's index, a double one once
   double last_w2 = 0.0;
   for (Eigen::Index i = 0; i < two_zeta_w.size(); ++i) {
     const double w2 = w2s(i);
     if (!(w2 > kOneRpm2)) continue;
-    if (last_w2 > 0.0 && w2 - last_w2 > kSameFrequency * w2 + same_frequency) ++frequency;
+    if (last_w2 > 0.0 && w2 - last_w2 > kSameFrequency * w2 + rounding) ++frequency;
     last_w2 = w2;
     if (eta != 0.0) {
       // The shaft's share as a ratio of two quadratic forms of the same
@@ -184,7 +186,9 @@ void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, Rot
       // bearings) enters both, where beside w^2 it would not cancel.
       const Eigen::VectorXd phi = eig.eigenvectors().col(i);
       const double share = phi.dot(*shaft_k * phi) / phi.dot(k_sym * phi);
-      if (!(share <= 1.0 + 1e-9)) {
+      // Above 1 the bearings' energy is negative; rounding on penalty-stiff
+      // bearings (1e14 N/m) reaches 6e-5 (ALossFactorDampsTheShaftsShareOfEachMode).
+      if (!(share <= 1.0 + 1e-3)) {
         refuse("rotor: modal_damping: loss_factor: the mode of " + std::to_string(std::sqrt(w2)) +
                " rad/s has a shaft share of its strain energy of " + std::to_string(share) +
                " (bearings whose symmetric stiffness is indefinite); accepted: ratio or ratios");

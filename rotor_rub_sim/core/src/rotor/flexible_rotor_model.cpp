@@ -169,6 +169,27 @@ FlexibleRotorModel load_flexible_rotor(const RotorSettings& settings, double gra
     throw std::invalid_argument("rotor file '" + settings.file +
                                 "': no rub_station; a run needs one ({node: N, contact_radius_m: R})");
   }
+  // The reduction's twin planes need one mass in x and y (the contact's
+  // station mass is one number); the reduction refuses it too, less plainly
+  // (test_rotor_supports, BadSupportsNameTheItemTheKeyAndTheRange).
+  for (std::size_t i = 0; i < rotor.point_masses.size(); ++i) {
+    const PointMass& p = rotor.point_masses[i];
+    if (p.mx_kg != p.my_kg) {
+      throw std::invalid_argument("rotor file '" + settings.file + "': point mass " + std::to_string(i) + " (node " +
+                                  std::to_string(p.node) + ") has mx_kg " + std::to_string(p.mx_kg) + ", my_kg " +
+                                  std::to_string(p.my_kg) +
+                                  "; a run needs them equal (its modal analysis takes any); accepted: mass_kg");
+    }
+  }
+  for (std::size_t i = 0; i < rotor.bearings.size(); ++i) {
+    const BearingElement& b = rotor.bearings[i];
+    if (b.mxx != b.myy || b.mxy != 0.0) {
+      throw std::invalid_argument("rotor file '" + settings.file + "': bearing " + std::to_string(i) +
+                                  " has an added mass mxx " + std::to_string(b.mxx) + ", mxy " + std::to_string(b.mxy) +
+                                  ", myy " + std::to_string(b.myy) +
+                                  "; a run needs mxx == myy and mxy == 0 (its modal analysis takes any)");
+    }
+  }
   const long most = std::min<long>(kMaxPlanarModes, max_planar_modes(rotor));
   const bool automatic = settings.planar_modes == 0;
   if (!automatic && (settings.planar_modes < 1 || settings.planar_modes > most)) {

@@ -93,7 +93,7 @@ void read_modal_damping(const std::string& path, const YAML::Node& n, FeRotor& r
   if (!r.has("ratios")) return;
   const YAML::Node list = n["ratios"];
   if (!list.IsSequence() || list.size() == 0) {
-    r.fail("key 'ratios' is not a list of numbers; accepted: [zeta_0, zeta_1, ...], each in [0, 1]");
+    r.fail("key 'ratios' is empty or not a list; accepted: [zeta_0, zeta_1, ...], at least one, each in [0, 1]");
   }
   for (std::size_t i = 0; i < list.size(); ++i) {
     double v = -1.0;
@@ -414,7 +414,23 @@ FeRotor load_rotor_file(const std::string& path) {
     }
     p.mx_kg = r.has("mass_kg") ? r.required("mass_kg", 0.0, false, kInf) : r.required("mx_kg", 0.0, false, kInf);
     p.my_kg = r.has("mass_kg") ? p.mx_kg : r.required("my_kg", 0.0, false, kInf);
+    for (const PointMass& q : rotor.point_masses) {
+      if (p.node > last_node && q.node == p.node) {
+        r.fail("key 'node': value " + std::to_string(p.node) +
+               " is a support node that has a point mass already; accepted: one point mass per support node");
+      }
+    }
     rotor.point_masses.push_back(p);
+  }
+  // Support nodes in turn, from the shaft's last node on (no gap).
+  for (std::size_t i = 0; point_masses && i < rotor.point_masses.size(); ++i) {
+    const int node = rotor.point_masses[i].node;
+    if (node > last_node + rotor.support_nodes()) {
+      throw std::invalid_argument("rotor file '" + path + "': point mass " + std::to_string(i) + " key 'node': value " +
+                                  std::to_string(node) + " leaves a gap; accepted: support nodes numbered in turn, " +
+                                  std::to_string(last_node + 1) + " to " +
+                                  std::to_string(last_node + rotor.support_nodes()));
+    }
   }
   const int all_nodes = rotor.nodes() + rotor.support_nodes();
   const YAML::Node bearings = sequence(path, root, "bearings");

@@ -259,8 +259,9 @@ const std::vector<KeyEntry>& entries() {
     t.push_back(integer_or_auto(
         "rotor_planar_modes", 1, kMaxPlanarModes,
         "a flexible rotor's planar modes kept: the rub station and rotor_planar_modes - 1 shaft shapes per plane "
-        "(the planes' static corrections and modes, lowest first), up to the rotor's planar DOFs (2 per node: the "
-        "full FE model of a rotor of up to 256 nodes); auto: the fewest whose unbalance response at the station "
+        "(the planes' static corrections and modes, lowest first), up to the rotor's planar DOFs (2 per node and 1 "
+        "per support node: the full FE model of a rotor of up to 256 nodes); auto: the fewest whose unbalance response "
+        "at the station "
         "and the probes is within rotor_truncation_tolerance of the full model's over the run's speeds",
         [](Scene& s) -> long& { return s.rotor.planar_modes; }));
     t.push_back(real("rotor_truncation_tolerance", 0, true, 1.0,
