@@ -276,6 +276,12 @@ int main(int argc, char** argv) {
       std::printf("  (and %d roots that grow without turning: the rotor diverges, unstable at rest)\n",
                   left_out.diverging);
     }
+    if (left_out.rigid_body > 0) {
+      std::printf(
+          "  (and %d roots below 1 rpm: rigid-body motion, of the rotor or of a support node with no bearing to "
+          "the ground)\n",
+          left_out.rigid_body);
+    }
     if (criticals) {
       std::printf("critical speeds up to %g rad/s (w_d(Omega) = Omega):\n", max_speed);
       for (const auto& c : core::critical_speeds(m, count, max_speed, speeds - 1, jobs)) {

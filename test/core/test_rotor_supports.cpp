@@ -123,6 +123,28 @@ TEST(RotorSupports, ABearingsAddedMassAddsToTheBounce) {
   EXPECT_EQ(apart.dot(added_m * apart), 7.0);
 }
 
+// A support node without its bearing to the ground leaves the rotor free:
+// its rigid-body roots, which the QR leaves near 0 of either sign, are
+// counted as such, not as a divergence.
+TEST(RotorSupports, AFreePedestalIsRigidBodyMotionNotADivergence) {
+  const std::string shaft_on_pedestals =
+      "shaft:\n  - {length_m: 0.1, outer_diameter_m: 0.3}\n"
+      "point_masses:\n  - {node: 2, mass_kg: 20}\n  - {node: 3, mass_kg: 20}\n"
+      "bearings:\n  - {node: 0, link_node: 2, kxx: 1e6, kyy: 1e6, cxx: 100, cyy: 100}\n"
+      "  - {node: 1, link_node: 3, kxx: 1e6, kyy: 1e6, cxx: 100, cyy: 100}\n";
+  const core::NonModeRoots free = core::non_mode_roots(
+      core::assemble(core::load_rotor_file(write_file("free_pedestals.yaml", shaft_on_pedestals))), 0.0);
+  EXPECT_EQ(free.diverging, 0);
+  EXPECT_GT(free.rigid_body, 0);
+  const core::NonModeRoots grounded =
+      core::non_mode_roots(core::assemble(core::load_rotor_file(write_file(
+                               "grounded_pedestals.yaml", shaft_on_pedestals + "  - {node: 2, kxx: 4e6, kyy: 4e6}\n"
+                                                                               "  - {node: 3, kxx: 4e6, kyy: 4e6}\n"))),
+                           0.0);
+  EXPECT_EQ(grounded.rigid_body, 0);
+  EXPECT_EQ(grounded.diverging, 0);
+}
+
 // Reduced to every planar mode (the basis spans every DOF) the rotor on
 // pedestals is the full model: its modes, and under gravity its sag, the
 // pedestals' weight included.

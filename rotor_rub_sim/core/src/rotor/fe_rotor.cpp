@@ -444,7 +444,11 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
 NonModeRoots non_mode_roots(const RotorMatrices& m, double speed_rad_per_s) {
   NonModeRoots out;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (modal::oscillatory(lambda) || lambda.imag() < 0.0 || !(std::abs(lambda) > 1e-6)) continue;
+    if (modal::oscillatory(lambda) || lambda.imag() < 0.0) continue;
+    if (!(std::abs(lambda) > 2.0 * M_PI / 60.0)) {
+      ++out.rigid_body;
+      continue;
+    }
     if (lambda.real() < 0.0) ++out.overdamped;
     if (lambda.real() > 0.0) ++out.diverging;
   }

@@ -235,10 +235,15 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 ///   pair at rest twice), a complex pair once (its Im > 0 member);
 /// - diverging: growing ones, a real root of a negative stiffness or a pair
 ///   that grows by 1 / eps before it turns; a rotor that has one is unstable
-///   at that speed.
+///   at that speed;
+/// - rigid_body: those below 1 rpm (as ROSS, and the modal damping, take a
+///   rigid-body mode), of either sign: a rotor or a support node with no
+///   bearing to the ground, whose zero roots the QR leaves at about
+///   sqrt(eps) times the largest (1e-4 rad/s on a 32-DOF rotor on pedestals).
 struct NonModeRoots {
   int overdamped = 0;
   int diverging = 0;
+  int rigid_body = 0;
 };
 NonModeRoots non_mode_roots(const RotorMatrices& m, double speed_rad_per_s);
 
