@@ -41,6 +41,17 @@ const char* const kRotorOnPedestals =
 using test::load_error;
 using test::write_file;
 
+// The message a call is refused with (std::invalid_argument), or "accepted".
+template <class F>
+std::string refusal_of(F&& call) {
+  try {
+    call();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
 // The bounce of a rigid rotor m_r on two bearings k_b, each on a pedestal
 // m_p on a spring k_p (both pedestals in phase): M = diag(m_r, 2 m_p),
 // K = [[2 k_b, -2 k_b], [-2 k_b, 2 k_b + 2 k_p]]; its two w^2, ascending.
@@ -255,15 +266,11 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
   // The same, built in code: assemble() refuses it.
   core::FeRotor gap = core::load_rotor_file(write_file("one_pedestal.yaml", shaft));
   gap.point_masses = {{3, 20.0, 20.0}, {0, 2.0, 2.0}};
-  try {
-    core::assemble(gap);
-    ADD_FAILURE() << "a support node out of turn assembled";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("point mass 0: node 3 is out of range; accepted: 0 to 1 (a shaft node) or "
-                                         "the next support node, 2 on, one point mass each"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string out_of_turn = refusal_of([&] { core::assemble(gap); });
+  EXPECT_NE(out_of_turn.find("point mass 0: node 3 is out of range; accepted: 0 to 1 (a shaft node) or the next "
+                             "support node, 2 on, one point mass each"),
+            std::string::npos)
+      << out_of_turn;
   EXPECT_NE(error_of("point_masses:\n  - {node: 2, mx_kg: 20, my_kg: 0}\n")
                 .find("point mass 0: support node 2 has mx_kg 20.000000, my_kg 0.000000; accepted: both > 0 (its "
                       "whole mass)"),
@@ -290,24 +297,15 @@ TEST(RotorSupports, BadSupportsNameTheItemTheKeyAndTheRange) {
   core::RotorSettings run;
   run.file = write_file("pedestals_run.yaml",
                         std::string(kRotorOnPedestals) + "rub_station: {node: 0, contact_radius_m: 0.15}\n");
-  try {
-    core::load_flexible_rotor(run, 0.0, 100.0, 100.0, 0.0);
-    ADD_FAILURE() << "a run on a pedestal of mx 20 kg, my 30 kg";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("point mass 0 (node 2) has mx_kg 20.000000, my_kg 30.000000; a run needs "
-                                         "them equal (its modal analysis takes any); accepted: mass_kg"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string in_a_run = refusal_of([&] { core::load_flexible_rotor(run, 0.0, 100.0, 100.0, 0.0); });
+  EXPECT_NE(in_a_run.find("point mass 0 (node 2) has mx_kg 20.000000, my_kg 30.000000; a run needs them equal (its "
+                          "modal analysis takes any); accepted: mass_kg"),
+            std::string::npos)
+      << in_a_run;
   const core::FeRotor anisotropic = core::load_rotor_file(write_file("pedestals.yaml", kRotorOnPedestals));
-  try {
-    core::reduce_rotor(anisotropic, core::assemble(anisotropic), 0, 2);
-    ADD_FAILURE() << "a pedestal of mx 20 kg, my 30 kg reduced";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("a point mass or a bearing's added mass that differs in x and y"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string reduced = refusal_of([&] { core::reduce_rotor(anisotropic, core::assemble(anisotropic), 0, 2); });
+  EXPECT_NE(reduced.find("a point mass or a bearing's added mass that differs in x and y"), std::string::npos)
+      << reduced;
   // A rub station on a support node: shaft nodes only (as a disk's, an
   // unbalance's and a probe's, read alike).
   EXPECT_NE(error_of("point_masses:\n  - {node: 2, mass_kg: 20}\n"
