@@ -135,18 +135,30 @@ TEST(RotorSupports, ABearingsAddedMassAddsToTheBounce) {
 }
 
 // A support node without its bearing to the ground leaves the rotor free:
-// its rigid-body roots, which the QR leaves near 0 of either sign, are
-// counted as such, not as a divergence.
+// its rigid-body roots, which the QR leaves near 0 of either sign (about
+// 1e-4 rad/s here), are counted as such, not as a divergence, and are no
+// mode (each mode found is above 1 rpm, at rest and at speed).
 TEST(RotorSupports, AFreePedestalIsRigidBodyMotionNotADivergence) {
   const std::string shaft_on_pedestals =
       "shaft:\n  - {length_m: 0.1, outer_diameter_m: 0.3}\n"
       "point_masses:\n  - {node: 2, mass_kg: 20}\n  - {node: 3, mass_kg: 20}\n"
       "bearings:\n  - {node: 0, link_node: 2, kxx: 1e6, kyy: 1e6, cxx: 100, cyy: 100}\n"
       "  - {node: 1, link_node: 3, kxx: 1e6, kyy: 1e6, cxx: 100, cyy: 100}\n";
-  const core::NonModeRoots free = core::non_mode_roots(
-      core::assemble(core::load_rotor_file(write_file("free_pedestals.yaml", shaft_on_pedestals))), 0.0);
+  const core::RotorMatrices free_rotor =
+      core::assemble(core::load_rotor_file(write_file("free_pedestals.yaml", shaft_on_pedestals)));
+  const core::NonModeRoots free = core::non_mode_roots(free_rotor, 0.0);
   EXPECT_EQ(free.diverging, 0);
-  EXPECT_GT(free.rigid_body, 0);
+  // Per plane the shaft's translation and its tilt, each pedestal following
+  // its bearing's node: four free motions, each a double zero root.
+  EXPECT_EQ(free.rigid_body, 8);
+  constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
+  for (const double speed : {0.0, 300.0}) {
+    const std::vector<core::Mode> modes = core::modes(free_rotor, speed, 24);
+    ASSERT_FALSE(modes.empty()) << speed;
+    for (const core::Mode& md : modes) {
+      EXPECT_GT(md.natural_frequency_rad_per_s, kOneRpm_rad_per_s) << speed;
+    }
+  }
   const core::NonModeRoots grounded =
       core::non_mode_roots(core::assemble(core::load_rotor_file(write_file(
                                "grounded_pedestals.yaml", shaft_on_pedestals + "  - {node: 2, kxx: 4e6, kyy: 4e6}\n"

@@ -157,8 +157,7 @@ void add_modal_damping(const FeRotor& rotor, const Eigen::MatrixXd* shaft_k, Rot
   const Eigen::MatrixXd k_sym = 0.5 * (m.K + m.K.transpose());
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym, m.M);
   if (eig.info() != Eigen::Success) refuse("rotor: modal_damping: the undamped modes did not converge");
-  constexpr double kOneRpm_rad_per_s = 2.0 * M_PI / 60.0;
-  constexpr double kOneRpm2 = kOneRpm_rad_per_s * kOneRpm_rad_per_s;
+  constexpr double kOneRpm2 = modal::kRigidBodyBelow_rad_per_s * modal::kRigidBodyBelow_rad_per_s;
   const Eigen::VectorXd& w2s = eig.eigenvalues();
   // The solver's error in w^2: eps times the stiffest mode's (a rigid-body
   // mode's 0 comes out as that, of either sign).
@@ -444,11 +443,11 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
 NonModeRoots non_mode_roots(const RotorMatrices& m, double speed_rad_per_s) {
   NonModeRoots out;
   for (const std::complex<double>& lambda : eigenvalues(m, speed_rad_per_s)) {
-    if (modal::oscillatory(lambda) || lambda.imag() < 0.0) continue;
-    if (!(std::abs(lambda) > 2.0 * M_PI / 60.0)) {
-      ++out.rigid_body;
+    if (!(std::abs(lambda) > modal::kRigidBodyBelow_rad_per_s)) {
+      ++out.rigid_body;  // every one: how the QR splits a multiple zero into pairs does not count
       continue;
     }
+    if (modal::oscillatory(lambda) || lambda.imag() < 0.0) continue;
     if (lambda.real() < 0.0) ++out.overdamped;
     if (lambda.real() > 0.0) ++out.diverging;
   }

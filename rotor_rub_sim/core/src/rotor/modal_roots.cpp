@@ -49,17 +49,19 @@ Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_
 // for a double one). A root that does not decay (Re >= 0: undamped, or
 // growing, an instability) is a mode when Im > 1e-6 |lambda|, the same
 // rounding's bound, and, as a decaying one, when it completes a cycle before
-// growing by 1 / eps. So every mode has |lambda| < kModulusPerImag Im, which
-// bounds the search for the lowest ones (lowest_mode_roots). (test_fe_rotor,
+// growing by 1 / eps. No root below 1 rpm is a mode (kRigidBodyBelow_rad_per_s).
+// So every mode has |lambda| < kModulusPerImag Im, which bounds the search
+// for the lowest ones (lowest_mode_roots). (test_fe_rotor,
 // RayleighShaftDampingGivesEachModeItsClosedFormRatio,
-// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes.)
+// NearlyCriticalPairsAreNoModes, OverdampedPairsTurnedByTheSpinAreNoModes;
+// RotorSupports.AFreePedestalIsRigidBodyMotionNotADivergence.)
 namespace {
 const double kCycleBound = 2.0 * M_PI / std::log(1.0 / std::numeric_limits<double>::epsilon());
 const double kModulusPerImag = std::sqrt(1.0 + 1.0 / (kCycleBound * kCycleBound));  // 5.82
 }  // namespace
 
 bool oscillatory(std::complex<double> lambda) {
-  if (!(std::abs(lambda) > 1e-6)) return false;
+  if (!(std::abs(lambda) > kRigidBodyBelow_rad_per_s)) return false;
   if (lambda.real() < 0.0) return lambda.imag() > kCycleBound * -lambda.real();
   return lambda.imag() > std::max(kCycleBound * lambda.real(), 1e-6 * std::abs(lambda));
 }

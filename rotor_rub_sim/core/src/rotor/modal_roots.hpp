@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <cmath>
 #include <complex>
 #include <optional>
 #include <vector>
@@ -18,6 +19,13 @@ namespace rotor_rub::core::modal {
 /// The first-order matrix [[0, I], [-L^-1 K L^-T, -L^-1 (C + Omega G) L^-T]]
 /// in mass-normalised coordinates y = L^T q (M = L L^T); L written to l.
 Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_s, Eigen::MatrixXd& l);
+
+/// Roots of modulus at most this are rigid-body motion, never a mode: a rotor
+/// or a support node with no bearing to the ground has zero roots, which the
+/// QR leaves at about sqrt(eps) times the largest (1e-4 rad/s on a 32-DOF
+/// rotor on pedestals, RotorSupports.AFreePedestalIsRigidBodyMotionNotADivergence).
+/// 1 rpm, as ROSS takes a rigid-body mode; no rotor's elastic mode is that slow.
+inline constexpr double kRigidBodyBelow_rad_per_s = 2.0 * M_PI / 60.0;
 
 /// Whether a root of it is a mode (an oscillation a cycle can show).
 bool oscillatory(std::complex<double> lambda);

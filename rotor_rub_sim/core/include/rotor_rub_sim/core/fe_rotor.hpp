@@ -230,16 +230,19 @@ std::vector<std::vector<Mode>> campbell(const RotorMatrices& m, const std::vecto
 Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 
 /// The roots the first-order system has at speed Omega that modes() leaves
-/// out (Im lambda >= 0, not rigid-body, as modes() judges them), from one QR:
+/// out (Im lambda >= 0 but the rigid-body ones, as modes() judges them),
+/// from one QR:
 /// - overdamped: decaying ones. A real root counts once each (an overdamped
 ///   pair at rest twice), a complex pair once (its Im > 0 member);
 /// - diverging: growing ones, a real root of a negative stiffness or a pair
 ///   that grows by 1 / eps before it turns; a rotor that has one is unstable
 ///   at that speed;
-/// - rigid_body: those below 1 rpm (as ROSS, and the modal damping, take a
-///   rigid-body mode), of either sign: a rotor or a support node with no
-///   bearing to the ground, whose zero roots the QR leaves at about
-///   sqrt(eps) times the largest (1e-4 rad/s on a 32-DOF rotor on pedestals).
+/// - rigid_body: every root below 1 rpm (as ROSS, and the modal damping,
+///   take a rigid-body mode; no mode is that slow: modal::oscillatory), of
+///   either sign of Re and of Im, so two per free motion without damping: a
+///   rotor or a support node with no bearing to the ground, whose zero roots
+///   the QR leaves at about sqrt(eps) times the largest (1e-4 rad/s on a
+///   32-DOF rotor on pedestals), as real roots or as pairs.
 struct NonModeRoots {
   int overdamped = 0;
   int diverging = 0;
