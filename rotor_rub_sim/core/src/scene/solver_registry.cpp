@@ -25,8 +25,9 @@ namespace rotor_rub::core {
 // has a closed-form Jacobian): a flexible
 // rotor's highest mode kept bounds the explicit schemes' steps, not RODASP's
 // (docs/rotors.md, "Speed at many modes"); auto does not pick it: it is the
-// slower on the Jeffcott, below about 8 planar modes and where the contact
-// rings the modes kept (the seal rub-up from 12).
+// slower on the Jeffcott, below about 8 planar modes and where the modes kept
+// are rung (the seal rub-up from 12, the 204-DOF anisotropic rig from rest
+// up to 24, ROSS's rig up to 12): no count of modes tells the faster one.
 // Why the other pairs are not offered: the rigid methods locate events on a
 // dense output of their own (dopri5's, RODASP's, or the Hermite one of rkf78
 // and dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
