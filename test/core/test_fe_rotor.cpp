@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -648,6 +649,99 @@ TEST(FeRotor, AModeEnteringBelowHidesNoCriticalSpeed) {
   // Asked for the lowest mode only: at 100 and 101 rad/s the lowest is the
   // tilt, which never meets the synchronous line.
   EXPECT_TRUE(core::critical_speeds(mat, 1, max_speed, samples).empty());
+}
+
+// Three disks, uncoupled (block-diagonal matrices): the one above, whose
+// tilt enters the modes near 93.5 rad/s, and two without damping, I_p = 2
+// I_d, translations at 1e5 rad/s (with the other's, a root of multiplicity
+// 4), tilts whirling at -+Omega + sqrt(Omega^2 + k_t / I_d).
+namespace {
+constexpr double kThreeDisksId = 0.005;
+constexpr std::array<double, 2> kThreeDisksKtPerId = {35323.0, 36000.0};
+core::RotorMatrices three_disks() {
+  const std::array<core::RotorMatrices, 3> disks = {
+      disk_on_bearing(1.0, 1e4, 101.0 * 101.0, kThreeDisksId, 0.01, 500.0, 6.2),
+      disk_on_bearing(1.0, 1e10, 1e10, kThreeDisksId, 2.0 * kThreeDisksId, kThreeDisksKtPerId[0] * kThreeDisksId, 0.0),
+      disk_on_bearing(1.0, 1e10, 1e10, kThreeDisksId, 2.0 * kThreeDisksId, kThreeDisksKtPerId[1] * kThreeDisksId, 0.0)};
+  core::RotorMatrices all;
+  for (Eigen::MatrixXd core::RotorMatrices::*part :
+       {&core::RotorMatrices::M, &core::RotorMatrices::K, &core::RotorMatrices::C, &core::RotorMatrices::G}) {
+    all.*part = Eigen::MatrixXd::Zero(12, 12);
+    for (int d = 0; d < 3; ++d) (all.*part).block(4 * d, 4 * d, 4, 4) = disks[static_cast<std::size_t>(d)].*part;
+  }
+  return all;
+}
+}  // namespace
+
+// Each mode's root and shape solve the quadratic problem, and the fourfold
+// root keeps four independent shapes. Its third copy was refined onto no
+// root at all, a mode at 301.9 rad/s growing at a damping ratio of -0.025,
+// its iterates' left and right vectors paired badly (refined_qep_root).
+TEST(FeRotor, AFourfoldRootKeepsItsFourModes) {
+  const core::RotorMatrices all = three_disks();
+  const double speed = 92.25;
+  // A mode's backward error |Q x| / (|l|^2 |M x| + |l| |D x| + |K x|): at
+  // most 1e-9 measured on the tests' rotors; 0.24 for the failed copy.
+  constexpr double kBackwardError = 1e-8;
+  // An undamped mode's ratio is its refined root's rounding (about 1e-16).
+  constexpr double kUndampedRatioRounding = 1e-12;
+  const std::vector<core::Mode> modes = core::modes(all, speed, 12);
+  ASSERT_EQ(modes.size(), 10u);  // the first disk's tilt is not yet a mode
+  Eigen::MatrixXcd fourfold(12, 4);
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const std::complex<double> l(-modes[i].damping_ratio * modes[i].natural_frequency_rad_per_s,
+                                 modes[i].damped_frequency_rad_per_s);
+    const Eigen::VectorXcd& x = modes[i].shape;
+    const Eigen::VectorXcd mx = all.M * x, dx = (all.C + speed * all.G) * x, kx = all.K * x;
+    EXPECT_LE((l * l * mx + l * dx + kx).norm(),
+              kBackwardError * (std::norm(l) * mx.norm() + std::abs(l) * dx.norm() + kx.norm()))
+        << i;
+    EXPECT_GE(modes[i].damping_ratio, -kUndampedRatioRounding) << i;  // every disk is passive
+    if (i >= 6) {
+      EXPECT_NEAR(modes[i].damped_frequency_rad_per_s, 1e5, 1e-9 * 1e5) << i;
+      fourfold.col(static_cast<Eigen::Index>(i) - 6) = x.normalized();
+    }
+  }
+  // Independent: the four unit shapes' smallest singular value far from 0.
+  EXPECT_GT(Eigen::JacobiSVD<Eigen::MatrixXcd>(fourfold).singularValues().minCoeff(), 0.1);
+}
+
+// The critical-speed search looks for the modes up to 1.5 max_speed + 1
+// (308.5 rad/s here). In (92.25, 102.5] the first disk's two tilt modes enter
+// that list (the slow one at 16 rad/s, the other at 221) while the two other
+// disks' forward tilts leave it: the list is as long at both ends, each index
+// another mode. The backward tilts cross the synchronous line at sqrt(k_t /
+// (3 I_d)). The crossings are found all the same here: below the list's top
+// the k-th lowest damped frequency only jumps down where a mode enters below
+// it, and every crossing here is downward (a mode above the line falling
+// through it), so each is a continuous sign change of one index; the jump's
+// own sign change is no mode's, refused by the refined modes there.
+TEST(FeRotor, ModesLeavingTheSearchAsOthersEnterHideNoCriticalSpeed) {
+  const core::RotorMatrices all = three_disks();
+  const double max_speed = 205.0, searched_to = 1.5 * max_speed + 1.0;
+  const int samples = 20;
+  // The premise: as many modes below 308.5 rad/s at either end, not the same.
+  auto searched = [&](double speed) {
+    std::vector<double> w;
+    for (const core::Mode& md : core::modes(all, speed, 12)) {
+      if (md.damped_frequency_rad_per_s <= searched_to) w.push_back(md.damped_frequency_rad_per_s);
+    }
+    return w;
+  };
+  const std::vector<double> before = searched(92.25), after = searched(102.5);
+  ASSERT_EQ(before.size(), 6u);
+  ASSERT_EQ(after.size(), 6u);
+  EXPECT_GT(before.back(), 300.0);  // the forward tilts, leaving
+  EXPECT_LT(after.front(), 20.0);   // the slow tilt, entered
+
+  const auto critical = core::critical_speeds(all, 12, max_speed, samples);
+  ASSERT_EQ(critical.size(), 4u);
+  EXPECT_NEAR(critical[0].speed_rad_per_s, 100.0, 1e-9);
+  EXPECT_NEAR(critical[1].speed_rad_per_s, 101.0, 1e-9);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(critical[2 + i].speed_rad_per_s, std::sqrt(kThreeDisksKtPerId[i] / 3.0), 1e-9);
+    EXPECT_EQ(critical[2 + i].whirl, core::ModeWhirl::kBackward);
+  }
 }
 
 // A rigid disk on a bearing, as matrices: its tilt, I_d theta'' -+ Omega I_p

@@ -496,6 +496,7 @@ std::vector<CriticalSpeed> critical_speeds(const RotorMatrices& m, int count, do
       const Eigen::MatrixXcd d = damping + w * gyro;
       modal::QepVectors v;
       lambda = modal::refined_qep_root(mass, d, stiffness, lambda, {}, v);
+      if (!v.refined) break;  // no Newton step on a root it could not refine: the bracket's w stays
       const Complex dlambda_dw =
           -v.left.dot(lambda * (gyro * v.right)) / v.left.dot((2.0 * lambda * mass + d) * v.right);
       const double slope = dlambda_dw.imag() - 1.0;

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,6 +80,34 @@ std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a) {
   return roots;
 }
 
+// The QR's roots within this of each other, relative, are a cluster
+// (refined_mode_roots).
+constexpr double kQrClusterRadius = 1e-6;
+// A refined root and its vector solve Q(lambda) x = 0 to this backward
+// error, |Q(lambda) x| relative to |lambda|^2 |M x| + |lambda| |D x| + |K x|:
+// at most 8e-10 measured on the tests' rotors, 0.24 for an iterate drawn off
+// its root (test_fe_rotor).
+constexpr double kBackwardError = 1e-6;
+
+namespace {
+
+// The unit vector x orthogonal to the orthonormal `basis` that makes |q x|
+// least: q's smallest singular vector on the basis's complement.
+Eigen::VectorXcd least_null_vector(const Eigen::MatrixXcd& q, const std::vector<Eigen::VectorXcd>& basis) {
+  const Eigen::Index n = q.cols(), k = static_cast<Eigen::Index>(basis.size());
+  Eigen::MatrixXcd complement = Eigen::MatrixXcd::Identity(n, n - k);
+  if (k > 0) {
+    Eigen::MatrixXcd b(n, k);
+    for (Eigen::Index j = 0; j < k; ++j) b.col(j) = basis[static_cast<std::size_t>(j)];
+    complement =
+        Eigen::HouseholderQR<Eigen::MatrixXcd>(b).householderQ() * Eigen::MatrixXcd::Identity(n, n).rightCols(n - k);
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXcd> svd(q * complement, Eigen::ComputeThinV);
+  return (complement * svd.matrixV().col(svd.matrixV().cols() - 1)).normalized();
+}
+
+}  // namespace
+
 // A root of the quadratic eigenproblem Q(mu) q = (mu^2 M + mu D + K) q = 0
 // refined from the QR's value lambda, in the physical coordinates (an n x n
 // complex LU per step, an eighth of the first-order matrix's): inverse
@@ -120,6 +149,30 @@ std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen:
     u /= norm;
     return true;
   };
+  const Complex start = lambda;
+  // y^H Q(mu) x = a mu^2 + b mu + c for v's vectors: its finite root nearest
+  // `near` (the pair without cancellation).
+  auto rayleigh_root = [&](Complex near) {
+    const Complex a = v.left.dot(mass * v.right), b = v.left.dot(damping * v.right),
+                  c = v.left.dot(stiffness * v.right);
+    const Complex root = std::sqrt(b * b - 4.0 * a * c);
+    const Complex big = -0.5 * (std::real(std::conj(b) * root) >= 0.0 ? b + root : b - root);
+    Complex refined = near;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Complex candidate : {big / a, c / big}) {
+      const double distance = std::abs(candidate - near);
+      if (std::isfinite(candidate.real()) && std::isfinite(candidate.imag()) && distance < nearest) {
+        nearest = distance;
+        refined = candidate;
+      }
+    }
+    return refined;
+  };
+  // The backward error of (mu, x): |Q(mu) x| relative to its terms' sizes.
+  auto residual = [&](Complex mu, const Eigen::VectorXcd& x) {
+    const Eigen::VectorXcd mx = mass * x, dx = damping * x, kx = stiffness * x;
+    return (mu * mu * mx + mu * dx + kx).norm() / (std::norm(mu) * mx.norm() + std::abs(mu) * dx.norm() + kx.norm());
+  };
   constexpr double kGoldenAngle_rad = 2.399963229728653;
   v.right.resize(n);
   for (Eigen::Index k = 0; k < n; ++k) v.right(k) = std::polar(1.0, kGoldenAngle_rad * static_cast<double>(k));
@@ -145,24 +198,29 @@ std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen:
       }
     }
     if (!solved) throw std::runtime_error("modes: inverse iteration found no finite vector at a root");
-    // y^H Q(mu) x = a mu^2 + b mu + c: its finite root nearest lambda (the
-    // pair without cancellation).
-    const Complex a = v.left.dot(mass * v.right), b = v.left.dot(damping * v.right),
-                  c = v.left.dot(stiffness * v.right);
-    const Complex root = std::sqrt(b * b - 4.0 * a * c);
-    const Complex big = -0.5 * (std::real(std::conj(b) * root) >= 0.0 ? b + root : b - root);
-    Complex refined = lambda;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Complex candidate : {big / a, c / big}) {
-      const double distance = std::abs(candidate - lambda);
-      if (std::isfinite(candidate.real()) && std::isfinite(candidate.imag()) && distance < nearest) {
-        nearest = distance;
-        refined = candidate;
-      }
-    }
-    lambda = refined;
+    lambda = rayleigh_root(lambda);
   }
-  return lambda;
+  // A refinement whose root and right vector do not solve Q(lambda) x = 0
+  // (kBackwardError) had its iterates drawn off the QR's root: the third copy
+  // of a fourfold root did, onto no root at all, where its left and right
+  // iterates paired badly (y^H Q'(lambda) x about 0:
+  // FeRotor.AFourfoldRootKeepsItsFourModes). Then the vectors are those that
+  // make |Q(start) x| and |Q(start)^H y| least apart from the cluster's (the
+  // smallest singular vectors of Q restricted to the complement), one
+  // Rayleigh step refines the QR's root, and where that step does not solve
+  // Q x = 0 either the QR's root stays; a root whose vector solves neither is
+  // refused.
+  v.refined = residual(lambda, v.right) <= kBackwardError;
+  if (v.refined) return lambda;
+  v.right = least_null_vector(start * start * mass + start * damping + stiffness, right_basis);
+  v.left = least_null_vector((start * start * mass + start * damping + stiffness).adjoint(), left_basis);
+  const Complex rayleigh = rayleigh_root(start);
+  if (residual(rayleigh, v.right) <= kBackwardError) return rayleigh;
+  if (!(residual(start, v.right) <= kBackwardError)) {
+    throw std::runtime_error("modes: no vector solves the quadratic problem at the root (" +
+                             std::to_string(start.real()) + ", " + std::to_string(start.imag()) + ") 1/s");
+  }
+  return start;
 }
 
 std::vector<ModeRoot> refined_mode_roots(const RotorMatrices& m, double speed_rad_per_s, const Eigen::MatrixXd& a,
@@ -179,10 +237,10 @@ std::vector<ModeRoot> refined_mode_roots(const RotorMatrices& m, double speed_ra
     if (static_cast<int>(out.size()) == count) break;
     // The QR's eigenvalues carry an error of eps times the largest, which
     // the lowest modes feel: refined (refined_qep_root). Earlier roots
-    // within 1e-6 of this one are its cluster.
+    // within kQrClusterRadius of this one are its cluster.
     std::vector<const QepVectors*> cluster;
     for (std::size_t j = 0; j < qr_values.size(); ++j) {
-      if (std::abs(qr_values[j] - qr_value) <= 1e-6 * std::abs(qr_value)) cluster.push_back(&vectors[j]);
+      if (std::abs(qr_values[j] - qr_value) <= kQrClusterRadius * std::abs(qr_value)) cluster.push_back(&vectors[j]);
     }
     QepVectors v;
     const Complex lambda = refined_qep_root(mass, damping, stiffness, qr_value, cluster, v);

@@ -25,6 +25,8 @@ Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_
 /// QR leaves at about sqrt(eps) times the largest (1e-4 rad/s on a 32-DOF
 /// rotor on pedestals, RotorSupports.AFreePedestalIsRigidBodyMotionNotADivergence).
 /// 1 rpm, as ROSS takes a rigid-body mode; no rotor's elastic mode is that slow.
+/// A free rotor whose largest root is above about 7e6 rad/s (1 rpm / sqrt(eps))
+/// can see its zero roots' split pass it and list a slow "mode".
 inline constexpr double kRigidBodyBelow_rad_per_s = 2.0 * M_PI / 60.0;
 
 /// Whether a root of it is a mode (an oscillation a cycle can show).
@@ -39,6 +41,7 @@ std::vector<std::complex<double>> mode_roots(const Eigen::MatrixXd& a);
 /// to it (a double root), kept apart.
 struct QepVectors {
   Eigen::VectorXcd right, left;  // unit vectors
+  bool refined = true;           // false: the iteration failed, the root is the estimate's (or its Rayleigh step's)
 };
 std::complex<double> refined_qep_root(const Eigen::MatrixXcd& mass, const Eigen::MatrixXcd& damping,
                                       const Eigen::MatrixXcd& stiffness, std::complex<double> lambda,
