@@ -278,8 +278,8 @@ int main(int argc, char** argv) {
     }
     if (left_out.rigid_body > 0) {
       std::printf(
-          "  (and %d roots below 1 rpm: rigid-body motion, of the rotor or of a support node with no bearing to "
-          "the ground)\n",
+          "  (and %d roots below 1 rpm: rigid-body motion, a part of the rotor or its supports with no "
+          "stiffness path to the ground)\n",
           left_out.rigid_body);
     }
     if (criticals) {

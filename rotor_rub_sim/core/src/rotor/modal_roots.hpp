@@ -21,10 +21,13 @@ namespace rotor_rub::core::modal {
 Eigen::MatrixXd first_order_matrix(const RotorMatrices& m, double speed_rad_per_s, Eigen::MatrixXd& l);
 
 /// Roots of modulus at most this are rigid-body motion, never a mode: a rotor
-/// or a support node with no bearing to the ground has zero roots, which the
+/// with a part that has no stiffness path to the ground (a pedestal carrying a
+/// shaft bearing without its own to the ground) has zero roots, which the
 /// QR leaves at about sqrt(eps) times the largest (1e-4 rad/s on a 32-DOF
 /// rotor on pedestals, RotorSupports.AFreePedestalIsRigidBodyMotionNotADivergence).
 /// 1 rpm, as ROSS takes a rigid-body mode; no rotor's elastic mode is that slow.
+/// At speed such a free motion's gyroscopic nutation, a frequency in
+/// proportion to the speed, is a mode once above it (docs/rotors.md).
 /// A free rotor whose largest root is above about 7e6 rad/s (1 rpm / sqrt(eps))
 /// can see its zero roots' split pass it and list a slow "mode".
 inline constexpr double kRigidBodyBelow_rad_per_s = 2.0 * M_PI / 60.0;

@@ -240,7 +240,7 @@ Eigen::VectorXcd eigenvalues(const RotorMatrices& m, double speed_rad_per_s);
 /// - rigid_body: every root below 1 rpm (as ROSS, and the modal damping,
 ///   take a rigid-body mode; no mode is that slow: modal::oscillatory), of
 ///   either sign of Re and of Im, so two per free motion without damping: a
-///   rotor or a support node with no bearing to the ground, whose zero roots
+///   part with no stiffness path to the ground, whose zero roots
 ///   the QR leaves at about sqrt(eps) times the largest (1e-4 rad/s on a
 ///   32-DOF rotor on pedestals), as real roots or as pairs.
 struct NonModeRoots {
