@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (list_solvers) {
-    std::printf("method     integrator   auto picks it  when to use it\n%s", core::solver_table_text().c_str());
+    std::printf("method     integrator          auto picks it  when to use it\n%s", core::solver_table_text().c_str());
     return 0;
   }
   if (scene_path.empty()) cli::usage_error(app, "--scene is required");

@@ -148,6 +148,7 @@ void write_summary_json(std::ostream& os, const SummaryInput& in) {
                 {"grazes", st.grazes},
                 {"restarts", st.restarts},
                 {"friction_transitions", st.friction_transitions},
+                {"integrator_switches", st.integrator_switches},
                 {"wall_time_s", st.wall_time_s},
                 {"max_constraint_violation_m", st.max_constraint_violation_m},
                 {"min_abs_sliding_velocity_m_per_s",

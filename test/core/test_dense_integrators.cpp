@@ -16,6 +16,7 @@
 #include "integrators/dense_high_order.hpp"
 #include "integrators/dense_rk4.hpp"
 #include "integrators/dense_rodasp.hpp"
+#include "integrators/dense_stiffness_switch.hpp"
 #include "rotor_rub_sim/core/parameters.hpp"
 
 namespace rotor_rub {
@@ -88,6 +89,13 @@ struct Dop853Case {
   static constexpr double kStepOrder = 8, kDenseOrder = 6;  // the same Hermite output as rkf78's
   static core::DenseDop853<OscillatorLayout> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
 };
+struct Dop853Rosenbrock4Case {
+  static constexpr bool kAdaptive = true;
+  static constexpr const char* kName = "dop853_rosenbrock4";
+  // dop853 until its steps are bound by stability (test_stiffness_switch.cpp): one step is dop853's.
+  static constexpr double kStepOrder = 8, kDenseOrder = 6;
+  static core::DenseStiffnessSwitch<OscillatorLayout> make(double) { return {kLooseTol, kLooseTol, 0.0, kMaxSteps}; }
+};
 struct RodaspCase {
   static constexpr bool kAdaptive = true;
   static constexpr const char* kName = "rosenbrock4";
@@ -134,7 +142,7 @@ class DenseIntegrator : public ::testing::Test {
   }
 };
 
-using Integrators = ::testing::Types<Dopri5Case, Rkf78Case, Dop853Case, RodaspCase, Rk4Case>;
+using Integrators = ::testing::Types<Dopri5Case, Rkf78Case, Dop853Case, Dop853Rosenbrock4Case, RodaspCase, Rk4Case>;
 class IntegratorNames {
  public:
   template <class T>

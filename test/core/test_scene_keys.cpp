@@ -113,9 +113,14 @@ TEST(SceneKeys, CrossKeyRules) {
   EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "switching"}}), "");  // in free flight
   EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "penalty"}}), "");
   EXPECT_EQ(error_of({{"integrator", "rosenbrock4"}, {"method", "iteration"}}), "");  // in free flight
+  EXPECT_EQ(error_of({{"integrator", "dop853_rosenbrock4"}, {"method", "switching"}}), "");
+  EXPECT_EQ(error_of({{"integrator", "dop853_rosenbrock4"}, {"method", "iteration"}}), "");
+  EXPECT_NE(error_of({{"integrator", "dop853_rosenbrock4"}, {"method", "penalty"}})
+                .find("'dop853_rosenbrock4' is accepted with methods 'switching' and 'iteration' only"),
+            std::string::npos);
   EXPECT_NE(error_of({{"integrator", "rk4"}, {"method", "iteration"}})
                 .find("'rk4' is accepted with method 'penalty' only; accepted for method 'iteration': "
-                      "auto, dop853, dopri5, rosenbrock4"),
+                      "auto, dop853_rosenbrock4, dop853, dopri5, rosenbrock4"),
             std::string::npos);
   // The high-order integrators: rkf78 the switching method's, dop853 the
   // switching and iteration methods' (the penalty contact is stiff; the
@@ -125,7 +130,7 @@ TEST(SceneKeys, CrossKeyRules) {
                       "auto, rosenbrock4, dopri5, rk4"),
             std::string::npos);
   EXPECT_NE(error_of({{"integrator", "rkf78"}, {"method", "iteration"}})
-                .find("accepted for method 'iteration': auto, dop853, dopri5, rosenbrock4"),
+                .find("accepted for method 'iteration': auto, dop853_rosenbrock4, dop853, dopri5, rosenbrock4"),
             std::string::npos);
   EXPECT_EQ(error_of({{"integrator", "rkf78"}, {"method", "switching"}}), "");
   EXPECT_EQ(error_of({{"integrator", "dop853"}, {"method", "switching"}}), "");

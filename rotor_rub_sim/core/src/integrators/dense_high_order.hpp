@@ -167,6 +167,9 @@ class DenseHighOrder : public StepEnds<typename Layout::State> {
     polynomial();
   }
 
+  // The last accepted step's h rho(J) by the engine's stiffness test (Dop853::h_rho).
+  double h_rho() const { return engine_.h_rho(x_new_, dxdt_new_, t_new_ - t_old_); }
+
   // Undo the last accepted step and retry it with dt_s (a method's own rejection).
   void retreat(double dt_s, RunStats& stats) {
     Ends::retreat_ends(dt_s, stats);

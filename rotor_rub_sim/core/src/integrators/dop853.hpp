@@ -149,9 +149,9 @@ class Dop853 {
                        T::a119 * k9_ + T::a1110 * k10_)),
         k11_, t + T::c11 * h);
     const double t_end = t + h;
-    sys(State(x + h * (T::a121 * k1 + T::a124 * k4_ + T::a125 * k5_ + T::a126 * k6_ + T::a127 * k7_ + T::a128 * k8_ +
-                       T::a129 * k9_ + T::a1210 * k10_ + T::a1211 * k11_)),
-        k12_, t_end);
+    y12_ = x + h * (T::a121 * k1 + T::a124 * k4_ + T::a125 * k5_ + T::a126 * k6_ + T::a127 * k7_ + T::a128 * k8_ +
+                    T::a129 * k9_ + T::a1210 * k10_ + T::a1211 * k11_);
+    sys(y12_, k12_, t_end);
     const State slope = T::b1 * k1 + T::b6 * k6_ + T::b7 * k7_ + T::b8 * k8_ + T::b9 * k9_ + T::b10 * k10_ +
                         T::b11 * k11_ + T::b12 * k12_;
     x_out = x + h * slope;
@@ -195,10 +195,22 @@ class Dop853 {
     return false;
   }
 
+  // Hairer's stiffness test (dop853's HLAMB): h times the Lipschitz
+  // quotient |f(x1) - f(y12)| / |x1 - y12| of the accepted step h, taken
+  // between its end x1 and its last stage's argument y12 (both at t + h),
+  // with f1 = f(x1): an estimate of h rho(J) along the direction the step's
+  // error grows in. Near or above dop853's stability boundary (about 6 from
+  // the negative real axis to the imaginary one) the step is bound by
+  // stability, not by the tolerance (DenseStiffnessSwitch).
+  double h_rho(const State& x1, const State& f1, double h) const {
+    const double den = (x1 - y12_).squaredNorm();
+    return den > 0.0 ? std::abs(h) * std::sqrt((f1 - k12_).squaredNorm() / den) : 0.0;
+  }
+
  private:
   double atol_, rtol_;
   bool rejected_ = false;
-  State k2_, k3_, k4_, k5_, k6_, k7_, k8_, k9_, k10_, k11_, k12_;
+  State k2_, k3_, k4_, k5_, k6_, k7_, k8_, k9_, k10_, k11_, k12_, y12_;
 };
 
 }  // namespace rotor_rub::core

@@ -11,5 +11,6 @@ std::unique_ptr<ContactMethod> make_iteration_flexible(const Scene& scene) {
 template std::unique_ptr<ContactMethod> make_iteration_flexible<Integrator::kDopri5>(const Scene&);
 template std::unique_ptr<ContactMethod> make_iteration_flexible<Integrator::kDop853>(const Scene&);
 template std::unique_ptr<ContactMethod> make_iteration_flexible<Integrator::kRosenbrock4>(const Scene&);
+template std::unique_ptr<ContactMethod> make_iteration_flexible<Integrator::kDop853Rosenbrock4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -26,7 +26,8 @@ namespace rotor_rub::core {
 namespace {
 
 // kScheme: Dormand-Prince 5(4) (dopri5), 8(5,3) with the Hermite dense
-// output (dop853), or RODASP in free flight and dop853 engaged (rosenbrock4:
+// output (dop853), or RODASP in free flight and dop853 engaged (rosenbrock4;
+// dop853_rosenbrock4 where dop853's free steps are bound by stability:
 // IterationIntegrator). Rotor: the rotor model (rotor_model.hpp), every free
 // load of the station its (loads()); its block goes through projections,
 // impacts and restarts unchanged (no contact force or impulse reaches it; a
@@ -310,8 +311,9 @@ class IterationMethod final : public ContactMethod {
     const double t0 = integrator_.t_old(), t1 = integrator_.t_new();
     ContactGeometry prev = geometry_at(t0);
     double prev_t = t0, worst = -std::numeric_limits<double>::infinity();
-    for (int i = 1; i <= Dense::kFreeScanPoints; ++i) {
-      const double ti = scan_point(t0, t1, i, Dense::kFreeScanPoints);
+    const int points = integrator_.free_scan_points();
+    for (int i = 1; i <= points; ++i) {
+      const double ti = scan_point(t0, t1, i, points);
       const ContactGeometry g = geometry_at(ti);
       worst = std::max(worst, g.penetration_m);
       if (prev.normal_velocity_m_per_s > 0.0 && g.normal_velocity_m_per_s < 0.0) {

@@ -12,5 +12,6 @@ std::unique_ptr<ContactMethod> make_iteration_jeffcott(const Scene& scene) {
 template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kDopri5>(const Scene&);
 template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kDop853>(const Scene&);
 template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kRosenbrock4>(const Scene&);
+template std::unique_ptr<ContactMethod> make_iteration_jeffcott<Integrator::kDop853Rosenbrock4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -113,10 +113,11 @@ struct IterationSystem : FreeFlightJacobianHooks<FreeLayout<kStatorDof, kMotor, 
 // for rosenbrock4, RODASP in free flight, whose Jacobian is in closed form
 // (IterationSystem::jacobian), and dop853 engaged, whose iterated force has
 // none: a flexible rotor's highest mode kept sets an explicit scheme's free
-// steps by its stability (docs/rotors.md, "Speed at many modes"). The
-// regime's integrator is the one a restart initializes (the system's
-// engaged); each regime scans at its own integrator's points
-// (event_scanner.hpp).
+// steps by its stability (docs/rotors.md, "Speed at many modes"); for
+// dop853_rosenbrock4, free flight on RODASP only where dop853's steps are
+// bound by stability (dense_stiffness_switch.hpp). The regime's integrator
+// is the one a restart initializes (the system's engaged); each regime scans
+// at the points of the scheme that took its step (event_scanner.hpp).
 template <class L, Integrator kScheme>
 class IterationIntegrator {
  public:
@@ -127,8 +128,9 @@ class IterationIntegrator {
   static constexpr bool kOne = std::is_same_v<Free, Engaged>;
   static_assert(!std::is_void_v<Free>, "no dense-output integrator for this key (DenseFor)");
   static_assert(!is_implicit<Engaged>::value, "the iterated contact force has no Jacobian in closed form");
-  static constexpr int kFreeScanPoints = scan_points(kScheme);
   static constexpr int kEngagedScanPoints = scan_points(kEngagedScheme);
+  // The free step's scan points, by the scheme that took it.
+  int free_scan_points() const { return scan_points(scheme_now<kScheme>(free_)); }
 
   IterationIntegrator(double atol, double rtol, double min_step_s, long max_steps)
       : free_(atol, rtol, min_step_s, max_steps), engaged_(atol, rtol, min_step_s, max_steps) {}

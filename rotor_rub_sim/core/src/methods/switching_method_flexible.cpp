@@ -12,5 +12,6 @@ template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kDop
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kRkf78>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kDop853>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kRosenbrock4>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_flexible<Integrator::kDop853Rosenbrock4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -458,8 +458,9 @@ class SwitchingMethod final : public ContactMethod {
     // flight on RODASP (whose output need not leave a step's start along the velocity) and dop853's contact
     // after RODASP's flight (RODASP's step knows nothing of dop853's stability:
     // LargeRotor.SwitchingOnRosenbrock4TouchesDownAfterALongFlight) begin with the first trial step.
-    const bool afresh = std::exchange(pending_.quiet, false) || kScheme == Integrator::kRosenbrock4;
-    const bool from_rodasp = kScheme == Integrator::kRosenbrock4 && regime_ == Regime::kFree;
+    const bool afresh =
+        std::exchange(pending_.quiet, false) || scheme_next<kScheme>(free_int_) == Integrator::kRosenbrock4;
+    const bool from_rodasp = regime_ == Regime::kFree && scheme_now<kScheme>(free_int_) == Integrator::kRosenbrock4;
     if ((afresh && pending_.regime == Regime::kFree) || from_rodasp) dt = std::min(dt, initial_step_s_);
     if (pending_.regime == Regime::kFree) {
       regime_ = Regime::kFree;
@@ -542,7 +543,7 @@ class SwitchingMethod final : public ContactMethod {
     return x;
   }
   int scan_points_now() const {
-    return regime_ == Regime::kFree ? Integrators::kFreeScanPoints : Integrators::kContactScanPoints;
+    return regime_ == Regime::kFree ? scan_points(scheme_now<kScheme>(free_int_)) : Integrators::kContactScanPoints;
   }
   Rotor rotor_;
   StationModel model_;  // the station (Rotor::adopt)

@@ -13,5 +13,6 @@ template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kDop
 template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kRkf78>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kDop853>(const Scene&);
 template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kRosenbrock4>(const Scene&);
+template std::unique_ptr<ContactMethod> make_switching_jeffcott<Integrator::kDop853Rosenbrock4>(const Scene&);
 
 }  // namespace rotor_rub::core

@@ -140,8 +140,10 @@ struct ContactSystem {
 // whose Jacobian is in closed form (FreeFlightSystem), with dop853 in
 // contact, whose constrained dynamics has none: a flexible rotor's modes
 // kept set the explicit schemes' steps by their stability, not by the
-// tolerance (docs/rotors.md, "Speed at many modes"). Each regime scans for
-// events at its own integrator's points (event_scanner.hpp).
+// tolerance (docs/rotors.md, "Speed at many modes"); or dop853_rosenbrock4,
+// whose free flight is on RODASP where dop853's steps are bound by stability
+// (dense_stiffness_switch.hpp). Each regime scans for events at the points of
+// the scheme that took its step (event_scanner.hpp).
 template <class FL, class CL, Integrator kScheme>
 struct SwitchingIntegrators {
   static constexpr Integrator kContactScheme = explicit_partner(kScheme);
@@ -149,7 +151,6 @@ struct SwitchingIntegrators {
   using Contact = DenseFor<CL, kContactScheme>;
   static_assert(!std::is_void_v<Free>, "no dense-output integrator for this key (DenseFor)");
   static_assert(!is_implicit<Contact>::value, "the constrained dynamics has no Jacobian in closed form");
-  static constexpr int kFreeScanPoints = scan_points(kScheme);
   static constexpr int kContactScanPoints = scan_points(kContactScheme);
 };
 

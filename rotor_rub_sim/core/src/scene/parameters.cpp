@@ -42,6 +42,8 @@ const char* to_string(Integrator i) {
       return "rkf78";  // explicit embedded RK 7(8), Hermite dense output
     case Integrator::kDop853:
       return "dop853";  // explicit embedded RK 8(5,3), Hermite dense output
+    case Integrator::kDop853Rosenbrock4:
+      return "dop853_rosenbrock4";  // dop853, RODASP in free flight where dop853's steps are bound by stability
   }
   throw std::logic_error("to_string: not an Integrator");
 }

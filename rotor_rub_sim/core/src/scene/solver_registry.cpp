@@ -22,12 +22,18 @@ namespace rotor_rub::core {
 // on".
 // Switching and iteration on rosenbrock4 take RODASP in free flight only,
 // dop853 in contact (neither the constrained dynamics nor the iterated force
-// has a closed-form Jacobian): a flexible
-// rotor's highest mode kept bounds the explicit schemes' steps, not RODASP's
-// (docs/rotors.md, "Speed at many modes"); auto does not pick it: it is the
-// slower on the Jeffcott, below about 8 planar modes and where the modes kept
-// are rung (the seal rub-up from 12, the 204-DOF anisotropic rig from rest
-// up to 24, ROSS's rig up to 12): no count of modes tells the faster one.
+// has a closed-form Jacobian): a flexible rotor's highest mode kept bounds
+// the explicit schemes' steps, not RODASP's (docs/rotors.md, "Speed at many
+// modes"). Neither is the faster on every rotor (RODASP is the slower below
+// about 8 planar modes and where the modes kept are rung: the seal run-up
+// from 12, the 204-DOF anisotropic rig up to 16), so on a flexible rotor
+// auto takes dop853_rosenbrock4 up to rtol 1e-4: dop853, and RODASP in free
+// flight where dop853's steps are bound by stability and a probe finds
+// RODASP's longer by its cost (dense_stiffness_switch.hpp). On the Jeffcott
+// auto stays dop853: its free flight has the rotor's and the stator's two
+// modes, not stiff on the paper's scene
+// (SolverRegistry.EveryRowRunsThePaperScenesFirstContact); a scene with a far
+// stiffer stator may name dop853_rosenbrock4.
 // Why the other pairs are not offered: the rigid methods locate events on a
 // dense output of their own (dopri5's, RODASP's, or the Hermite one of rkf78
 // and dop853); iteration on rkf78 let a slow graze with gravity pass beyond the
@@ -64,6 +70,12 @@ const std::vector<SolverEntry>& solver_registry() {
        {&make_penalty_jeffcott<I::kRk4>, &make_penalty_flexible<I::kRk4>},
        "classic RK4 at the fixed step fixed_step_s (below its stability bound, checked): the paper's fixed-step runs"},
       {M::kSwitching,
+       I::kDop853Rosenbrock4,
+       {0.0, kHighOrderUpToRtol},
+       {&make_switching_jeffcott<I::kDop853Rosenbrock4>, &make_switching_flexible<I::kDop853Rosenbrock4>},
+       "dop853, and RODASP in free flight while dop853's steps there are bound by its stability (Hairer's "
+       "stiffness test)"},
+      {M::kSwitching,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
        {&make_switching_jeffcott<I::kDop853>, &make_switching_flexible<I::kDop853>},
@@ -84,6 +96,12 @@ const std::vector<SolverEntry>& solver_registry() {
        {&make_switching_jeffcott<I::kRosenbrock4>, &make_switching_flexible<I::kRosenbrock4>},
        "RODASP in free flight (its Jacobian in closed form but under a motor), dop853 in contact: a flexible rotor "
        "with many modes"},
+      {M::kIteration,
+       I::kDop853Rosenbrock4,
+       {0.0, kHighOrderUpToRtol},
+       {&make_iteration_jeffcott<I::kDop853Rosenbrock4>, &make_iteration_flexible<I::kDop853Rosenbrock4>},
+       "dop853, and RODASP in free flight while dop853's steps there are bound by its stability (Hairer's "
+       "stiffness test)"},
       {M::kIteration,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
@@ -156,6 +174,14 @@ std::string auto_picks(Method m, RotorKind rotor) {
   return picks;
 }
 
+// Every method's picks on one kind of rotor: "penalty rosenbrock4; switching ...".
+std::string auto_integrator_text_for(RotorKind rotor) {
+  std::string text;
+  for (const Method m : kAllMethods)
+    text += std::string(text.empty() ? "" : "; ") + to_string(m) + " " + auto_picks(m, rotor);
+  return text;
+}
+
 }  // namespace
 
 std::string auto_integrator_text() {
@@ -199,10 +225,11 @@ std::string solver_table_text() {
       }
       auto_from = up_to;
     }
-    os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 13) << pad(when, 15) << e.note << '\n';
+    os << "  " << pad(to_string(e.method), 11) << pad(to_string(e.integrator), 20) << pad(when, 15) << e.note << '\n';
   }
-  os << "  with a rotor_file (a flexible rotor): the same; penalty on rk4 with fixed_step_s below the rotor's own\n"
-        "    stability bound (from its eigenvalues in contact)\n";
+  os << "  with a rotor_file (a flexible rotor): auto picks " << auto_integrator_text_for(RotorKind::kFlexible)
+     << ";\n    penalty on rk4 with fixed_step_s below the rotor's own stability bound (from its eigenvalues in "
+        "contact)\n";
   return os.str();
 }
 

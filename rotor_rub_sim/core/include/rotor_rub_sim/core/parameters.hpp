@@ -25,7 +25,7 @@ enum class Method { kPenalty, kSwitching, kIteration };
 /// kAuto: the registry's choice for the method and the rtol (the fastest
 /// there at dopri5's accuracy or better, solver_registry.cpp), resolved when
 /// a run starts.
-enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853 };
+enum class Integrator { kAuto, kDopri5, kRosenbrock4, kRk4, kRkf78, kDop853, kDop853Rosenbrock4 };
 /// The stator: elastic (mass, springs, dampers: the paper's) or rigid (fixed).
 enum class StatorModel { kElastic, kRigid };
 /// The spin: prescribed by the speed profile (the paper's), or a motor's
@@ -40,9 +40,9 @@ enum class RotorKind { kJeffcott, kFlexible };
 /// Every method, in the order --help lists them (the paper's).
 inline constexpr std::array<Method, 3> kAllMethods{Method::kPenalty, Method::kSwitching, Method::kIteration};
 /// Every integrator, `auto` first, in the order --help lists them.
-inline constexpr std::array<Integrator, 6> kAllIntegrators{Integrator::kAuto,        Integrator::kDopri5,
-                                                           Integrator::kRosenbrock4, Integrator::kRk4,
-                                                           Integrator::kRkf78,       Integrator::kDop853};
+inline constexpr std::array<Integrator, 7> kAllIntegrators{
+    Integrator::kAuto,  Integrator::kDopri5, Integrator::kRosenbrock4,      Integrator::kRk4,
+    Integrator::kRkf78, Integrator::kDop853, Integrator::kDop853Rosenbrock4};
 /// Every kind of rotor.
 inline constexpr std::array<RotorKind, 2> kAllRotorKinds{RotorKind::kJeffcott, RotorKind::kFlexible};
 /// Every stator model, in the order --help lists them.

@@ -104,6 +104,7 @@ struct RunStats {
   long grazes = 0;                ///< graze events located
   long restarts = 0;              ///< integrator restarts (events, profile breaks, projections)
   long friction_transitions = 0;  ///< rigid methods: slip -> stick, stick -> slip, slip reversals
+  long integrator_switches = 0;   ///< dop853_rosenbrock4 only: dop853 <-> RODASP by the stiffness test
   double wall_time_s = 0.0;       ///< spent in advance_to [s] (the construction excluded)
   double rhs_time_s = 0.0;        ///< profile_cost only: in derivative evaluation, iteration included
   double iteration_time_s = 0.0;  ///< profile_cost only: in the normal force iteration
