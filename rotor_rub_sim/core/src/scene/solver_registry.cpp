@@ -73,8 +73,8 @@ const std::vector<SolverEntry>& solver_registry() {
        I::kDop853Rosenbrock4,
        {0.0, kHighOrderUpToRtol},
        {&make_switching_jeffcott<I::kDop853Rosenbrock4>, &make_switching_flexible<I::kDop853Rosenbrock4>},
-       "dop853, and RODASP in free flight while dop853's steps there are bound by its stability (Hairer's "
-       "stiffness test)"},
+       "dop853, and RODASP in free flight where dop853's steps there are stiff and RODASP's pay for their cost: a "
+       "flexible rotor"},
       {M::kSwitching,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
@@ -100,8 +100,8 @@ const std::vector<SolverEntry>& solver_registry() {
        I::kDop853Rosenbrock4,
        {0.0, kHighOrderUpToRtol},
        {&make_iteration_jeffcott<I::kDop853Rosenbrock4>, &make_iteration_flexible<I::kDop853Rosenbrock4>},
-       "dop853, and RODASP in free flight while dop853's steps there are bound by its stability (Hairer's "
-       "stiffness test)"},
+       "dop853, and RODASP in free flight where dop853's steps there are stiff and RODASP's pay for their cost: a "
+       "flexible rotor"},
       {M::kIteration,
        I::kDop853,
        {kHighOrderUpToRtol, kHighOrderUpToRtol},
