@@ -19,8 +19,8 @@
 // (StiffnessSwitch.RodaspNoFasterThanDop853LeavesTheFlightAlone).
 // RODASP to dop853: each window of kWindowSteps RODASP steps is weighed the
 // same way (the rotor's contacts may ring its modes); short flights count
-// against RODASP, as they should: each RODASP flight begins with the first
-// trial step (the methods' restarts).
+// against RODASP, as they should: each of the switching method's RODASP
+// flights begins with the first trial step (its restarts).
 // Each probe or window lost doubles the stiff steps the next try needs (up
 // to kMaxNeeded), so that a rotor on which neither wins pays for few
 // probes; a window that keeps RODASP resets it.
@@ -64,6 +64,12 @@ class DenseStiffnessSwitch {
   // Starts the engine of the next step at x (a switch due at the last step's end is taken here).
   template <class System>
   void initialize(System& sys, const State& x, double t_s, double dt_s, RunStats& stats) {
+    if (x.size() != sized_) {
+      // RODASP's matrices sized at the start, not at the first probe: no allocation mid-run (test_allocations).
+      RunStats none;
+      implicit_.initialize(sys, x, t_s, dt_s, none);
+      sized_ = x.size();
+    }
     if (switch_due_) {
       implicit_on_ = !implicit_on_;
       ++stats.integrator_switches;
@@ -86,7 +92,7 @@ class DenseStiffnessSwitch {
       implicit_.do_step(sys, stats);
       window_s_ += implicit_.t_new() - implicit_.t_old();
       if (++window_steps_ < kWindowSteps) return;
-      if (window_s_ / window_steps_ < kCostRatio * explicit_h_s_) {
+      if (window_s_ / window_steps_ < cost_ratio<System>() * explicit_h_s_) {
         switch_due_ = true;
         needed_ = std::min(2 * needed_, kMaxNeeded);
       } else {
@@ -164,14 +170,28 @@ class DenseStiffnessSwitch {
     RunStats probe;
     const double t0_s = explicit_.t_new();
     implicit_.initialize(sys, explicit_.x_new(), t0_s, explicit_.dt(), probe);
+    bool stepped = true;
     try {
       for (int i = 0; i < kWindowSteps; ++i) implicit_.do_step(sys, probe);
     } catch (const MethodFailure&) {
-      return false;  // no step RODASP could take there: dop853 goes on
+      stepped = false;  // no step RODASP could take there: dop853 goes on
     }
     stats.rhs_evals += probe.rhs_evals;
     stats.jacobian_evals += probe.jacobian_evals;
-    return (implicit_.t_new() - t0_s) / kWindowSteps >= kCostRatio * explicit_h_s_;
+    return stepped && (implicit_.t_new() - t0_s) / kWindowSteps >= cost_ratio<System>() * explicit_h_s_;
+  }
+
+  // A RODASP step's cost in dop853 steps: kCostRatio with the Jacobian in
+  // closed form; a differenced one (under a motor drive) adds n + 2
+  // derivative evaluations a step, each a twelfth of a dop853 step (11
+  // stages and the end's derivative).
+  template <class System>
+  double cost_ratio() const {
+    if constexpr (System::kAnalyticJacobian) {
+      return kCostRatio;
+    } else {
+      return kCostRatio + static_cast<double>(sized_ + 2) / 12.0;
+    }
   }
 
   template <class F>
@@ -193,7 +213,8 @@ class DenseStiffnessSwitch {
   double explicit_h_s_ = 0.0;      // [s] their mean at the switch to RODASP
   int window_steps_ = 0;           // RODASP's steps in the window, and their length [s]
   double window_s_ = 0.0;
-  State handover_;  // do_step(): the last step's end at a switch
+  Eigen::Index sized_ = -1;  // the state's size RODASP's matrices have
+  State handover_;           // do_step(): the last step's end at a switch
 };
 
 template <class Layout>

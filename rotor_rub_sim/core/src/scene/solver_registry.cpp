@@ -40,8 +40,8 @@ namespace rotor_rub::core {
 // bore before lift-offs were located inside a step, and is not offered; the
 // penalty contact is stiff, so the explicit high-order schemes only waste
 // steps there.
-// On a flexible rotor (a rotor_file) the choice is the Jeffcott's: the
-// penalty method's rosenbrock4 has the reduced rotor's Jacobian in closed
+// On a flexible rotor (a rotor_file) the penalty method's choice is the
+// Jeffcott's: its rosenbrock4 has the reduced rotor's Jacobian in closed
 // form and the pressed contact in polar coordinates there too; its steps do
 // not grow with the modes kept, dopri5's do (docs/rotors.md, "The penalty
 // method on rosenbrock4": where dopri5 is the faster, by up to 2.3 times,
