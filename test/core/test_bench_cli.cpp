@@ -81,24 +81,26 @@ TEST(BenchCli, MethodsAndCsvWithCvodeBesideUs) {
   };
   const auto names = fields(header);
   const auto err_col = std::find(names.begin(), names.end(), "max_rotor_err_m") - names.begin();
-  int rows = 0, cvode = 0, rkf78 = 0, dop853 = 0, rosenbrock4 = 0;
+  int rows = 0, cvode = 0, rkf78 = 0, dop853 = 0, rosenbrock4 = 0, stiffness_switch = 0;
   while (std::getline(in, line)) {
     ++rows;
     cvode += line.rfind("cvode,", 0) == 0;
     rkf78 += line.rfind("switching,rkf78,", 0) == 0;
     dop853 += line.rfind("switching,dop853,", 0) == 0;
     rosenbrock4 += line.rfind("switching,rosenbrock4,", 0) == 0;
+    stiffness_switch += line.rfind("switching,dop853_rosenbrock4,", 0) == 0;
     EXPECT_NE(line.find(",ok,"), std::string::npos) << line;
     const auto f = fields(line);
     ASSERT_EQ(f.size(), names.size()) << line;
     const double err = std::stod(f[err_col]);  // measured, and below the clearance
     EXPECT_TRUE(err >= 0.0 && err < 1e-3) << line;
   }
-  EXPECT_EQ(rows, 12);  // two tolerances x (dopri5, rkf78, dop853, rosenbrock4, Adams, BDF)
+  EXPECT_EQ(rows, 14);  // two tolerances x (dop853_rosenbrock4, dopri5, rkf78, dop853, rosenbrock4, Adams, BDF)
   EXPECT_EQ(cvode, 4);
   EXPECT_EQ(rkf78, 2);
   EXPECT_EQ(dop853, 2);
   EXPECT_EQ(rosenbrock4, 2);
+  EXPECT_EQ(stiffness_switch, 2);
   std::remove(scene.c_str());
   std::remove(csv.c_str());
 }
