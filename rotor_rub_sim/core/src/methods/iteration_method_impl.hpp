@@ -25,13 +25,11 @@
 namespace rotor_rub::core {
 namespace {
 
-// kScheme: Dormand-Prince 5(4) (dopri5), 8(5,3) with the Hermite dense
-// output (dop853), or RODASP in free flight and dop853 engaged (rosenbrock4;
-// dop853_rosenbrock4 where dop853's free steps are bound by stability:
-// IterationIntegrator). Rotor: the rotor model (rotor_model.hpp), every free
-// load of the station its (loads()); its block goes through projections,
-// impacts and restarts unchanged (no contact force or impulse reaches it; a
-// motor's spin jump at an impact takes it along).
+// kScheme: the integrator key, each regime's by it (IterationIntegrator).
+// Rotor: the rotor model (rotor_model.hpp), every free load of the station
+// its (loads()); its block goes through projections, impacts and restarts
+// unchanged (no contact force or impulse reaches it; a motor's spin jump at
+// an impact takes it along).
 template <int kStatorDof, bool kMotor, class Rotor, Integrator kScheme>
 class IterationMethod final : public ContactMethod {
  public:
